@@ -1,0 +1,28 @@
+// The shaderfit command-line tool as a library: tests call run_cli in-process.
+//
+// Each command lives in its own file (cmd_<name>.cpp) and registers itself through a
+// register_<name>_command function listed in cli.cpp. A command's callback reads its options,
+// calls the library, and writes to ctx.out / ctx.err. Bad input surfaces as shaderfit::Error
+// (thrown from the library or the command), which run_cli prints as one line on ctx.err:
+//   shaderfit: error: <location>: <message>
+// and turns into exit status 2.
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <iosfwd>
+
+namespace shaderfit::cli {
+
+struct Context {
+  std::ostream& out;
+  std::ostream& err;
+  bool progress = true;  // live progress lines on err (off when err is not a terminal)
+};
+
+void register_eval_command(CLI::App& app, Context& ctx);
+void register_search_command(CLI::App& app, Context& ctx);
+
+// Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+
+}  // namespace shaderfit::cli

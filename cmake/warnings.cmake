@@ -1,0 +1,5 @@
+# Warnings every shaderfit target compiles with.
+function(shaderfit_warnings target)
+  target_compile_options(${target} PRIVATE
+    $<$<CXX_COMPILER_ID:GNU,Clang>:-Wall -Wextra -Wpedantic -Wshadow -Wno-missing-field-initializers>)
+endfunction()

@@ -1,0 +1,31 @@
+// Random numbers. Every random routine in shaderfit takes its generator explicitly, so a run is
+// reproducible from its seed. The generator is std::mt19937_64 (its output is fixed by the C++
+// standard); the conversions below are written here, not taken from <random>'s distributions,
+// whose outputs differ between standard libraries.
+//
+//   Rng rng(seed);
+//   double u = uniform(rng, 1.34, 1.7);
+#pragma once
+
+#include <cstdint>
+#include <random>
+
+namespace shaderfit {
+
+using Rng = std::mt19937_64;
+
+// Uniform in [0, 1), 53 random bits.
+inline double uniform01(Rng& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+
+// Uniform in [a, b).
+inline double uniform(Rng& rng, double a, double b) { return a + (b - a) * uniform01(rng); }
+
+// Uniform integer in [0, n), n > 0 (Lemire's multiply-shift; bias below 2^-64 * n).
+inline std::uint64_t uniform_index(Rng& rng, std::uint64_t n) {
+  return static_cast<std::uint64_t>((static_cast<unsigned __int128>(rng()) * n) >> 64);
+}
+
+// True with probability p.
+inline bool bernoulli(Rng& rng, double p) { return uniform01(rng) < p; }
+
+}  // namespace shaderfit

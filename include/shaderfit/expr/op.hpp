@@ -1,0 +1,136 @@
+// The operators of shaderfit expressions, their arity and names, and their scalar meaning.
+//
+// Every backend (CPU evaluator, search, GPU, code generation) computes what `apply_unary`,
+// `apply_binary` and `apply_ipow` below define; the SIMD and GPU paths are tested against them.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <string_view>
+
+#include "shaderfit/core.hpp"
+
+namespace shaderfit {
+
+enum class Op : std::uint8_t {
+  // Leaves.
+  Const,  // literal constant (Node::value)
+  Param,  // named free parameter (Node::index into Expression::parameters)
+  Var,    // named input variable (Node::index into Expression::variables)
+  // Binary.
+  Add,
+  Sub,
+  Mul,
+  Div,
+  Min,
+  Max,
+  Pow,  // pow(a, b) for real b, defined as exp2(b * log2(a)): NaN for a < 0, as on GPUs
+  // Unary.
+  Neg,
+  IPow,  // integer power x^k, k = Node::index in [-16, -1] or [2, 16]
+  Sqrt,
+  Rsqrt,
+  Rcp,
+  Exp2,
+  Log2,
+  Exp,
+  Log,
+  Abs,
+  Saturate,  // clamp to [0, 1]
+  Sin,
+  Cos,
+  // Ternary.
+  Fma,  // fma(a, b, c) = a * b + c
+  Count_
+};
+
+inline constexpr int kOpCount = static_cast<int>(Op::Count_);
+inline constexpr int kMinIntegerPower = -16;
+inline constexpr int kMaxIntegerPower = 16;
+
+struct OpInfo {
+  std::string_view name;  // function name in formulas ("sqrt"), or the operator symbol ("+")
+  int arity;
+  bool commutative;
+  bool infix;  // printed between its operands (+ - * /), not as a call
+};
+
+inline constexpr OpInfo kOpInfo[kOpCount] = {
+    {"const", 0, false, false}, {"param", 0, false, false}, {"var", 0, false, false},
+    {"+", 2, true, true},       {"-", 2, false, true},      {"*", 2, true, true},
+    {"/", 2, false, true},      {"min", 2, true, false},    {"max", 2, true, false},
+    {"pow", 2, false, false},   {"neg", 1, false, false},   {"ipow", 1, false, false},
+    {"sqrt", 1, false, false},  {"rsqrt", 1, false, false}, {"rcp", 1, false, false},
+    {"exp2", 1, false, false},  {"log2", 1, false, false},  {"exp", 1, false, false},
+    {"log", 1, false, false},   {"abs", 1, false, false},   {"saturate", 1, false, false},
+    {"sin", 1, false, false},   {"cos", 1, false, false},   {"fma", 3, false, false},
+};
+
+constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<int>(op)]; }
+constexpr int arity(Op op) { return op_info(op).arity; }
+constexpr bool is_leaf(Op op) { return arity(op) == 0; }
+
+// The operator whose formula name (or symbol) is `name`; Op::Count_ when there is none.
+// Accepts the names of functions with arguments (sqrt, pow, fma, ...) and the infix symbols.
+Op op_from_name(std::string_view name);
+
+// x^k by repeated squaring, as the generated shader code computes it; k < 0 gives 1 / x^-k.
+template <typename T>
+SF_CPU_GPU inline T apply_ipow(T x, int k) {
+  const bool inverse = k < 0;
+  unsigned n = static_cast<unsigned>(inverse ? -k : k);
+  T result = T(1);
+  T base = x;
+  bool first = true;
+  while (n != 0) {
+    if (n & 1u) {
+      result = first ? base : result * base;
+      first = false;
+    }
+    n >>= 1u;
+    if (n != 0) base = base * base;
+  }
+  return inverse ? T(1) / result : result;
+}
+
+template <typename T>
+SF_CPU_GPU inline T apply_unary(Op op, T a) {
+  using std::abs, std::cos, std::exp, std::exp2, std::log, std::log2, std::sin, std::sqrt;
+  switch (op) {
+    case Op::Neg: return -a;
+    case Op::Sqrt: return sqrt(a);
+    case Op::Rsqrt: return T(1) / sqrt(a);
+    case Op::Rcp: return T(1) / a;
+    case Op::Exp2: return exp2(a);
+    case Op::Log2: return log2(a);
+    case Op::Exp: return exp(a);
+    case Op::Log: return log(a);
+    case Op::Abs: return abs(a);
+    case Op::Saturate: return a < T(0) ? T(0) : (a > T(1) ? T(1) : a);
+    case Op::Sin: return sin(a);
+    case Op::Cos: return cos(a);
+    default: return a / T(0) * T(0);  // NaN: not a unary operator
+  }
+}
+
+template <typename T>
+SF_CPU_GPU inline T apply_binary(Op op, T a, T b) {
+  using std::exp2, std::fmax, std::fmin, std::log2;
+  switch (op) {
+    case Op::Add: return a + b;
+    case Op::Sub: return a - b;
+    case Op::Mul: return a * b;
+    case Op::Div: return a / b;
+    case Op::Min: return fmin(a, b);
+    case Op::Max: return fmax(a, b);
+    case Op::Pow: return exp2(b * log2(a));
+    default: return a / T(0) * T(0);
+  }
+}
+
+template <typename T>
+SF_CPU_GPU inline T apply_fma(T a, T b, T c) {
+  return a * b + c;
+}
+
+}  // namespace shaderfit

@@ -1,0 +1,42 @@
+// Parsing formulas written in infix, as users type them and as shaderfit prints them.
+//
+//   ParseOptions opts;
+//   opts.variables = {"r0", "x"};
+//   Expression e = parse_formula("r0 + (1 - r0) * pow(x, 5)", opts);
+//
+// Grammar: + - * / with the usual precedence, unary minus, `^` with an integer exponent from -16
+// to 16 (x^4, x^-2; binds tighter than unary minus, so -x^2 = -(x^2)), parentheses, calls
+// sqrt rsqrt rcp exp2 log2 exp log abs saturate sin cos (one argument), min max pow (two), fma
+// (three), `pow(a, k)` with an integer literal k in range becomes the integer power, numbers in
+// decimal or scientific notation, the constant `pi`, and identifiers [A-Za-z_][A-Za-z0-9_]*.
+// A minus sign directly before a number literal makes a negative constant (`-0.5`).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "shaderfit/expr/expression.hpp"
+
+namespace shaderfit {
+
+struct ParseOptions {
+  // Names allowed as input variables. When empty, every identifier that is not a parameter or a
+  // function becomes a variable, in order of first appearance.
+  std::vector<std::string> variables;
+  // Names that denote free parameters. Their values start at `parameter_values` (if given, one per
+  // name) or 0.
+  std::vector<std::string> parameters;
+  std::vector<double> parameter_values;
+  // Name used as the source of error locations ("formula", "--baseline", a file name...).
+  std::string source = "formula";
+  int line = 1;
+};
+
+// Throws shaderfit::Error naming the source, line and column of the first problem: a syntax error,
+// an unknown function, a wrong number of arguments, an exponent out of range, an unknown variable.
+// The result's variable table is `options.variables` (when given) or the names in order of use;
+// its parameter table is `options.parameters`.
+Expression parse_formula(std::string_view text, const ParseOptions& options = {});
+
+}  // namespace shaderfit

@@ -1,0 +1,356 @@
+// Recursive-descent parser that emits postfix nodes as it goes: operands are parsed (and so
+// emitted) before their operator, which is exactly postfix order.
+#include "shaderfit/expr/parse.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <numbers>
+
+#include "shaderfit/core/error.hpp"
+
+namespace shaderfit {
+
+namespace {
+
+struct Token {
+  enum Kind { Number, Ident, Symbol, End } kind = End;
+  std::string_view text;
+  double number = 0.0;
+  bool integral = false;  // the literal has no '.' and no exponent part
+  int column = 1;         // 1-based
+};
+
+class Parser {
+ public:
+  Parser(std::string_view text, const ParseOptions& opts) : text_(text), opts_(opts) {
+    expr_.variables = opts.variables;
+    expr_.parameters = opts.parameters;
+    expr_.parameter_values = opts.parameter_values;
+    expr_.parameter_values.resize(expr_.parameters.size(), 0.0);
+    advance();
+  }
+
+  Expression run() {
+    if (tok_.kind == Token::End) fail("empty formula", tok_.column);
+    parse_sum();
+    if (tok_.kind != Token::End) fail("unexpected '" + std::string(tok_.text) + "'", tok_.column);
+    expr_.update_lengths();
+    return std::move(expr_);
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& msg, int column) const {
+    throw Error(msg, SourceLocation{opts_.source, opts_.line, column});
+  }
+
+  // --- lexer -------------------------------------------------------------------------------
+  void advance() {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+    tok_ = Token{};
+    tok_.column = static_cast<int>(pos_) + 1;
+    if (pos_ >= text_.size()) {
+      tok_.kind = Token::End;
+      tok_.text = "end of formula";
+      return;
+    }
+    const char c = text_[pos_];
+    const std::size_t start = pos_;
+    if (std::isdigit(static_cast<unsigned char>(c)) ||
+        (c == '.' && pos_ + 1 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_ + 1])))) {
+      bool integral = true;
+      while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+      if (pos_ < text_.size() && text_[pos_] == '.') {
+        integral = false;
+        ++pos_;
+        while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+      }
+      if (pos_ < text_.size() && (text_[pos_] == 'e' || text_[pos_] == 'E')) {
+        std::size_t p = pos_ + 1;
+        if (p < text_.size() && (text_[p] == '+' || text_[p] == '-')) ++p;
+        if (p < text_.size() && std::isdigit(static_cast<unsigned char>(text_[p]))) {
+          integral = false;
+          pos_ = p;
+          while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+        } else {
+          fail("malformed number: exponent has no digits", static_cast<int>(start) + 1);
+        }
+      }
+      tok_.kind = Token::Number;
+      tok_.text = text_.substr(start, pos_ - start);
+      tok_.integral = integral;
+      const char* b = text_.data() + start;
+      const char* e = text_.data() + pos_;
+      auto [ptr, ec] = std::from_chars(b, e, tok_.number);
+      if (ec == std::errc::result_out_of_range) {
+        fail("number out of range: '" + std::string(tok_.text) + "'", tok_.column);
+      }
+      if (ec != std::errc() || ptr != e) {
+        fail("malformed number '" + std::string(tok_.text) + "'", tok_.column);
+      }
+      if (pos_ < text_.size() && (std::isalpha(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_')) {
+        fail("unexpected '" + std::string(1, text_[pos_]) + "' after the number " + std::string(tok_.text),
+             static_cast<int>(pos_) + 1);
+      }
+      return;
+    }
+    if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
+      while (pos_ < text_.size() &&
+             (std::isalnum(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_'))
+        ++pos_;
+      tok_.kind = Token::Ident;
+      tok_.text = text_.substr(start, pos_ - start);
+      return;
+    }
+    static constexpr std::string_view kSymbols = "+-*/^(),";
+    if (kSymbols.find(c) != std::string_view::npos) {
+      ++pos_;
+      tok_.kind = Token::Symbol;
+      tok_.text = text_.substr(start, 1);
+      return;
+    }
+    const unsigned char uc = static_cast<unsigned char>(c);
+    if (uc < 0x20 || uc >= 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "0x%02X", uc);
+      fail(std::string("unexpected character ") + buf, tok_.column);
+    }
+    fail(std::string("unexpected character '") + c + "'", tok_.column);
+  }
+
+  bool is_symbol(char c) const { return tok_.kind == Token::Symbol && tok_.text[0] == c; }
+
+  void expect(char c, const std::string& what) {
+    if (!is_symbol(c)) {
+      fail("expected '" + std::string(1, c) + "' " + what + ", found " + describe(tok_), tok_.column);
+    }
+    advance();
+  }
+
+  static std::string describe(const Token& t) {
+    if (t.kind == Token::End) return "end of formula";
+    return "'" + std::string(t.text) + "'";
+  }
+
+  // --- grammar -----------------------------------------------------------------------------
+  void emit(Node n) { expr_.nodes.push_back(n); }
+
+  // sum := product (('+' | '-') product)*
+  void parse_sum() {
+    parse_product();
+    while (is_symbol('+') || is_symbol('-')) {
+      const Op op = is_symbol('+') ? Op::Add : Op::Sub;
+      advance();
+      parse_product();
+      emit(Node::op_node(op));
+    }
+  }
+
+  // product := unary (('*' | '/') unary)*
+  void parse_product() {
+    parse_unary();
+    while (is_symbol('*') || is_symbol('/')) {
+      const Op op = is_symbol('*') ? Op::Mul : Op::Div;
+      advance();
+      parse_unary();
+      emit(Node::op_node(op));
+    }
+  }
+
+  // unary := '-' unary | '+' unary | power; '-' right before a number literal that is not the
+  // base of '^' makes a negative constant.
+  void parse_unary() {
+    if (is_symbol('-')) {
+      advance();
+      if (tok_.kind == Token::Number && !next_is_caret()) {
+        const double v = tok_.number;
+        advance();
+        emit(Node::constant(-v));
+        return;
+      }
+      parse_unary();
+      emit(Node::op_node(Op::Neg));
+      return;
+    }
+    if (is_symbol('+')) {
+      advance();
+      parse_unary();
+      return;
+    }
+    parse_power();
+  }
+
+  bool next_is_caret() const {
+    std::size_t p = pos_;
+    while (p < text_.size() && std::isspace(static_cast<unsigned char>(text_[p]))) ++p;
+    return p < text_.size() && text_[p] == '^';
+  }
+
+  // power := primary ('^' integer)*   (left-associative: x^2^3 = (x^2)^3)
+  void parse_power() {
+    parse_primary();
+    while (is_symbol('^')) {
+      const int caret_col = tok_.column;
+      advance();
+      int sign = 1;
+      int col = tok_.column;
+      if (is_symbol('-') || is_symbol('+')) {
+        sign = is_symbol('-') ? -1 : 1;
+        advance();
+      }
+      if (tok_.kind != Token::Number || !tok_.integral) {
+        fail("the exponent after '^' must be an integer literal from -16 to 16 (use pow(a, b) or "
+             "exp2 for others), found " + describe(tok_),
+             tok_.kind == Token::End ? caret_col : tok_.column);
+      }
+      emit_ipow(sign * tok_.number, col);
+      advance();
+    }
+  }
+
+  void emit_ipow(double k, int column) {
+    if (k < kMinIntegerPower || k > kMaxIntegerPower || k == 0 || k == 1) {
+      fail("integer exponent " + format_int(k) + " is out of range (allowed: -16..-1 and 2..16)",
+           column);
+    }
+    emit(Node::ipow(static_cast<int>(k)));
+  }
+
+  static std::string format_int(double k) {
+    if (std::abs(k) < 1e15) return std::to_string(static_cast<long long>(k));
+    return "beyond 1e15";
+  }
+
+  void parse_primary() {
+    if (tok_.kind == Token::Number) {
+      emit(Node::constant(tok_.number));
+      advance();
+      return;
+    }
+    if (is_symbol('(')) {
+      const int col = tok_.column;
+      advance();
+      if (is_symbol(')')) fail("empty parentheses", col);
+      parse_sum();
+      if (!is_symbol(')')) {
+        fail("expected ')' to close the '(' at column " + std::to_string(col) + ", found " + describe(tok_),
+             tok_.column);
+      }
+      advance();
+      return;
+    }
+    if (tok_.kind == Token::Ident) {
+      const Token name = tok_;
+      advance();
+      if (is_symbol('(')) {
+        parse_call(name);
+      } else {
+        emit_name(name);
+      }
+      return;
+    }
+    if (tok_.kind == Token::End) fail("unexpected end of formula: an operand is missing", tok_.column);
+    fail("unexpected " + describe(tok_) + ": an operand is missing", tok_.column);
+  }
+
+  void emit_name(const Token& name) {
+    const std::string s(name.text);
+    auto find = [&](const std::vector<std::string>& v) {
+      return static_cast<int>(std::find(v.begin(), v.end(), s) - v.begin());
+    };
+    if (int p = find(expr_.parameters); p < static_cast<int>(expr_.parameters.size())) {
+      emit(Node::parameter(p));
+      return;
+    }
+    int v = find(expr_.variables);
+    if (v < static_cast<int>(expr_.variables.size())) {
+      emit(Node::variable(v));
+      return;
+    }
+    if (s == "pi") {
+      emit(Node::constant(std::numbers::pi));
+      return;
+    }
+    if (op_from_name(s) != Op::Count_) {
+      fail("function '" + s + "' needs arguments in parentheses", name.column);
+    }
+    if (!opts_.variables.empty()) {
+      std::string known;
+      for (const auto& k : opts_.variables) known += (known.empty() ? "" : ", ") + k;
+      fail("unknown variable '" + s + "' (known: " + known + ")", name.column);
+    }
+    if (expr_.variables.size() >= 32767) fail("too many variables", name.column);
+    expr_.variables.push_back(s);
+    emit(Node::variable(v));
+  }
+
+  void parse_call(const Token& name) {
+    const std::string s(name.text);
+    Op op = op_from_name(s);
+    if (s == "inversesqrt") op = Op::Rsqrt;  // GLSL spelling
+    if (op == Op::Count_ || op_info(op).infix) fail("unknown function '" + s + "'", name.column);
+    advance();  // '('
+    const int want = arity(op);
+    int got = 0;
+    std::size_t second_start = 0;
+    std::size_t second_text_begin = 0;
+    if (!is_symbol(')')) {
+      while (true) {
+        if (got == 1) {
+          second_start = expr_.nodes.size();
+          second_text_begin = static_cast<std::size_t>(tok_.column - 1);
+        }
+        parse_sum();
+        ++got;
+        if (is_symbol(',')) {
+          advance();
+          continue;
+        }
+        break;
+      }
+    }
+    if (!is_symbol(')')) {
+      fail("expected ',' or ')' in the arguments of " + s + ", found " + describe(tok_), tok_.column);
+    }
+    if (got != want) {
+      fail(s + " takes " + std::to_string(want) + (want == 1 ? " argument" : " arguments") + ", got " +
+               std::to_string(got),
+           name.column);
+    }
+    const std::size_t close = static_cast<std::size_t>(tok_.column - 1);
+    advance();  // ')'
+    // pow(a, k) with an integer literal k ("5", "-2"; not "5.0") in range is the integer power.
+    if (op == Op::Pow && expr_.nodes.size() == second_start + 1 && expr_.nodes.back().op == Op::Const &&
+        is_integer_literal(text_.substr(second_text_begin, close - second_text_begin))) {
+      const double k = expr_.nodes.back().value;
+      if (k >= kMinIntegerPower && k <= kMaxIntegerPower && k != 0 && k != 1) {
+        expr_.nodes.pop_back();
+        emit(Node::ipow(static_cast<int>(k)));
+        return;
+      }
+    }
+    emit(Node::op_node(op));
+  }
+
+  static bool is_integer_literal(std::string_view t) {
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.remove_prefix(1);
+    while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
+    if (!t.empty() && (t.front() == '-' || t.front() == '+')) t.remove_prefix(1);
+    return !t.empty() && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+  }
+
+  std::string_view text_;
+  const ParseOptions& opts_;
+  std::size_t pos_ = 0;
+  Token tok_;
+  Expression expr_;
+};
+
+}  // namespace
+
+Expression parse_formula(std::string_view text, const ParseOptions& options) {
+  return Parser(text, options).run();
+}
+
+}  // namespace shaderfit

@@ -1,0 +1,153 @@
+#include "shaderfit/expr/parse.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "expr/random_expression_test_util.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/print.hpp"
+
+namespace shaderfit {
+namespace {
+
+ParseOptions vars(std::vector<std::string> v) {
+  ParseOptions o;
+  o.variables = std::move(v);
+  return o;
+}
+
+TEST(Parse, SeedFormulaPostfix) {
+  Expression e = parse_formula("r0 + (x - r0) * x^4", vars({"r0", "x"}));
+  ASSERT_EQ(e.size(), 8u);
+  EXPECT_EQ(e.nodes[0].op, Op::Var);
+  EXPECT_EQ(e.nodes[5].op, Op::IPow);
+  EXPECT_EQ(e.nodes[5].index, 4);
+  EXPECT_EQ(e.nodes.back().op, Op::Add);
+  EXPECT_EQ(e.nodes.back().length, 7u);
+  EXPECT_EQ(to_infix(e), "r0 + (x - r0) * x^4");
+}
+
+TEST(Parse, PowWithIntegerLiteralIsIntegerPower) {
+  Expression e = parse_formula("pow(x, 5)", vars({"x"}));
+  ASSERT_EQ(e.size(), 2u);
+  EXPECT_EQ(e.nodes[1].op, Op::IPow);
+  EXPECT_EQ(e.nodes[1].index, 5);
+  Expression r = parse_formula("pow(x, 2.5)", vars({"x"}));
+  EXPECT_EQ(r.nodes.back().op, Op::Pow);
+  Expression neg = parse_formula("pow(x, -2)", vars({"x"}));
+  EXPECT_EQ(neg.nodes.back().op, Op::IPow);
+  EXPECT_EQ(neg.nodes.back().index, -2);
+}
+
+TEST(Parse, PrecedenceAndUnaryMinus) {
+  auto p = [](const char* s) { return to_infix(parse_formula(s, vars({"x", "y", "cos_theta"}))); };
+  EXPECT_EQ(p("1 - cos_theta"), "1 - cos_theta");
+  EXPECT_EQ(p("-x^2"), "-x^2");
+  EXPECT_EQ(p("(-x)^2"), "(-x)^2");
+  EXPECT_EQ(p("-2^2"), "-2^2");
+  EXPECT_EQ(p("x - (y - 1)"), "x - (y - 1)");
+  EXPECT_EQ(p("(x - y) - 1"), "x - y - 1");
+  EXPECT_EQ(p("x / (y * 2)"), "x / (y * 2)");
+  EXPECT_EQ(p("x^2^3"), "(x^2)^3");
+  EXPECT_EQ(p("2.5e-3 * x"), "0.0025 * x");
+  EXPECT_EQ(p("x * -2"), "x * -2");
+  EXPECT_EQ(p("-(2)"), "-(2)");
+  EXPECT_EQ(p("fma(x, y, 1)"), "fma(x, y, 1)");
+  EXPECT_EQ(p("inversesqrt(x)"), "rsqrt(x)");
+  Expression neg = parse_formula("-0.5", vars({}));
+  ASSERT_EQ(neg.size(), 1u);
+  EXPECT_EQ(neg.nodes[0].value, -0.5);
+}
+
+TEST(Parse, ParametersAndFreeVariables) {
+  ParseOptions o;
+  o.parameters = {"s"};
+  o.parameter_values = {0.25};
+  Expression e = parse_formula("r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", o);
+  EXPECT_EQ(e.variables, (std::vector<std::string>{"r0", "cos_theta"}));
+  ASSERT_EQ(e.parameters.size(), 1u);
+  EXPECT_EQ(e.parameter_values[0], 0.25);
+  EXPECT_NE(to_infix(e).find("s * cos_theta"), std::string::npos);
+  PrintOptions sub;
+  sub.substitute_parameters = true;
+  EXPECT_NE(to_infix(e, sub).find("0.25 * cos_theta"), std::string::npos);
+}
+
+// Each bad formula, the message it must contain, and the column it must point at.
+struct BadFormula {
+  const char* text;
+  const char* message;
+  int column;
+};
+
+class ParseErrors : public ::testing::TestWithParam<BadFormula> {};
+
+TEST_P(ParseErrors, NamesTheProblemAndColumn) {
+  const BadFormula& b = GetParam();
+  try {
+    parse_formula(b.text, vars({"x", "r0"}));
+    FAIL() << "no error for " << b.text;
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find(b.message), std::string::npos) << e.what();
+    EXPECT_EQ(e.where().source, "formula");
+    EXPECT_EQ(e.where().line, 1);
+    EXPECT_EQ(e.where().column, b.column) << e.what();
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    All, ParseErrors,
+    ::testing::Values(BadFormula{"x +", "operand is missing", 4},
+                      BadFormula{"r0 + (x - r0", "expected ')'", 13},
+                      BadFormula{"x + y", "unknown variable 'y' (known: x, r0)", 5},
+                      BadFormula{"foo(x)", "unknown function 'foo'", 1},
+                      BadFormula{"sqrt(x, x)", "sqrt takes 1 argument, got 2", 1},
+                      BadFormula{"x ^ 2.5", "integer literal", 5},
+                      BadFormula{"x^17", "out of range", 3}, BadFormula{"x ^ 1", "out of range", 5},
+                      BadFormula{"", "empty formula", 1}, BadFormula{"x $ 2", "unexpected character '$'", 3},
+                      BadFormula{"x )", "unexpected ')'", 3}, BadFormula{"()", "empty parentheses", 1},
+                      BadFormula{"2x", "after the number", 2}, BadFormula{"1e+", "exponent has no digits", 1},
+                      BadFormula{"sqrt", "needs arguments", 1}, BadFormula{"1e999", "out of range", 1},
+                      BadFormula{"min(x)", "min takes 2 arguments, got 1", 1}));
+
+TEST(Parse, PrintThenParseRoundTripsRandomExpressions) {
+  Rng rng(12345);
+  const std::vector<std::string> names = {"x", "r0", "cos_theta"};
+  int checked = 0;
+  for (int i = 0; i < 12000; ++i) {
+    Expression e = testing::random_expression(rng, names, 1 + static_cast<int>(i % 7), i % 3 == 0);
+    const std::string text = to_infix(e);
+    ParseOptions o;
+    o.variables = names;
+    o.parameters = e.parameters;
+    o.parameter_values = e.parameter_values;
+    Expression back;
+    ASSERT_NO_THROW(back = parse_formula(text, o)) << text;
+    ASSERT_TRUE(back == e) << text << "  reprinted: " << to_infix(back);
+    EXPECT_EQ(structural_hash(back), structural_hash(e));
+    ++checked;
+  }
+  EXPECT_GE(checked, 10000);
+}
+
+TEST(Print, Latex) {
+  Expression e = parse_formula("r0 + (x - r0) * x^4", vars({"r0", "x"}));
+  EXPECT_EQ(to_latex(e), "r_{0} + \\left(x - r_{0}\\right) \\cdot x^{4}");
+  Expression f = parse_formula("sqrt(x) / exp2(-x) + 1e-6", vars({"x"}));
+  EXPECT_EQ(to_latex(f), "\\frac{\\sqrt{x}}{2^{-x}} + 1 \\times 10^{-06}");
+  Expression g = parse_formula("cos_theta", {});
+  EXPECT_EQ(to_latex(g), "\\mathrm{cos\\_theta}");
+}
+
+TEST(Hash, CommutativeOperandsHashAlike) {
+  auto h = [](const char* s) { return structural_hash(parse_formula(s, vars({"x", "y"}))); };
+  EXPECT_EQ(h("x + y"), h("y + x"));
+  EXPECT_EQ(h("x * (y + 1)"), h("(1 + y) * x"));
+  EXPECT_NE(h("x - y"), h("y - x"));
+  EXPECT_NE(h("x^2"), h("x^3"));
+  EXPECT_NE(h("x"), h("y"));
+}
+
+}  // namespace
+}  // namespace shaderfit

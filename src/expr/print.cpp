@@ -1,0 +1,213 @@
+#include "shaderfit/expr/print.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+
+namespace shaderfit {
+
+std::string format_number(double v) {
+  if (std::isnan(v)) return "nan";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[64];
+  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
+  (void)ec;
+  return std::string(buf, end);
+}
+
+namespace {
+
+// Precedence levels for infix printing; higher binds tighter.
+enum Prec { kSum = 1, kProduct = 2, kUnary = 3, kPower = 4, kAtom = 5 };
+
+class InfixPrinter {
+ public:
+  InfixPrinter(const Expression& e, const PrintOptions& o) : e_(e), o_(o) {}
+
+  std::string print(std::size_t i) { return text(i); }
+
+ private:
+  Prec prec(std::size_t i) const {
+    const Node& n = e_.nodes[i];
+    switch (n.op) {
+      case Op::Add:
+      case Op::Sub: return kSum;
+      case Op::Mul:
+      case Op::Div: return kProduct;
+      case Op::Neg: return kUnary;
+      case Op::IPow: return kPower;
+      case Op::Const: return std::signbit(n.value) ? kUnary : kAtom;  // "-2" reads as unary
+      case Op::Param: return (o_.substitute_parameters && std::signbit(param_value(n))) ? kUnary : kAtom;
+      default: return kAtom;
+    }
+  }
+
+  double param_value(const Node& n) const {
+    const auto k = static_cast<std::size_t>(n.index);
+    return k < e_.parameter_values.size() ? e_.parameter_values[k] : 0.0;
+  }
+
+  std::string wrap(std::size_t i, bool paren) { return paren ? "(" + text(i) + ")" : text(i); }
+
+  std::string text(std::size_t i) {
+    const Node& n = e_.nodes[i];
+    std::size_t c[3];
+    if (n.arity > 0) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
+    switch (n.op) {
+      case Op::Const: return format_number(n.value);
+      case Op::Var: return e_.variables.at(static_cast<std::size_t>(n.index));
+      case Op::Param:
+        return o_.substitute_parameters ? format_number(param_value(n))
+                                        : e_.parameters.at(static_cast<std::size_t>(n.index));
+      case Op::Add:
+      case Op::Sub:
+      case Op::Mul:
+      case Op::Div: {
+        const Prec p = prec(i);
+        // Left operand keeps equal precedence bare (left-associative); the right one does not.
+        // A negative literal on the right of a product or sum is fine bare ("a * -2") since the
+        // parser reads "-2" as one literal; a Neg node there is fine too ("a - -b").
+        std::string left = wrap(c[0], prec(c[0]) < p);
+        const Prec rp = prec(c[1]);
+        const bool right_paren = rp <= p && rp != kUnary;
+        std::string right = wrap(c[1], right_paren);
+        return left + " " + std::string(op_info(n.op).name) + " " + right;
+      }
+      case Op::Neg: {
+        const Node& k = e_.nodes[c[0]];
+        // "-(2)" keeps Neg(Const) apart from the literal -2; "-x^2" already means -(x^2).
+        const bool literal = k.op == Op::Const || (k.op == Op::Param && o_.substitute_parameters);
+        return "-" + wrap(c[0], literal || prec(c[0]) < kUnary);
+      }
+      case Op::IPow: {
+        const Node& k = e_.nodes[c[0]];
+        // A non-negative literal base stays bare ("2^3"); everything below atom level is wrapped.
+        const bool paren = prec(c[0]) < kAtom || (k.op == Op::Const && std::signbit(k.value));
+        return wrap(c[0], paren) + "^" + std::to_string(n.index);
+      }
+      case Op::Pow: {
+        std::string exponent = text(c[1]);
+        // An integer literal exponent would read back as the integer power; mark it real.
+        const Node& k = e_.nodes[c[1]];
+        if (k.op == Op::Const && std::isfinite(k.value) &&
+            exponent.find_first_of(".en") == std::string::npos)
+          exponent += ".0";
+        return "pow(" + text(c[0]) + ", " + exponent + ")";
+      }
+      default: {
+        std::string s = std::string(op_info(n.op).name) + "(";
+        for (int k = 0; k < n.arity; ++k) s += (k ? ", " : "") + text(c[k]);
+        return s + ")";
+      }
+    }
+  }
+
+  const Expression& e_;
+  const PrintOptions& o_;
+};
+
+std::string latex_name(const std::string& name) {
+  // r0 -> r_{0}; cos_theta -> \mathrm{cos\_theta}; single letters stay italic.
+  std::size_t d = name.size();
+  while (d > 0 && std::isdigit(static_cast<unsigned char>(name[d - 1]))) --d;
+  if (d == 1 && d < name.size()) return name.substr(0, 1) + "_{" + name.substr(1) + "}";
+  if (name.size() == 1) return name;
+  std::string s;
+  for (char ch : name) s += ch == '_' ? std::string("\\_") : std::string(1, ch);
+  return "\\mathrm{" + s + "}";
+}
+
+class LatexPrinter {
+ public:
+  LatexPrinter(const Expression& e, const PrintOptions& o) : e_(e), o_(o) {}
+
+  std::string text(std::size_t i) {
+    const Node& n = e_.nodes[i];
+    std::size_t c[3];
+    if (n.arity > 0) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
+    auto call = [&](const char* f) { return std::string(f) + "\\left(" + text(c[0]) + "\\right)"; };
+    switch (n.op) {
+      case Op::Const: return number(n.value);
+      case Op::Var: return latex_name(e_.variables.at(static_cast<std::size_t>(n.index)));
+      case Op::Param: {
+        const auto k = static_cast<std::size_t>(n.index);
+        if (o_.substitute_parameters && k < e_.parameter_values.size())
+          return number(e_.parameter_values[k]);
+        return latex_name(e_.parameters.at(k));
+      }
+      case Op::Add: return text(c[0]) + " + " + sum_right(c[1], false);
+      case Op::Sub: return text(c[0]) + " - " + sum_right(c[1], true);
+      case Op::Mul: return factor(c[0]) + " \\cdot " + factor(c[1]);
+      case Op::Div: return "\\frac{" + text(c[0]) + "}{" + text(c[1]) + "}";
+      case Op::Neg: return "-" + factor(c[0]);
+      case Op::IPow: return base(c[0]) + "^{" + std::to_string(n.index) + "}";
+      case Op::Pow: return base(c[0]) + "^{" + text(c[1]) + "}";
+      case Op::Sqrt: return "\\sqrt{" + text(c[0]) + "}";
+      case Op::Rsqrt: return "\\frac{1}{\\sqrt{" + text(c[0]) + "}}";
+      case Op::Rcp: return "\\frac{1}{" + text(c[0]) + "}";
+      case Op::Exp2: return "2^{" + text(c[0]) + "}";
+      case Op::Exp: return "e^{" + text(c[0]) + "}";
+      case Op::Log2: return call("\\log_2");
+      case Op::Log: return call("\\ln");
+      case Op::Abs: return "\\left|" + text(c[0]) + "\\right|";
+      case Op::Saturate: return call("\\operatorname{saturate}");
+      case Op::Sin: return call("\\sin");
+      case Op::Cos: return call("\\cos");
+      case Op::Min:
+      case Op::Max:
+        return std::string(n.op == Op::Min ? "\\min" : "\\max") + "\\left(" + text(c[0]) + ", " +
+               text(c[1]) + "\\right)";
+      case Op::Fma: return factor(c[0]) + " \\cdot " + factor(c[1]) + " + " + text(c[2]);
+      default: return "?";
+    }
+  }
+
+ private:
+  static std::string number(double v) {
+    std::string s = format_number(v);
+    auto e = s.find('e');
+    if (e == std::string::npos) return s;
+    std::string exp = s.substr(e + 1);
+    if (!exp.empty() && exp[0] == '+') exp.erase(0, 1);
+    return s.substr(0, e) + " \\times 10^{" + exp + "}";
+  }
+  bool is_sum(std::size_t i) const {
+    const Op op = e_.nodes[i].op;
+    return op == Op::Add || op == Op::Sub || op == Op::Fma;
+  }
+  std::string paren(std::size_t i) { return "\\left(" + text(i) + "\\right)"; }
+  std::string sum_right(std::size_t i, bool minus) {
+    const Op op = e_.nodes[i].op;
+    const bool neg = op == Op::Neg || (op == Op::Const && std::signbit(e_.nodes[i].value));
+    return (minus && is_sum(i)) || neg ? paren(i) : text(i);
+  }
+  std::string factor(std::size_t i) {
+    const Op op = e_.nodes[i].op;
+    const bool neg = op == Op::Neg || (op == Op::Const && std::signbit(e_.nodes[i].value));
+    return is_sum(i) || neg ? paren(i) : text(i);
+  }
+  std::string base(std::size_t i) {
+    const Node& n = e_.nodes[i];
+    const bool atom = n.op == Op::Var || n.op == Op::Param ||
+                      (n.op == Op::Const && !std::signbit(n.value) &&
+                       format_number(n.value).find('e') == std::string::npos);
+    return atom ? text(i) : paren(i);
+  }
+
+  const Expression& e_;
+  const PrintOptions& o_;
+};
+
+}  // namespace
+
+std::string to_infix(const Expression& e, const PrintOptions& options) {
+  if (e.nodes.empty()) return "";
+  return InfixPrinter(e, options).print(e.nodes.size() - 1);
+}
+
+std::string to_latex(const Expression& e, const PrintOptions& options) {
+  if (e.nodes.empty()) return "";
+  return LatexPrinter(e, options).text(e.nodes.size() - 1);
+}
+
+}  // namespace shaderfit
