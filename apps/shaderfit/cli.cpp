@@ -28,6 +28,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
   register_eval_command(app, ctx);
   register_search_command(app, ctx);
+  register_cost_command(app, ctx);
+  register_codegen_command(app, ctx);
 
   try {
     app.parse(argc, argv);

@@ -39,6 +39,21 @@ void Expression::child_indices(std::size_t i, std::span<std::size_t> out) const 
   }
 }
 
+void Expression::drop_unused_variables() {
+  std::vector<int> remap(variables.size(), -1);
+  for (const Node& n : nodes)
+    if (n.op == Op::Var) remap.at(static_cast<std::size_t>(n.index)) = 0;
+  std::vector<std::string> kept;
+  for (std::size_t i = 0; i < variables.size(); ++i) {
+    if (remap[i] < 0) continue;
+    remap[i] = static_cast<int>(kept.size());
+    kept.push_back(variables[i]);
+  }
+  for (Node& n : nodes)
+    if (n.op == Op::Var) n.index = static_cast<std::int16_t>(remap[static_cast<std::size_t>(n.index)]);
+  variables = std::move(kept);
+}
+
 Expression Expression::subtree(std::size_t i) const {
   Expression s;
   s.nodes.assign(nodes.begin() + static_cast<std::ptrdiff_t>(subtree_begin(i)),

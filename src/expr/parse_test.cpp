@@ -81,6 +81,8 @@ struct BadFormula {
   int column;
 };
 
+void PrintTo(const BadFormula& b, std::ostream* os) { *os << '"' << b.text << '"'; }
+
 class ParseErrors : public ::testing::TestWithParam<BadFormula> {};
 
 TEST_P(ParseErrors, NamesTheProblemAndColumn) {
@@ -109,7 +111,8 @@ INSTANTIATE_TEST_SUITE_P(
                       BadFormula{"x )", "unexpected ')'", 3}, BadFormula{"()", "empty parentheses", 1},
                       BadFormula{"2x", "after the number", 2}, BadFormula{"1e+", "exponent has no digits", 1},
                       BadFormula{"sqrt", "needs arguments", 1}, BadFormula{"1e999", "out of range", 1},
-                      BadFormula{"min(x)", "min takes 2 arguments, got 1", 1}));
+                      BadFormula{"min(x)", "min takes 2 arguments, got 1", 1}),
+    [](const ::testing::TestParamInfo<BadFormula>& p) { return "case" + std::to_string(p.index); });
 
 TEST(Parse, PrintThenParseRoundTripsRandomExpressions) {
   Rng rng(12345);

@@ -22,7 +22,8 @@ inline double uniform(Rng& rng, double a, double b) { return a + (b - a) * unifo
 
 // Uniform integer in [0, n), n > 0 (Lemire's multiply-shift; bias below 2^-64 * n).
 inline std::uint64_t uniform_index(Rng& rng, std::uint64_t n) {
-  return static_cast<std::uint64_t>((static_cast<unsigned __int128>(rng()) * n) >> 64);
+  __extension__ using u128 = unsigned __int128;  // GCC and Clang; __extension__ quiets -Wpedantic
+  return static_cast<std::uint64_t>((static_cast<u128>(rng()) * n) >> 64);
 }
 
 // True with probability p.

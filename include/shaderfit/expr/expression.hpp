@@ -56,6 +56,9 @@ struct Expression {
   // The indices of node i's children, first operand first. Writes arity(i) entries.
   void child_indices(std::size_t i, std::span<std::size_t> out) const;
 
+  // Removes the variables no Var node uses and renumbers the rest, keeping their order.
+  void drop_unused_variables();
+
   // Copies the subtree rooted at i as an expression with the same variable and parameter tables.
   [[nodiscard]] Expression subtree(std::size_t i) const;
 

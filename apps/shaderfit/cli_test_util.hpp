@@ -1,0 +1,46 @@
+// Helpers for tests of the command-line tool: run it in-process, write scratch files.
+#pragma once
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "shaderfit/cli.hpp"
+
+namespace shaderfit::cli::testing {
+
+struct CliResult {
+  int status = -1;
+  std::string out, err;
+};
+
+inline CliResult run(std::vector<std::string> args) {
+  args.insert(args.begin(), "shaderfit");
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  std::ostringstream out, err;
+  CliResult r;
+  r.status = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+  r.out = out.str();
+  r.err = err.str();
+  return r;
+}
+
+// A file under the test's scratch folder with the given contents; returns its path.
+inline std::string scratch_file(const std::string& name, const std::string& contents) {
+  const auto dir = std::filesystem::temp_directory_path() / "shaderfit_cli_test";
+  std::filesystem::create_directories(dir);
+  const auto path = dir / name;
+  std::ofstream(path, std::ios::binary) << contents;
+  return path.string();
+}
+
+inline int line_count(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+}  // namespace shaderfit::cli::testing

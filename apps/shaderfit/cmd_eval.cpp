@@ -1,0 +1,186 @@
+// shaderfit eval: error metrics of formulas on a data set, overall and per group, against a
+// baseline. The JSON schema is documented in docs/eval-json.md.
+#include <fmt/format.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
+#include "data_source.hpp"
+#include "shaderfit/cli.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/eval/dataset_eval.hpp"
+#include "shaderfit/eval/metrics.hpp"
+#include "shaderfit/expr/print.hpp"
+
+namespace shaderfit::cli {
+
+namespace {
+
+struct EvalArgs {
+  DataSource data;
+  std::string target;
+  std::vector<std::string> groups;
+  bool groups_given = false;
+  std::string baseline;
+  std::vector<std::string> formulas;
+  std::string json_path;
+  bool float32 = false;
+};
+
+struct GroupMetrics {
+  std::string column, label;
+  ErrorMetrics m;
+};
+
+struct FormulaResult {
+  std::string text;     // as the user wrote it
+  std::string printed;  // as shaderfit prints it
+  bool baseline = false;
+  ErrorMetrics all;
+  std::vector<GroupMetrics> groups;
+};
+
+std::string label_of(const Column& c, std::size_t row) {
+  return c.numeric() ? format_number(c.values[row]) : c.labels[row];
+}
+
+FormulaResult evaluate_formula(const std::string& text, const std::string& source, const Dataset& d,
+                               std::span<const double> target, const EvalArgs& a) {
+  FormulaResult r;
+  r.text = text;
+  Expression e = parse_formula_on(text, d, source);
+  r.printed = to_infix(e);
+  const std::vector<double> p = a.float32 ? evaluate_on_f32(e, d) : evaluate_on(e, d);
+  r.all = error_metrics(p, target);
+  for (const std::string& g : a.groups) {
+    const Column& col = d.column(g);
+    std::vector<std::string> labels(d.rows());
+    for (std::size_t i = 0; i < d.rows(); ++i) labels[i] = label_of(col, i);
+    for (const auto& [label, rows] : group_rows(labels))
+      r.groups.push_back({g, label, error_metrics(p, target, rows)});
+  }
+  return r;
+}
+
+nlohmann::json metrics_json(const ErrorMetrics& m) {
+  return {{"rows", m.rows},       {"mse", m.mse},         {"rmse", m.rmse},
+          {"max_abs", m.max_abs}, {"max_rel", m.max_rel}, {"nonfinite_rows", m.nonfinite}};
+}
+
+nlohmann::json change_json(const ErrorMetrics& m, const ErrorMetrics& b) {
+  return {{"mse", relative_change(m.mse, b.mse)},
+          {"rmse", relative_change(m.rmse, b.rmse)},
+          {"max_abs", relative_change(m.max_abs, b.max_abs)},
+          {"max_rel", relative_change(m.max_rel, b.max_rel)}};
+}
+
+void print_table(std::ostream& out, const std::vector<FormulaResult>& results, const EvalArgs& a,
+                 const Dataset& d) {
+  out << fmt::format("shaderfit eval: {}, {} rows, target {}{}\n", a.data.describe(), d.rows(),
+                     a.target, a.float32 ? ", float32" : "");
+  const FormulaResult* base = results.front().baseline ? &results.front() : nullptr;
+  int number = 0;
+  for (const FormulaResult& r : results) {
+    out << '\n' << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number)) << r.printed << '\n';
+    out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE", "RMSE",
+                       "max abs", "max rel", base && !r.baseline ? "  MSE vs baseline" : "");
+    auto row = [&](const std::string& name, const ErrorMetrics& m, const ErrorMetrics* b) {
+      std::string change;
+      if (b) change = fmt::format("  {:>+15.1f}%", 100.0 * relative_change(m.mse, b->mse));
+      out << fmt::format("  {:<28} {:>6} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}{}\n", name, m.rows, m.mse,
+                         m.rmse, m.max_abs, m.max_rel, change);
+      if (m.nonfinite) out << fmt::format("  {:<28} {} rows are NaN or infinite\n", "", m.nonfinite);
+    };
+    const bool compare = base && !r.baseline;
+    row("all", r.all, compare ? &base->all : nullptr);
+    for (std::size_t g = 0; g < r.groups.size(); ++g) {
+      const GroupMetrics& gm = r.groups[g];
+      row(gm.column + "=" + gm.label, gm.m, compare ? &base->groups[g].m : nullptr);
+    }
+  }
+}
+
+nlohmann::json to_json(const std::vector<FormulaResult>& results, const EvalArgs& a, const Dataset& d) {
+  nlohmann::json j;
+  j["schema"] = "shaderfit.eval/1";
+  j["data"] = {{"source", a.data.describe()}, {"rows", d.rows()}, {"target", a.target}};
+  j["precision"] = a.float32 ? "float32" : "float64";
+  j["groups"] = a.groups;
+  const FormulaResult* base = results.front().baseline ? &results.front() : nullptr;
+  j["baseline"] = base ? nlohmann::json(base->printed) : nlohmann::json(nullptr);
+  j["results"] = nlohmann::json::array();
+  for (const FormulaResult& r : results) {
+    nlohmann::json f;
+    f["formula"] = r.printed;
+    f["input"] = r.text;
+    f["role"] = r.baseline ? "baseline" : "candidate";
+    f["all"] = metrics_json(r.all);
+    if (base && !r.baseline) f["all"]["change_vs_baseline"] = change_json(r.all, base->all);
+    nlohmann::json groups = nlohmann::json::object();
+    for (std::size_t g = 0; g < r.groups.size(); ++g) {
+      const GroupMetrics& gm = r.groups[g];
+      nlohmann::json m = metrics_json(gm.m);
+      if (base && !r.baseline) m["change_vs_baseline"] = change_json(gm.m, base->groups[g].m);
+      groups[gm.column][gm.label] = m;
+    }
+    f["groups"] = groups;
+    j["results"].push_back(f);
+  }
+  return j;
+}
+
+void run_eval(EvalArgs& a, Context& ctx) {
+  Dataset d = load_data(a.data);
+  if (a.formulas.empty()) throw Error("no formula to evaluate", SourceLocation{"eval"});
+  const std::span<const double> target = d.numeric(a.target).values;
+  // A built-in data set comes with its natural groups unless the user chose others.
+  if (!a.groups_given && !a.data.dataset.empty()) {
+    for (const char* g : {"kind", "material"})
+      if (d.find(g)) a.groups.push_back(g);
+  }
+  for (const std::string& g : a.groups) (void)d.column(g);
+
+  std::vector<FormulaResult> results;
+  if (!a.baseline.empty()) {
+    results.push_back(evaluate_formula(a.baseline, "--baseline", d, target, a));
+    results.back().baseline = true;
+  }
+  for (std::size_t i = 0; i < a.formulas.size(); ++i) {
+    results.push_back(evaluate_formula(a.formulas[i], "formula " + std::to_string(i + 1), d, target, a));
+  }
+
+  if (a.json_path == "-") {
+    ctx.out << to_json(results, a, d).dump(2) << '\n';
+    return;
+  }
+  print_table(ctx.out, results, a, d);
+  if (!a.json_path.empty()) {
+    std::ofstream f(a.json_path);
+    if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
+    f << to_json(results, a, d).dump(2) << '\n';
+  }
+}
+
+}  // namespace
+
+void register_eval_command(CLI::App& app, Context& ctx) {
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* cmd = app.add_subcommand("eval", "Error metrics of formulas on a data set, per group, against a baseline");
+  add_data_options(cmd, args->data, true);
+  cmd->add_option("--target", args->target, "column the formulas approximate")->required();
+  cmd->add_option("--group", args->groups, "column(s) whose values split the rows into groups (repeat or comma-separate)")
+      ->delimiter(',')
+      ->allow_extra_args(false)
+      ->each([args](const std::string&) { args->groups_given = true; });
+  cmd->add_option("--baseline", args->baseline, "formula the others are compared with");
+  cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
+  cmd->add_flag("--float32", args->float32, "evaluate in float32, as a shader would");
+  cmd->add_option("formulas", args->formulas, "formulas over the data's column names, e.g. 'r0 + (x - r0)*x^4'");
+  cmd->footer(
+      "Example:\n  shaderfit eval --dataset fresnel-seed --seed 1 --target R \\\n"
+      "    --baseline 'r0 + (1 - r0)*x^5' 'r0 + (x - r0)*x^4'");
+  cmd->callback([args, &ctx] { run_eval(*args, ctx); });
+}
+
+}  // namespace shaderfit::cli

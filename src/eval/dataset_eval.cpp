@@ -1,0 +1,52 @@
+#include "shaderfit/eval/dataset_eval.hpp"
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/data/dataset.hpp"
+#include "shaderfit/expr/parse.hpp"
+
+namespace shaderfit {
+
+Expression parse_formula_on(std::string_view text, const Dataset& data, const std::string& source) {
+  ParseOptions opts;
+  opts.variables = data.names();
+  opts.source = source;
+  Expression e = parse_formula(text, opts);
+  e.drop_unused_variables();
+  for (const std::string& v : e.variables) (void)data.numeric(v);
+  return e;
+}
+
+namespace {
+
+std::vector<const double*> bind(const Expression& e, const Dataset& data) {
+  std::vector<const double*> cols;
+  cols.reserve(e.variables.size());
+  for (const std::string& v : e.variables) cols.push_back(data.numeric(v).values.data());
+  return cols;
+}
+
+}  // namespace
+
+std::vector<double> evaluate_on(const Expression& e, const Dataset& data, const EvalOptions& options) {
+  const std::vector<const double*> cols = bind(e, data);
+  std::vector<double> out(data.rows());
+  evaluate(e, std::span<const double* const>(cols), std::span<double>(out), options);
+  return out;
+}
+
+std::vector<double> evaluate_on_f32(const Expression& e, const Dataset& data,
+                                    const EvalOptions& options) {
+  const std::vector<const double*> cols64 = bind(e, data);
+  const std::size_t n = data.rows();
+  std::vector<std::vector<float>> storage(cols64.size(), std::vector<float>(n));
+  std::vector<const float*> cols;
+  for (std::size_t c = 0; c < cols64.size(); ++c) {
+    for (std::size_t i = 0; i < n; ++i) storage[c][i] = static_cast<float>(cols64[c][i]);
+    cols.push_back(storage[c].data());
+  }
+  std::vector<float> out32(n);
+  evaluate(e, std::span<const float* const>(cols), std::span<float>(out32), options);
+  return std::vector<double>(out32.begin(), out32.end());
+}
+
+}  // namespace shaderfit
