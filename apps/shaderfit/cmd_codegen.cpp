@@ -1,10 +1,75 @@
-// `shaderfit codegen` (in progress).
+// shaderfit codegen: a formula, or every member of a search front, as a function in GLSL, HLSL,
+// CUDA, C++ or Metal (docs/codegen.md).
+#include <fmt/format.h>
+
+#include <memory>
+#include <ostream>
+
 #include "shaderfit/cli.hpp"
+#include "shaderfit/codegen/codegen.hpp"
+#include "shaderfit/codegen/front.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
 
 namespace shaderfit::cli {
 
-void register_codegen_command(CLI::App& app, Context& /*ctx*/) {
-  app.add_subcommand("codegen", "(in progress)");
+namespace {
+
+struct CodegenArgs {
+  std::string lang;
+  std::string name = "shaderfit_formula";
+  std::string formula, front_path;
+  std::vector<std::string> inputs, params;
+};
+
+std::vector<std::string> describe(const Expression& e) {
+  return {to_infix(e), fmt::format("cost model: {} SASS, {} PTX, {} generic instructions",
+                                   instruction_count(e, InstructionTarget::Sass), instruction_count(e, InstructionTarget::Ptx),
+                                   instruction_count(e, InstructionTarget::Generic))};
+}
+
+void run_codegen(const CodegenArgs& a, Context& ctx) {
+  const auto lang = language_from_name(a.lang);
+  if (!lang) throw Error("unknown language '" + a.lang + "' (known: glsl, hlsl, cuda, cpp, metal)", SourceLocation{"--lang"});
+  if (a.formula.empty() == a.front_path.empty()) {
+    throw Error("give either a formula or --front FILE.json", SourceLocation{"codegen"});
+  }
+  CodegenOptions o;
+  o.language = *lang;
+  if (!a.formula.empty()) {
+    ParseOptions po;
+    po.variables = a.inputs;
+    po.parameters = a.params;
+    const Expression e = parse_formula(a.formula, po);
+    o.name = a.name;
+    o.comment = describe(e);
+    ctx.out << generate_function(e, o);
+    return;
+  }
+  const std::vector<FrontFormula> front = read_front(a.front_path, {a.inputs, a.params});
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    o.name = fmt::format("{}_{}", a.name, i);
+    o.bake_parameters = front[i].parameters_have_values;
+    o.comment = describe(front[i].expression);
+    ctx.out << (i ? "\n" : "") << generate_function(front[i].expression, o);
+  }
+}
+
+}  // namespace
+
+void register_codegen_command(CLI::App& app, Context& ctx) {
+  auto args = std::make_shared<CodegenArgs>();
+  CLI::App* cmd = app.add_subcommand("codegen", "Print a formula (or a search front) as a GLSL, HLSL, CUDA, C++ or Metal function");
+  cmd->add_option("--lang", args->lang, "glsl, hlsl, cuda, cpp or metal")->required();
+  cmd->add_option("--name", args->name, "function name (a front's members get NAME_0, NAME_1, ...)");
+  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")->delimiter(',')->allow_extra_args(false);
+  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")->delimiter(',')->allow_extra_args(false);
+  cmd->add_option("--front", args->front_path, "a JSON file with a \"front\" list of {\"formula\": ...} members");
+  cmd->add_option("formula", args->formula, "the formula; every identifier is an input unless --inputs/--params say otherwise");
+  cmd->footer("Example:\n  shaderfit codegen --lang glsl --name fresnel 'r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4'");
+  cmd->callback([args, &ctx] { run_codegen(*args, ctx); });
 }
 
 }  // namespace shaderfit::cli

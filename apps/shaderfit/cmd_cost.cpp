@@ -1,10 +1,91 @@
-// `shaderfit cost` (in progress).
+// shaderfit cost: the instruction count of a formula per target, and the listing the model
+// assumed (docs/cost-model.md).
+#include <fmt/format.h>
+
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <ostream>
+
 #include "shaderfit/cli.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
 
 namespace shaderfit::cli {
 
-void register_cost_command(CLI::App& app, Context& /*ctx*/) {
-  app.add_subcommand("cost", "(in progress)");
+namespace {
+
+struct CostArgs {
+  std::string formula;
+  std::string target = "sass";
+  std::vector<std::string> inputs, params;
+  std::string json_path;
+};
+
+constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic};
+
+nlohmann::json to_json(const Expression& e, const std::vector<InstructionCost>& costs, const InstructionCost& shown) {
+  nlohmann::json j;
+  j["schema"] = "shaderfit.cost/1";
+  j["formula"] = to_infix(e);
+  j["inputs"] = e.variables;
+  j["parameters"] = e.parameters;
+  for (const InstructionCost& c : costs) {
+    j["targets"][std::string(instruction_target_name(c.target))] = {
+        {"instructions", c.instructions}, {"fp32", c.fp32}, {"minmax", c.minmax}, {"mufu", c.mufu}, {"weighted", c.weighted}};
+  }
+  nlohmann::json lines = nlohmann::json::array();
+  for (const ListingLine& l : shown.listing)
+    lines.push_back({{"instruction", l.instruction}, {"comment", l.comment}, {"unit", instruction_unit_name(l.unit)}});
+  j["listing"] = {{"target", instruction_target_name(shown.target)}, {"lines", lines}};
+  return j;
+}
+
+void run_cost(const CostArgs& a, Context& ctx) {
+  const auto target = instruction_target_from_name(a.target);
+  if (!target) throw Error("unknown target '" + a.target + "' (known: sass, ptx, generic)", SourceLocation{"--target"});
+  ParseOptions po;
+  po.variables = a.inputs;
+  po.parameters = a.params;
+  const Expression e = parse_formula(a.formula, po);
+  std::vector<InstructionCost> costs;
+  for (InstructionTarget t : kTargets) costs.push_back(instruction_cost(e, t));
+  const InstructionCost& shown = costs[static_cast<std::size_t>(*target)];
+  if (a.json_path == "-") {
+    ctx.out << to_json(e, costs, shown).dump(2) << '\n';
+    return;
+  }
+  ctx.out << "formula: " << to_infix(e) << '\n';
+  ctx.out << "inputs: " << fmt::format("{}", fmt::join(e.variables, ", "));
+  if (!e.parameters.empty()) ctx.out << "; parameters: " << fmt::format("{}", fmt::join(e.parameters, ", "));
+  ctx.out << fmt::format("\n\n{:<8} {:>12} {:>5} {:>7} {:>5} {:>9}\n", "target", "instructions", "fp32", "minmax", "mufu", "weighted");
+  for (const InstructionCost& c : costs) {
+    ctx.out << fmt::format("{:<8} {:>12} {:>5} {:>7} {:>5} {:>9g}\n", instruction_target_name(c.target), c.instructions,
+                           c.fp32, c.minmax, c.mufu, c.weighted);
+  }
+  ctx.out << "\n" << instruction_target_name(shown.target) << " listing:\n" << format_listing(shown);
+  if (!a.json_path.empty()) {
+    std::ofstream f(a.json_path);
+    if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
+    f << to_json(e, costs, shown).dump(2) << '\n';
+  }
+}
+
+}  // namespace
+
+void register_cost_command(CLI::App& app, Context& ctx) {
+  auto args = std::make_shared<CostArgs>();
+  CLI::App* cmd = app.add_subcommand("cost", "GPU instruction count of a formula per target, with the instruction listing");
+  cmd->add_option("formula", args->formula, "the formula; every identifier is an input unless --inputs/--params say otherwise")
+      ->required();
+  cmd->add_option("--target", args->target, "listing to print: sass (default), ptx or generic");
+  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")->delimiter(',')->allow_extra_args(false);
+  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")->delimiter(',')->allow_extra_args(false);
+  cmd->add_option("--json", args->json_path, "write the counts and listing as JSON to PATH ('-' for stdout)");
+  cmd->footer("Example:\n  shaderfit cost 'r0 + (1 - r0) * (1 - cos_theta)^5'");
+  cmd->callback([args, &ctx] { run_cost(*args, ctx); });
 }
 
 }  // namespace shaderfit::cli

@@ -1,0 +1,59 @@
+// Code generation: a formula as one function in GLSL, HLSL, CUDA, C++ or Metal.
+//
+//   Expression e = parse_formula("r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4");
+//   CodegenOptions o;
+//   o.language = Language::Cuda;
+//   o.name = "fresnel";
+//   std::cout << generate_function(e, o);
+//   // __device__ __forceinline__ float fresnel(float r0, float cos_theta) {
+//   //   const float t0 = 1.0f - cos_theta;
+//   //   const float t1 = t0 * t0;
+//   //   return fmaf(t0 - r0, t1 * t1, r0);
+//   // }
+//
+// The function is printed from the same program the cost model counts (docs/codegen.md):
+// values used more than once are named temporaries (t0, t1, ...), integer powers are the
+// squaring chain the model assumed, and the evaluation order (operand order and association)
+// is the model's. CUDA, C++ and Metal write fma(a, b, c) wherever the model fused a*b + c (the
+// `sass` and `ptx` targets); GLSL and HLSL write a * b + c, which their compilers contract, and
+// which the `generic` target counts as two operations. Constants are float32 literals that read
+// back to the same float32 value (with an `f` suffix where the language needs one).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "shaderfit/expr/expression.hpp"
+
+namespace shaderfit {
+
+enum class Language : std::uint8_t { Glsl, Hlsl, Cuda, Cpp, Metal };
+
+struct CodegenOptions {
+  Language language = Language::Glsl;
+  std::string name = "shaderfit_formula";  // the function's name
+  // Parameters become named constants (`const float s = 0.25f;`) holding
+  // Expression::parameter_values when true; otherwise they are arguments after the inputs.
+  bool bake_parameters = false;
+  // Comment lines printed above the function (without the comment marker), e.g. the formula.
+  std::vector<std::string> comment;
+};
+
+// One function, ending in a newline. Throws shaderfit::Error (located at "--name", "--inputs"
+// or "formula") for a function, input or parameter name that is not an identifier of the
+// language or is reserved there, and for a constant that is not finite.
+std::string generate_function(const Expression& e, const CodegenOptions& options);
+
+// `v` rounded to float32, as the shortest literal of the language that reads back to it:
+// "0.5f", "1.0f", "1e-05f" (HLSL, CUDA, C++, Metal), "0.5", "1.0" (GLSL). Throws shaderfit::Error
+// for NaN or infinity.
+std::string float32_literal(double v, Language language);
+
+// "glsl" / "hlsl" / "cuda" / "cpp" / "metal"; nullopt for any other name.
+std::optional<Language> language_from_name(std::string_view name);
+std::string_view language_name(Language language);
+
+}  // namespace shaderfit

@@ -1,0 +1,76 @@
+// The instruction-cost model: what a formula compiles to on a GPU, counted and listed.
+//
+//   Expression e = parse_formula("r0 + (1 - r0) * (1 - cos_theta)^5");
+//   instruction_count(e, InstructionTarget::Sass) == 6;   // seed 001's Schlick listing
+//   InstructionCost c = instruction_cost(e, InstructionTarget::Sass);
+//   std::cout << format_listing(c);   // FADD.FTZ R2, -R1, 1 ; 1 - cos_theta ...
+//
+// The expression is lowered to a DAG with equal subexpressions computed once, then to the
+// straight-line program that code generation prints (so what is counted is what is compiled),
+// then counted for a target (docs/cost-model.md has every rule and its check against nvcc and
+// glslang):
+//  - Sass: NVIDIA SASS under nvcc --use_fast_math (sm_90, FTZ): FADD/FMUL/FFMA/FMNMX with free
+//    negation and |x| operand modifiers and free immediates; a*b + c is one FFMA; x^k by squaring
+//    with shared intermediates; MUFU.EX2/LG2/RSQ/RCP/SQRT/SIN/COS; sin and cos add one FMUL.RZ
+//    per distinct argument; exp = FMUL + MUFU.EX2, log = MUFU.LG2 + FMUL; a / b = MUFU.RCP + FMUL.
+//  - Ptx: the PTX that nvcc emits for the generated CUDA (the same program, with explicit neg.f32
+//    and abs.f32, sin/cos one instruction each).
+//  - Generic: one operation per operator of the generated GLSL/HLSL, with no fusion (a*b + c is
+//    two, a / b one, -x one): what glslang emits as SPIR-V arithmetic instructions.
+// Inputs, parameters and literal constants cost nothing; parameters count as run-time inputs.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "shaderfit/expr/expression.hpp"
+
+namespace shaderfit {
+
+enum class InstructionTarget : std::uint8_t { Sass, Ptx, Generic };
+
+// The hardware unit an instruction issues to; it sets the instruction's throughput weight.
+enum class InstructionUnit : std::uint8_t {
+  Fp32,    // FADD, FMUL, FFMA (and their PTX / SPIR-V counterparts)
+  MinMax,  // FMNMX
+  Mufu,    // the multi-function unit: rcp, rsqrt, sqrt, exp2, log2, sin, cos
+};
+
+struct ListingLine {
+  std::string instruction;  // "FADD.FTZ R2, -R1, 1"
+  std::string comment;      // "1 - cos_theta": the value it computes
+  InstructionUnit unit = InstructionUnit::Fp32;
+};
+
+struct InstructionCost {
+  InstructionTarget target = InstructionTarget::Sass;
+  int instructions = 0;  // arithmetic instructions (moves of constants are not counted)
+  int fp32 = 0, minmax = 0, mufu = 0;  // instructions per unit
+  // Throughput-weighted cost in FP32-instruction issue slots: the sum of throughput_weight over
+  // the instructions, so an FFMA weighs 1 and a MUFU op 8 on sm_90.
+  double weighted = 0.0;
+  std::vector<ListingLine> listing;  // in evaluation order
+};
+
+// The count and the listing. Throws shaderfit::Error for an empty or malformed expression.
+InstructionCost instruction_cost(const Expression& e, InstructionTarget target);
+
+// The count alone (no listing); what the search's cost objective uses.
+int instruction_count(const Expression& e, InstructionTarget target);
+
+// One line per instruction: "FADD.FTZ R2, -R1, 1 ; 1 - cos_theta", columns aligned.
+std::string format_listing(const InstructionCost& cost);
+
+// Issue slots one instruction of the unit occupies, relative to an FP32 FMA (table and sources
+// in src/cost/instruction_model.cpp).
+double throughput_weight(InstructionTarget target, InstructionUnit unit);
+
+// "sass" / "ptx" / "generic"; nullopt for any other name.
+std::optional<InstructionTarget> instruction_target_from_name(std::string_view name);
+std::string_view instruction_target_name(InstructionTarget target);
+std::string_view instruction_unit_name(InstructionUnit unit);
+
+}  // namespace shaderfit

@@ -1,0 +1,172 @@
+#include "shaderfit/codegen/codegen.hpp"
+
+#include <fmt/format.h>
+
+#include <regex>
+
+#include "codegen/language.hpp"
+#include "cost/dag.hpp"
+#include "cost/program.hpp"
+
+namespace shaderfit {
+
+namespace {
+
+using lowering::Operand;
+using lowering::Program;
+using lowering::Step;
+using lowering::StepOp;
+
+// A printed value: its text and its precedence (1 sum, 2 product, 3 unary minus, 4 atom/call).
+struct Text {
+  std::string s;
+  int level = 4;
+};
+
+class FunctionPrinter {
+ public:
+  FunctionPrinter(const Expression& e, const CodegenOptions& o, const Program& p)
+      : e_(e), o_(o), p_(p), lang_(o.language), texts_(p.steps.size()) {}
+
+  std::string print() {
+    std::string body;
+    if (o_.bake_parameters) {
+      for (std::size_t i = 0; i < e_.parameters.size(); ++i) {
+        const double v = i < e_.parameter_values.size() ? e_.parameter_values[i] : 0.0;
+        body += fmt::format("  const float {} = {};\n", e_.parameters[i], float32_literal(v, lang_));
+      }
+    }
+    int temps = 0;
+    for (std::size_t i = 0; i < p_.steps.size(); ++i) {
+      Text t = step(p_.steps[i]);
+      if (p_.steps[i].uses > 1) {
+        const std::string name = temp_prefix() + std::to_string(temps++);
+        body += fmt::format("  {}float {} = {};\n", lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ",
+                            name, t.s);
+        t = {name, 4};
+      }
+      texts_[i] = std::move(t);
+    }
+    body += "  return " + operand(p_.result, 0) + ";\n";
+
+    std::string out;
+    for (const std::string& line : o_.comment) out += "// " + line + "\n";
+    out += signature() + " {\n" + body + "}\n";
+    return out;
+  }
+
+ private:
+  std::string temp_prefix() const {
+    std::string prefix = "t";
+    const std::regex taken("^_*t[0-9]+$");
+    for (bool clash = true; clash;) {
+      clash = false;
+      for (const auto* names : {&e_.variables, &e_.parameters})
+        for (const std::string& n : *names)
+          if (std::regex_match(n, taken) && n.rfind(prefix, 0) == 0) clash = true;
+      if (clash) prefix = "_" + prefix;
+    }
+    return prefix;
+  }
+
+  std::string signature() const {
+    std::string args;
+    auto add = [&](const std::string& n) { args += (args.empty() ? "float " : ", float ") + n; };
+    for (const std::string& v : e_.variables) add(v);
+    if (!o_.bake_parameters)
+      for (const std::string& v : e_.parameters) add(v);
+    switch (lang_) {
+      case Language::Cuda: return "__device__ __forceinline__ float " + o_.name + "(" + args + ")";
+      case Language::Cpp:
+      case Language::Metal: return "inline float " + o_.name + "(" + args + ")";
+      default: return "float " + o_.name + "(" + args + ")";
+    }
+  }
+
+  std::string lit(float v) const { return float32_literal(v, lang_); }
+
+  std::string operand(const Operand& o, int min_level) const {
+    Text t;
+    switch (o.kind) {
+      case Operand::Kind::Const: t = {lit(o.value), o.value < 0 ? 3 : 4}; break;
+      case Operand::Kind::Var: t = {e_.variables[static_cast<std::size_t>(o.index)], 4}; break;
+      case Operand::Kind::Param: t = {e_.parameters[static_cast<std::size_t>(o.index)], 4}; break;
+      default: t = texts_[static_cast<std::size_t>(o.index)]; break;
+    }
+    return t.level < min_level ? "(" + t.s + ")" : t.s;
+  }
+
+  Text fn(codegen::Call c, const Step& st) const {
+    std::string s = std::string(codegen::call(lang_, c)) + "(";
+    for (int k = 0; k < st.arity; ++k) s += (k ? ", " : "") + operand(st.args[k], 0);
+    return {s + ")", 4};
+  }
+
+  Text step(const Step& st) const {
+    using codegen::Call;
+    auto bin = [&](const char* op, int level) {
+      return Text{operand(st.args[0], level) + " " + op + " " + operand(st.args[1], level + 1), level};
+    };
+    switch (st.op) {
+      case StepOp::Add: return bin("+", 1);
+      case StepOp::Sub: return bin("-", 1);
+      case StepOp::Mul: return bin("*", 2);
+      case StepOp::Div: return bin("/", 2);
+      case StepOp::Neg: return {"-" + operand(st.args[0], 4), 3};
+      case StepOp::Fma:
+        if (lang_ == Language::Glsl || lang_ == Language::Hlsl)  // not produced: unfused program
+          return {operand(st.args[0], 2) + " * " + operand(st.args[1], 3) + " + " + operand(st.args[2], 2), 1};
+        return fn(Call::Fma, st);
+      case StepOp::Abs: return fn(Call::Abs, st);
+      case StepOp::Sqrt: return fn(Call::Sqrt, st);
+      case StepOp::Rsqrt:
+        if (lang_ == Language::Cpp) return {lit(1.0f) + " / std::sqrt(" + operand(st.args[0], 0) + ")", 2};
+        return fn(Call::Rsqrt, st);
+      case StepOp::Exp2: return fn(Call::Exp2, st);
+      case StepOp::Log2: return fn(Call::Log2, st);
+      case StepOp::Exp:
+        if (st.neg_arg) return {std::string(codegen::call(lang_, Call::Exp)) + "(-" + operand(st.args[0], 4) + ")", 4};
+        return fn(Call::Exp, st);
+      case StepOp::Log: return fn(Call::Log, st);
+      case StepOp::Sin: return fn(Call::Sin, st);
+      case StepOp::Cos: return fn(Call::Cos, st);
+      case StepOp::Min: return fn(Call::Min, st);
+      case StepOp::Max: return fn(Call::Max, st);
+      case StepOp::Sat:
+        if (lang_ == Language::Glsl) return {"clamp(" + operand(st.args[0], 0) + ", 0.0, 1.0)", 4};
+        if (lang_ == Language::Cpp) return {"std::clamp(" + operand(st.args[0], 0) + ", 0.0f, 1.0f)", 4};
+        return fn(Call::Saturate, st);
+    }
+    return {};
+  }
+
+  const Expression& e_;
+  const CodegenOptions& o_;
+  const Program& p_;
+  Language lang_;
+  std::vector<Text> texts_;
+};
+
+}  // namespace
+
+std::string generate_function(const Expression& e, const CodegenOptions& options) {
+  codegen::check_name(options.name, "function name", SourceLocation{"--name"});
+  std::vector<std::string> seen = {options.name};
+  for (const auto* names : {&e.variables, &e.parameters}) {
+    const bool params = names == &e.parameters;
+    for (const std::string& n : *names) {
+      codegen::check_name(n, params ? "parameter name" : "input name", SourceLocation{params ? "--params" : "--inputs"});
+      if (std::find(seen.begin(), seen.end(), n) != seen.end()) {
+        throw Error("name '" + n + "' is used twice (function, inputs and parameters need distinct names)",
+                    SourceLocation{params ? "--params" : "--inputs"});
+      }
+      seen.push_back(n);
+    }
+  }
+  const bool fused = options.language != Language::Glsl && options.language != Language::Hlsl;
+  const lowering::Dag dag = lowering::lower_expression(e);
+  const Program program = lowering::build_program(dag, fused);
+  return FunctionPrinter(e, options, program).print();
+}
+
+}  // namespace shaderfit

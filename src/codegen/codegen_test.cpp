@@ -1,0 +1,89 @@
+#include "shaderfit/codegen/codegen.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <cstring>
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/core/random.hpp"
+#include "shaderfit/expr/parse.hpp"
+
+namespace shaderfit {
+namespace {
+
+std::string gen(const std::string& f, Language l, std::vector<std::string> params = {}) {
+  ParseOptions po;
+  po.parameters = std::move(params);
+  CodegenOptions o;
+  o.language = l;
+  o.name = "f";
+  return generate_function(parse_formula(f, po), o);
+}
+
+TEST(Codegen, Float32LiteralsRoundTrip) {
+  Rng rng(5);
+  for (int i = 0; i < 10000; ++i) {
+    std::uint32_t bits = static_cast<std::uint32_t>(rng());
+    float v;
+    std::memcpy(&v, &bits, 4);
+    if (!std::isfinite(v)) continue;
+    for (Language l : {Language::Glsl, Language::Cuda}) {
+      const std::string t = float32_literal(v, l);
+      EXPECT_EQ(std::strtof(t.c_str(), nullptr), v) << t;
+      EXPECT_NE(t.find_first_of(".e"), std::string::npos) << t;
+      EXPECT_EQ(t.back() == 'f', l == Language::Cuda) << t;
+    }
+  }
+  EXPECT_EQ(float32_literal(1.0, Language::Glsl), "1.0");
+  EXPECT_EQ(float32_literal(0.1, Language::Cpp), "0.1f");
+  EXPECT_THROW(float32_literal(1e300, Language::Cpp), Error);
+}
+
+TEST(Codegen, SeedFormulaInEveryLanguage) {
+  const std::string f = "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4";
+  EXPECT_EQ(gen(f, Language::Cuda),
+            "__device__ __forceinline__ float f(float r0, float cos_theta) {\n"
+            "  const float t0 = 1.0f - cos_theta;\n"
+            "  const float t1 = t0 * t0;\n"
+            "  return fmaf(t0 - r0, t1 * t1, r0);\n}\n");
+  EXPECT_EQ(gen(f, Language::Glsl),
+            "float f(float r0, float cos_theta) {\n"
+            "  float t0 = 1.0 - cos_theta;\n"
+            "  float t1 = t0 * t0;\n"
+            "  return r0 + (t0 - r0) * (t1 * t1);\n}\n");
+  EXPECT_NE(gen(f, Language::Cpp).find("std::fma(t0 - r0, t1 * t1, r0)"), std::string::npos);
+  EXPECT_NE(gen(f, Language::Metal).find("inline float f(float r0, float cos_theta)"), std::string::npos);
+  EXPECT_NE(gen(f, Language::Hlsl).find("float t0 = 1.0f - cos_theta;"), std::string::npos);
+}
+
+TEST(Codegen, FunctionsPerLanguage) {
+  EXPECT_NE(gen("saturate(rsqrt(x))", Language::Glsl).find("clamp(inversesqrt(x), 0.0, 1.0)"), std::string::npos);
+  EXPECT_NE(gen("saturate(rsqrt(x))", Language::Hlsl).find("saturate(rsqrt(x))"), std::string::npos);
+  EXPECT_NE(gen("saturate(rsqrt(x))", Language::Cuda).find("__saturatef(rsqrtf(x))"), std::string::npos);
+  EXPECT_NE(gen("saturate(rsqrt(x))", Language::Cpp).find("std::clamp(1.0f / std::sqrt(x), 0.0f, 1.0f)"), std::string::npos);
+  EXPECT_NE(gen("x - 1 / y", Language::Cuda).find("x + -1.0f / y"), std::string::npos);
+}
+
+TEST(Codegen, ParametersAsArgumentsOrBaked) {
+  ParseOptions po;
+  po.parameters = {"s"};
+  po.parameter_values = {0.25};
+  const Expression e = parse_formula("x * s", po);
+  CodegenOptions o;
+  o.language = Language::Cpp;
+  o.name = "g";
+  EXPECT_NE(generate_function(e, o).find("inline float g(float x, float s)"), std::string::npos);
+  o.bake_parameters = true;
+  EXPECT_NE(generate_function(e, o).find("const float s = 0.25f;"), std::string::npos);
+}
+
+TEST(Codegen, BadNamesAreErrors) {
+  EXPECT_THROW(gen("in + 1", Language::Glsl), Error);   // reserved
+  CodegenOptions o;
+  o.name = "2f";
+  EXPECT_THROW(generate_function(parse_formula("x"), o), Error);
+}
+
+}  // namespace
+}  // namespace shaderfit

@@ -1,0 +1,142 @@
+// The cost model and the generated code against the real compilers: nvcc (PTX, and SASS through
+// cuobjdump), glslangValidator (GLSL and HLSL to SPIR-V) and the system C++ compiler. Each test
+// runs where its tool is installed and skips with "skipped: <tool> not found" elsewhere. Every
+// language is one compiler call over all its formulas, to keep the suite fast on two cores.
+#include <gtest/gtest.h>
+
+#include <iostream>
+
+#include "codegen/compiler_harness_test_support.hpp"
+#include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
+
+namespace shaderfit {
+namespace {
+
+using testing::CompiledCounts;
+
+// Ten shading formulas: the seed's three, then Fresnel, GGX, visibility and tone-mapping terms.
+struct TableFormula {
+  const char* text;
+  std::vector<std::string> params;
+};
+const std::vector<TableFormula> kTable = {
+    {"r0 + (1 - r0) * (1 - cos_theta)^5", {}},
+    {"r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4", {}},
+    {"r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", {"s"}},
+    {"r0 + (1 - r0) * exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)", {}},
+    {"2 * n_dot_v / (n_dot_v + sqrt(a2 + (1 - a2) * n_dot_v^2))", {}},
+    {"a2 / (3.14159265 * (n_dot_h^2 * (a2 - 1) + 1)^2)", {}},
+    {"0.25 / ((n_dot_l * (1 - k) + k) * (n_dot_v * (1 - k) + k))", {}},
+    {"exp2(log2(c) * 0.45454545)", {}},
+    {"x / (1 + x)", {}},
+    {"saturate(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14))", {}},
+};
+
+std::vector<Expression> table_expressions() {
+  std::vector<Expression> out;
+  for (const TableFormula& f : kTable) {
+    ParseOptions o;
+    o.parameters = f.params;
+    out.push_back(parse_formula(f.text, o));
+  }
+  return out;
+}
+
+std::string cell(const std::vector<int>& v, std::size_t i) {
+  return i < v.size() && v[i] >= 0 ? std::to_string(v[i]) : "-";
+}
+
+TEST(CompilerCheck, SeedFormulasAndTableAgainstNvccAndGlslang) {
+  const auto nvcc = testing::find_tool("nvcc");
+  const auto glslang = testing::find_tool("glslangValidator");
+  if (!nvcc && !glslang) GTEST_SKIP() << "skipped: nvcc not found; skipped: glslangValidator not found";
+  const std::vector<Expression> formulas = table_expressions();
+  CompiledCounts cuda, glsl, hlsl;
+  if (nvcc) {
+    cuda = testing::compile_cuda(formulas, *nvcc, "table_cuda");
+    ASSERT_TRUE(cuda.ok) << cuda.log;
+  } else {
+    std::cout << "skipped: nvcc not found\n";
+  }
+  if (glslang) {
+    glsl = testing::compile_spirv(formulas, Language::Glsl, *glslang, "table_glsl");
+    hlsl = testing::compile_spirv(formulas, Language::Hlsl, *glslang, "table_hlsl");
+    ASSERT_TRUE(glsl.ok) << glsl.log;
+    ASSERT_TRUE(hlsl.ok) << hlsl.log;
+  } else {
+    std::cout << "skipped: glslangValidator not found\n";
+  }
+  if (nvcc && !cuda.have_sass) std::cout << "skipped: cuobjdump not found (no SASS counts)\n";
+
+  std::cout << "| formula | model sass | nvcc SASS | model ptx | nvcc PTX | model generic | SPIR-V GLSL | SPIR-V HLSL |\n"
+               "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  for (std::size_t i = 0; i < formulas.size(); ++i) {
+    const int s = instruction_count(formulas[i], InstructionTarget::Sass);
+    const int p = instruction_count(formulas[i], InstructionTarget::Ptx);
+    const int g = instruction_count(formulas[i], InstructionTarget::Generic);
+    std::cout << "| `" << kTable[i].text << "` | " << s << " | " << cell(cuda.sass, i) << " | " << p << " | "
+              << cell(cuda.ptx, i) << " | " << g << " | " << cell(glsl.spirv, i) << " | " << cell(hlsl.spirv, i) << " |\n";
+    if (nvcc) {
+      EXPECT_EQ(cuda.ptx[i], p) << kTable[i].text;
+    }
+    if (cuda.have_sass) {
+      EXPECT_EQ(cuda.sass[i], s) << kTable[i].text;
+    }
+    if (glslang) {
+      EXPECT_EQ(glsl.spirv[i], g) << kTable[i].text;
+      EXPECT_EQ(hlsl.spirv[i], g) << kTable[i].text;
+    }
+  }
+  // The seed's claim, checked on what the compiler emitted.
+  if (cuda.have_sass) {
+    EXPECT_EQ(cuda.sass[0], 6);
+    EXPECT_EQ(cuda.sass[1], 5);
+    EXPECT_EQ(cuda.sass[2], 6);
+  }
+}
+
+TEST(CompilerCheck, TwoHundredRandomFormulasPtxAndSpirv) {
+  const auto nvcc = testing::find_tool("nvcc");
+  const auto glslang = testing::find_tool("glslangValidator");
+  if (!nvcc && !glslang) GTEST_SKIP() << "skipped: nvcc not found; skipped: glslangValidator not found";
+  Rng rng(2024);
+  const std::vector<Expression> formulas = testing::random_formulas(rng, 200, {"a", "b", "c"});
+  int ptx_diff = 0, sass_diff = 0, spirv_diff = 0;
+  if (nvcc) {
+    const CompiledCounts cuda = testing::compile_cuda(formulas, *nvcc, "random_cuda");
+    ASSERT_TRUE(cuda.ok) << cuda.log;
+    for (std::size_t i = 0; i < formulas.size(); ++i) {
+      const int p = instruction_count(formulas[i], InstructionTarget::Ptx);
+      EXPECT_EQ(cuda.ptx[i], p) << "formula " << i << ": " << to_infix(formulas[i]);
+      ptx_diff += cuda.ptx[i] != p;
+      if (cuda.have_sass && cuda.sass[i] != instruction_count(formulas[i], InstructionTarget::Sass)) {
+        ++sass_diff;
+        std::cout << "SASS differs (" << instruction_count(formulas[i], InstructionTarget::Sass) << " model, "
+                  << cuda.sass[i] << " ptxas): " << to_infix(formulas[i]) << '\n';
+      }
+    }
+    std::cout << formulas.size() << " random formulas: PTX differs on " << ptx_diff << ", SASS on "
+              << (cuda.have_sass ? std::to_string(sass_diff) : std::string("(no cuobjdump)")) << '\n';
+  } else {
+    std::cout << "skipped: nvcc not found\n";
+  }
+  if (glslang) {
+    for (Language lang : {Language::Glsl, Language::Hlsl}) {
+      const CompiledCounts spv = testing::compile_spirv(formulas, lang, *glslang, "random_spirv");
+      ASSERT_TRUE(spv.ok) << spv.log;
+      for (std::size_t i = 0; i < formulas.size(); ++i) {
+        const int g = instruction_count(formulas[i], InstructionTarget::Generic);
+        EXPECT_EQ(spv.spirv[i], g) << language_name(lang) << " formula " << i << ": " << to_infix(formulas[i]);
+        spirv_diff += spv.spirv[i] != g;
+      }
+    }
+    std::cout << formulas.size() << " random formulas: SPIR-V (GLSL and HLSL) differs on " << spirv_diff << '\n';
+  } else {
+    std::cout << "skipped: glslangValidator not found\n";
+  }
+}
+
+}  // namespace
+}  // namespace shaderfit

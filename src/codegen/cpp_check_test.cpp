@@ -1,0 +1,114 @@
+// A search front through every compiler on the machine, and the generated C++ run on the seed's
+// data against the evaluator (float32, within a few ulp).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <iostream>
+
+#include "codegen/compiler_harness_test_support.hpp"
+#include "shaderfit/codegen/front.hpp"
+#include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/eval/evaluate.hpp"
+
+namespace shaderfit {
+namespace {
+
+const char* kFront = R"json({"inputs": ["r0", "cos_theta"], "front": [
+  {"formula": "r0 + (1 - r0) * (1 - cos_theta)^5"},
+  {"formula": "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"},
+  {"formula": "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", "parameters": {"s": 0.25}},
+  {"formula": "r0 + (1 - r0) * exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)"},
+  {"formula": "r0 + (1 - r0) * (1 - cos_theta)^5 / (1 + 0.5 * sqrt(cos_theta))"}]})json";
+
+std::int64_t ulp_distance(float a, float b) {
+  std::int32_t x, y;
+  std::memcpy(&x, &a, 4);
+  std::memcpy(&y, &b, 4);
+  if (x < 0) x = std::numeric_limits<std::int32_t>::min() - x;
+  if (y < 0) y = std::numeric_limits<std::int32_t>::min() - y;
+  return std::llabs(static_cast<std::int64_t>(x) - y);
+}
+
+TEST(CompilerCheck, FrontCompilesEverywhereAndCppAgreesWithEvaluator) {
+  const auto dir = testing::scratch_folder("front");
+  testing::write_text(dir / "front.json", kFront);
+  const std::vector<FrontFormula> front = read_front((dir / "front.json").string());
+  std::vector<Expression> exprs;
+  for (const FrontFormula& f : front) exprs.push_back(f.expression);
+
+  if (const auto nvcc = testing::find_tool("nvcc")) {
+    const auto r = testing::compile_cuda(exprs, *nvcc, "front_cuda");
+    EXPECT_TRUE(r.ok) << r.log;
+  } else {
+    std::cout << "skipped: nvcc not found\n";
+  }
+  if (const auto glslang = testing::find_tool("glslangValidator")) {
+    for (Language l : {Language::Glsl, Language::Hlsl}) {
+      const auto r = testing::compile_spirv(exprs, l, *glslang, "front_spirv");
+      EXPECT_TRUE(r.ok) << r.log;
+    }
+  } else {
+    std::cout << "skipped: glslangValidator not found\n";
+  }
+  std::cout << "skipped: metal not found (Metal output is checked for form only)\n";
+
+  std::optional<std::string> cxx = testing::find_tool("c++");
+  if (!cxx) cxx = testing::find_tool("g++");
+  if (!cxx) GTEST_SKIP() << "skipped: c++ not found";
+
+  // The seed's data, in float32, as the evaluator and the compiled functions see it.
+  Rng rng(1);
+  const Dataset d = make_fresnel_seed_dataset(rng);
+  const std::size_t rows = d.rows();
+  std::vector<float> r0(rows), cs(rows);
+  for (std::size_t i = 0; i < rows; ++i) {
+    r0[i] = static_cast<float>(d.numeric("r0").values[i]);
+    cs[i] = static_cast<float>(d.numeric("cos_theta").values[i]);
+  }
+  std::string src = "#include <algorithm>\n#include <cmath>\n#include <cstdio>\n";
+  std::string calls;
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    CodegenOptions o;
+    o.language = Language::Cpp;
+    o.name = "f" + std::to_string(i);
+    o.bake_parameters = front[i].parameters_have_values;
+    src += generate_function(front[i].expression, o);
+    calls += "    out[" + std::to_string(i) + "] = f" + std::to_string(i) + "(in[0], in[1]);\n";
+  }
+  src += "int main() {\n  float in[2], out[" + std::to_string(front.size()) + "];\n"
+         "  while (std::fread(in, sizeof(float), 2, stdin) == 2) {\n" + calls +
+         "    std::fwrite(out, sizeof(float), " + std::to_string(front.size()) + ", stdout);\n  }\n}\n";
+  testing::write_text(dir / "front.cpp", src);
+  std::string log;
+  ASSERT_EQ(testing::run_command("'" + *cxx + "' -std=c++17 -O1 -o '" + (dir / "front").string() + "' '" +
+                                 (dir / "front.cpp").string() + "'", &log), 0) << log;
+  std::string input(rows * 8, '\0');
+  for (std::size_t i = 0; i < rows; ++i) {
+    std::memcpy(&input[i * 8], &r0[i], 4);
+    std::memcpy(&input[i * 8 + 4], &cs[i], 4);
+  }
+  testing::write_text(dir / "in.bin", input);
+  ASSERT_EQ(testing::run_command("'" + (dir / "front").string() + "' < '" + (dir / "in.bin").string() + "' > '" +
+                                 (dir / "out.bin").string() + "'"), 0);
+  const std::string output = testing::read_text(dir / "out.bin");
+  ASSERT_EQ(output.size(), rows * front.size() * 4);
+
+  const float* columns[] = {r0.data(), cs.data()};
+  for (std::size_t f = 0; f < front.size(); ++f) {
+    std::vector<float> expected(rows);
+    evaluate(front[f].expression, columns, expected, {.threads = 1});
+    std::int64_t worst = 0;
+    for (std::size_t i = 0; i < rows; ++i) {
+      float got;
+      std::memcpy(&got, &output[(i * front.size() + f) * 4], 4);
+      worst = std::max(worst, ulp_distance(got, expected[i]));
+    }
+    // Within a few ulp: fma against a*b + c, and the evaluator's SIMD exp2 is itself within a
+    // few ulp of exp2.
+    EXPECT_LE(worst, 8) << front[f].formula;
+    std::cout << "C++ vs evaluator, " << front[f].formula << ": max " << worst << " ulp\n";
+  }
+}
+
+}  // namespace
+}  // namespace shaderfit

@@ -1,0 +1,314 @@
+#include "cost/dag.hpp"
+
+#include <bit>
+#include <cmath>
+#include <unordered_map>
+#include <utility>
+
+#include "shaderfit/core/error.hpp"
+#include "cost/float_text.hpp"
+
+namespace shaderfit::lowering {
+
+namespace {
+
+// The structure of a node, for hash-consing: equal keys are the same value.
+struct Key {
+  std::uint8_t op;
+  bool log_scale;
+  int a, b;  // operand id * 2 + neg, or -1
+  int index;
+  std::uint32_t bits;  // Const: float bits
+
+  friend bool operator==(const Key&, const Key&) = default;
+};
+
+struct KeyHash {
+  std::size_t operator()(const Key& k) const noexcept {
+    std::uint64_t h = 0x9e3779b97f4a7c15ULL * (k.op + 1u) ^ (k.log_scale ? 0x51ULL : 0);
+    for (std::uint64_t v : {static_cast<std::uint64_t>(k.a + 2), static_cast<std::uint64_t>(k.b + 2),
+                            static_cast<std::uint64_t>(k.index + 1000), std::uint64_t{k.bits}}) {
+      h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
+    }
+    return static_cast<std::size_t>(h);
+  }
+};
+
+int code(DagRef r) { return r.id < 0 ? -1 : r.id * 2 + (r.neg ? 1 : 0); }
+DagRef negate(DagRef r) { return {r.id, !r.neg}; }
+bool ref_less(DagRef x, DagRef y) { return code(x) < code(y); }
+
+class Builder {
+ public:
+  explicit Builder(Dag& dag) : dag_(dag) {}
+
+  DagRef constant(float v) {
+    const bool neg = std::signbit(v);
+    DagNode n;
+    n.op = Op::Const;
+    n.value = neg ? -v : v;
+    return {intern(n), neg};
+  }
+  DagRef leaf(Op op, int index) {
+    DagNode n;
+    n.op = op;
+    n.index = index;
+    return {intern(n), false};
+  }
+
+  DagRef add(DagRef a, DagRef b) {
+    if (is_const(a) && is_const(b)) return constant(value(a) + value(b));
+    if (is_minus_zero(b)) return a;  // x + -0 == x for every x
+    if (is_minus_zero(a)) return b;
+    // Keep the first operand positive: -a + b = b - a, and -a - b = -(a + b).
+    if (a.neg) std::swap(a, b);
+    const bool flip = a.neg;
+    if (flip) {
+      a = negate(a);
+      b = negate(b);
+    }
+    return {binary(Op::Add, a, b), flip};
+  }
+
+  DagRef mul(DagRef a, DagRef b, bool log_scale = false) {
+    if (is_const(a) && is_const(b)) return constant(value(a) * value(b));
+    // x * 1 and x * -1 are x and -x exactly.
+    if (is_const(a) && !log_scale && std::fabs(value(a)) == 1.0f) return {b.id, b.neg != (value(a) < 0)};
+    if (is_const(b) && !log_scale && std::fabs(value(b)) == 1.0f) return {a.id, a.neg != (value(b) < 0)};
+    const bool neg = a.neg != b.neg;
+    a.neg = b.neg = false;
+    DagNode n;
+    n.op = Op::Mul;
+    n.a = a;
+    n.b = b;
+    n.log_scale = log_scale;
+    return {intern(n), neg};
+  }
+
+  DagRef unary(Op op, DagRef a) {
+    if (is_const(a)) {
+      const float x = value(a);
+      return constant(op == Op::Rcp ? 1.0f / x : apply_unary(op, x));
+    }
+    if (op == Op::Rcp && !a.neg && dag_.node(a.id).op == Op::Sqrt) {
+      return unary(Op::Rsqrt, dag_.node(a.id).a);  // 1 / sqrt(x) is rsqrt(x), as nvcc makes it
+    }
+    bool out_neg = false;
+    if (op == Op::Rcp || op == Op::Sin) {  // odd: the sign moves to the result
+      out_neg = a.neg;
+      a.neg = false;
+    } else if (op == Op::Cos || op == Op::Abs) {  // even: the sign vanishes
+      a.neg = false;
+    }
+    return {binary(op, a, {}), out_neg};
+  }
+
+  DagRef minmax(Op op, DagRef a, DagRef b) {
+    if (is_const(a) && is_const(b)) return constant(apply_binary(op, value(a), value(b)));
+    // min(a, a) = a; max(max(a, b), a) = max(a, b): folds that LLVM makes too.
+    if (a == b) return a;
+    for (const auto& [inner, other] : {std::pair{a, b}, std::pair{b, a}}) {
+      const DagNode& n = dag_.node(inner.id);
+      if (!inner.neg && n.op == op && (n.a == other || n.b == other)) return inner;
+    }
+    // min(K1, max(K2, x)) = K1 when K1 <= K2, and max(K1, min(K2, x)) = K1 when K1 >= K2.
+    for (const auto& [k, inner] : {std::pair{a, b}, std::pair{b, a}}) {
+      const DagNode& n = dag_.node(inner.id);
+      if (!is_const(k) || inner.neg || (n.op != Op::Min && n.op != Op::Max) || n.op == op) continue;
+      for (const DagRef& k2 : {n.a, n.b}) {
+        if (!is_const(k2)) continue;
+        if ((op == Op::Min && value(k) <= value(k2)) || (op == Op::Max && value(k) >= value(k2))) return k;
+      }
+    }
+    bool flip = false;
+    if (a.neg && b.neg) {  // min(-a, -b) = -max(a, b)
+      a = negate(a);
+      b = negate(b);
+      op = op == Op::Min ? Op::Max : Op::Min;
+      flip = true;
+    }
+    return {binary(op, a, b), flip};
+  }
+
+  // x^k by the squaring chain of apply_ipow, so x^2, x^4, x^5 share their intermediates.
+  DagRef ipow(DagRef x, int k) {
+    if (is_const(x)) return constant(apply_ipow(value(x), k));
+    unsigned n = static_cast<unsigned>(k < 0 ? -k : k);
+    DagRef result{}, base = x;
+    bool first = true;
+    while (n != 0) {
+      if (n & 1u) {
+        result = first ? base : mul(result, base);
+        first = false;
+      }
+      n >>= 1u;
+      if (n != 0) base = mul(base, base);
+    }
+    return k < 0 ? unary(Op::Rcp, result) : result;
+  }
+
+ private:
+  [[nodiscard]] bool is_const(DagRef r) const { return dag_.is_const(r.id); }
+  [[nodiscard]] float value(DagRef r) const {
+    const float v = dag_.node(r.id).value;
+    return r.neg ? -v : v;
+  }
+  [[nodiscard]] bool is_minus_zero(DagRef r) const {
+    return is_const(r) && value(r) == 0.0f && std::signbit(value(r));
+  }
+  int binary(Op op, DagRef a, DagRef b) {
+    DagNode n;
+    n.op = op;
+    n.a = a;
+    n.b = b;
+    return intern(n);
+  }
+  // The node keeps the operand order it was first written in; the key of a commutative
+  // operator sorts them, so b + a finds a + b.
+  int intern(const DagNode& n) {
+    const bool sort = (n.op == Op::Add || n.op == Op::Mul || n.op == Op::Min || n.op == Op::Max) &&
+                      ref_less(n.b, n.a);
+    const Key key{static_cast<std::uint8_t>(n.op), n.log_scale, code(sort ? n.b : n.a),
+                  code(sort ? n.a : n.b), n.index, std::bit_cast<std::uint32_t>(n.value)};
+    auto [it, inserted] = ids_.try_emplace(key, static_cast<int>(dag_.nodes.size()));
+    if (inserted) dag_.nodes.push_back(n);
+    return it->second;
+  }
+
+  Dag& dag_;
+  std::unordered_map<Key, int, KeyHash> ids_;
+};
+
+DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
+  switch (n.op) {
+    case Op::Const: return b.constant(static_cast<float>(n.value));
+    case Op::Var:
+    case Op::Param: return b.leaf(n.op, n.index);
+    case Op::Add: return b.add(args[0], args[1]);
+    case Op::Sub: return b.add(args[0], negate(args[1]));
+    case Op::Mul: return b.mul(args[0], args[1]);
+    case Op::Div: return b.mul(args[0], b.unary(Op::Rcp, args[1]));
+    case Op::Min:
+    case Op::Max: return b.minmax(n.op, args[0], args[1]);
+    case Op::Pow: return b.unary(Op::Exp2, b.mul(args[1], b.unary(Op::Log2, args[0])));
+    case Op::Neg: return negate(args[0]);
+    case Op::IPow: return b.ipow(args[0], n.index);
+    case Op::Log: return b.mul(b.unary(Op::Log2, args[0]), b.constant(kLn2), true);
+    case Op::Fma: return b.add(b.mul(args[0], args[1]), args[2]);
+    case Op::Sqrt:
+    case Op::Rsqrt:
+    case Op::Rcp:
+    case Op::Exp2:
+    case Op::Log2:
+    case Op::Exp:
+    case Op::Abs:
+    case Op::Saturate:
+    case Op::Sin:
+    case Op::Cos: return b.unary(n.op, args[0]);
+    default: break;
+  }
+  throw Error("malformed expression: operator '" + std::string(op_info(n.op).name) + "' cannot be costed");
+}
+
+void count_uses(Dag& dag) {
+  dag.uses.assign(dag.nodes.size(), 0);
+  dag.uses[static_cast<std::size_t>(dag.root.id)] = 1;
+  for (std::size_t i = dag.nodes.size(); i-- > 0;) {
+    if (dag.uses[i] == 0) continue;
+    for (const DagRef& c : {dag.nodes[i].a, dag.nodes[i].b})
+      if (c.id >= 0) ++dag.uses[static_cast<std::size_t>(c.id)];
+  }
+}
+
+}  // namespace
+
+Dag lower_expression(const Expression& e) {
+  if (e.nodes.empty()) throw Error("empty expression");
+  Dag dag;
+  dag.variables = e.variables;
+  dag.parameters = e.parameters;
+  Builder builder(dag);
+  std::vector<DagRef> stack;
+  stack.reserve(e.nodes.size());
+  for (const Node& n : e.nodes) {
+    const int a = arity(n.op);
+    if (static_cast<int>(stack.size()) < a) throw Error("malformed expression: an operator lacks operands");
+    if ((n.op == Op::Var && (n.index < 0 || static_cast<std::size_t>(n.index) >= e.variables.size())) ||
+        (n.op == Op::Param && (n.index < 0 || static_cast<std::size_t>(n.index) >= e.parameters.size()))) {
+      throw Error("malformed expression: a variable or parameter index is out of range");
+    }
+    DagRef args[3];
+    for (int k = a - 1; k >= 0; --k) {
+      args[k] = stack.back();
+      stack.pop_back();
+    }
+    stack.push_back(lower_node(n, args, builder));
+  }
+  if (stack.size() != 1) throw Error("malformed expression: not a single tree");
+  dag.root = stack.back();
+  count_uses(dag);
+  return dag;
+}
+
+namespace {
+
+void infix(const Dag& dag, DagRef r, std::string& out, std::size_t max_chars, int parent_level) {
+  if (out.size() > max_chars) return;
+  const DagNode& n = dag.node(r.id);
+  auto text = [&](const std::string& s) { out += s; };
+  if (n.op == Op::Const) {
+    text(float_text(r.neg ? -n.value : n.value));
+    return;
+  }
+  const int level = n.op == Op::Add ? 1 : (n.op == Op::Mul && !n.log_scale ? 2 : 3);
+  const bool neg_wrap = r.neg;
+  const bool paren = neg_wrap ? parent_level >= 2 && level < 3 : level < parent_level;
+  if (neg_wrap) text("-");
+  if (paren || (neg_wrap && level < 3)) text("(");
+  switch (n.op) {
+    case Op::Var: text(dag.variables[static_cast<std::size_t>(n.index)]); break;
+    case Op::Param: text(dag.parameters[static_cast<std::size_t>(n.index)]); break;
+    case Op::Add:
+      infix(dag, n.a, out, max_chars, 1);
+      if (n.b.neg) {
+        text(" - ");
+        infix(dag, {n.b.id, false}, out, max_chars, 2);
+      } else {
+        text(" + ");
+        infix(dag, n.b, out, max_chars, 2);
+      }
+      break;
+    case Op::Mul:
+      if (n.log_scale) {
+        text("log(");
+        infix(dag, dag.node(n.a.id).a, out, max_chars, 0);
+        text(")");
+        break;
+      }
+      infix(dag, n.a, out, max_chars, 2);
+      text(" * ");
+      infix(dag, n.b, out, max_chars, 3);
+      break;
+    default:
+      text(n.op == Op::Rcp ? "rcp(" : std::string(op_info(n.op).name) + "(");
+      infix(dag, n.a, out, max_chars, 0);
+      if (n.b.id >= 0) {
+        text(", ");
+        infix(dag, n.b, out, max_chars, 0);
+      }
+      text(")");
+      break;
+  }
+  if (paren || (neg_wrap && level < 3)) text(")");
+}
+
+}  // namespace
+
+std::string dag_infix(const Dag& dag, DagRef r, std::size_t max_chars) {
+  std::string out;
+  infix(dag, r, out, max_chars, 0);
+  if (out.size() > max_chars) out = out.substr(0, max_chars - 3) + "...";
+  return out;
+}
+
+}  // namespace shaderfit::lowering

@@ -1,0 +1,66 @@
+// Internal: an expression lowered to a DAG in which equal subexpressions are one node.
+//
+// The cost model and code generation both start here, so that what is counted is what is
+// printed. Lowering (docs/cost-model.md, "Lowering"):
+//  - hash-consing: a node is looked up by its structure (op, operands with their signs, constant
+//    bits) before it is created, so equal subtrees become one node; + * min max sort operands;
+//  - negation is a flag on the reference (DagRef::neg), never a node: `a - b` is Add(a, -b);
+//    Add keeps its first operand positive, Mul, Rcp, Sin have positive operands (the sign moves
+//    to the result), Cos and Abs drop an operand's sign;
+//  - subtrees of literal constants are folded in float32, as a compiler folds float literals;
+//    x*1 and x*-1 lose the constant, and x + -0 is x (exact identities only);
+//  - every operator becomes the nodes of the instruction set: a / b = a * rcp(b); x^k is the
+//    squaring chain of apply_ipow; fma(a, b, c) = a*b + c; pow(a, b) = exp2(b * log2(a));
+//    log(x) = log2(x) * ln2 (the Mul carries `log_scale`, so code prints it as log(x)); exp stays
+//    one node (a scale and an exp2 on GPUs, which never fuse with anything else).
+// Nodes are in topological order: a node's operands have smaller ids.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "shaderfit/expr/expression.hpp"
+
+namespace shaderfit::lowering {
+
+struct DagRef {
+  int id = -1;
+  bool neg = false;
+
+  friend bool operator==(const DagRef&, const DagRef&) = default;
+};
+
+// op is one of: Const, Var, Param (leaves); Add, Mul, Min, Max (binary); Rcp, Sqrt, Rsqrt,
+// Exp2, Log2, Exp, Sin, Cos, Abs, Saturate (unary).
+struct DagNode {
+  Op op = Op::Const;
+  DagRef a, b;
+  float value = 0.0f;      // Const: the magnitude (>= 0 or NaN); the sign is on references
+  int index = 0;           // Var, Param: index into the expression's tables
+  bool log_scale = false;  // Mul: this is log2(x) * ln2, i.e. log(x)
+};
+
+struct Dag {
+  std::vector<DagNode> nodes;
+  DagRef root;
+  std::vector<int> uses;  // per node: references from live nodes, +1 for the root
+  std::vector<std::string> variables, parameters;
+
+  [[nodiscard]] const DagNode& node(int id) const { return nodes[static_cast<std::size_t>(id)]; }
+  [[nodiscard]] bool is_const(int id) const { return node(id).op == Op::Const; }
+  [[nodiscard]] bool live(int id) const { return uses[static_cast<std::size_t>(id)] > 0; }
+};
+
+// Throws shaderfit::Error for an empty or malformed expression.
+Dag lower_expression(const Expression& e);
+
+// Infix text of a DAG value for listings: names from the expression, at most `max_chars`
+// characters (longer text is cut with "...").
+std::string dag_infix(const Dag& dag, DagRef r, std::size_t max_chars = 48);
+
+inline constexpr float kLn2 = 0.693147182f;    // float32 ln(2), as __logf scales log2
+inline constexpr float kLog2E = 1.44269502f;   // float32 log2(e), as __expf scales its argument
+inline constexpr float kInv2Pi = 0.159154937f; // float32 1/(2 pi), the SASS sin/cos pre-scale
+
+}  // namespace shaderfit::lowering

@@ -1,0 +1,103 @@
+#include "shaderfit/cost/instruction_model.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "cost/dag.hpp"
+#include "cost/program.hpp"
+#include "cost/select.hpp"
+
+namespace shaderfit {
+
+namespace {
+
+using lowering::TargetInstruction;
+
+std::vector<TargetInstruction> select(const Expression& e, InstructionTarget target, bool with_text) {
+  const lowering::Dag dag = lowering::lower_expression(e);
+  const bool fused = target != InstructionTarget::Generic;
+  const lowering::Program program = lowering::build_program(dag, fused);
+  switch (target) {
+    case InstructionTarget::Sass: return lowering::select_sass(dag, program, with_text);
+    case InstructionTarget::Ptx: return lowering::select_ptx(dag, program, with_text);
+    case InstructionTarget::Generic: return lowering::select_generic(dag, program, with_text);
+  }
+  return {};
+}
+
+}  // namespace
+
+// Throughput weights: issue slots per instruction relative to an FP32 FMA, i.e. (FP32 FMA results
+// per clock per SM) / (the unit's results per clock per SM).
+// Source: NVIDIA CUDA C++ Programming Guide, section "Arithmetic Instructions", table
+// "Throughput of Native Arithmetic Instructions (operations per clock cycle per multiprocessor)",
+// column compute capability 9.0:
+//   32-bit floating-point add, multiply, multiply-add ............................ 128
+//   32-bit floating-point reciprocal, reciprocal square root, base-2 logarithm
+//   (__log2f), base-2 exponential (exp2f), sine (__sinf), cosine (__cosf) ......... 16
+//   compare, minimum, maximum ...................................................... 64
+// PTX instructions run on the same units. The generic target has no hardware of its own; it uses
+// the same figures, taking sm_90 as the reference GPU (docs/cost-model.md).
+double throughput_weight(InstructionTarget /*target*/, InstructionUnit unit) {
+  constexpr double kFp32PerClock = 128.0, kMinMaxPerClock = 64.0, kMufuPerClock = 16.0;
+  switch (unit) {
+    case InstructionUnit::Fp32: return 1.0;
+    case InstructionUnit::MinMax: return kFp32PerClock / kMinMaxPerClock;
+    case InstructionUnit::Mufu: return kFp32PerClock / kMufuPerClock;
+  }
+  return 1.0;
+}
+
+InstructionCost instruction_cost(const Expression& e, InstructionTarget target) {
+  InstructionCost cost;
+  cost.target = target;
+  for (TargetInstruction& ins : select(e, target, true)) {
+    ++cost.instructions;
+    cost.fp32 += ins.unit == InstructionUnit::Fp32;
+    cost.minmax += ins.unit == InstructionUnit::MinMax;
+    cost.mufu += ins.unit == InstructionUnit::Mufu;
+    cost.weighted += throughput_weight(target, ins.unit);
+    cost.listing.push_back({std::move(ins.text), std::move(ins.comment), ins.unit});
+  }
+  return cost;
+}
+
+int instruction_count(const Expression& e, InstructionTarget target) {
+  return static_cast<int>(select(e, target, false).size());
+}
+
+std::string format_listing(const InstructionCost& cost) {
+  std::size_t width = 0;
+  for (const ListingLine& l : cost.listing) width = std::max(width, l.instruction.size());
+  std::string out;
+  for (const ListingLine& l : cost.listing) out += fmt::format("{:<{}} ; {}\n", l.instruction, width, l.comment);
+  return out;
+}
+
+std::optional<InstructionTarget> instruction_target_from_name(std::string_view name) {
+  if (name == "sass") return InstructionTarget::Sass;
+  if (name == "ptx") return InstructionTarget::Ptx;
+  if (name == "generic") return InstructionTarget::Generic;
+  return std::nullopt;
+}
+
+std::string_view instruction_target_name(InstructionTarget target) {
+  switch (target) {
+    case InstructionTarget::Sass: return "sass";
+    case InstructionTarget::Ptx: return "ptx";
+    case InstructionTarget::Generic: return "generic";
+  }
+  return "sass";
+}
+
+std::string_view instruction_unit_name(InstructionUnit unit) {
+  switch (unit) {
+    case InstructionUnit::Fp32: return "fp32";
+    case InstructionUnit::MinMax: return "minmax";
+    case InstructionUnit::Mufu: return "mufu";
+  }
+  return "fp32";
+}
+
+}  // namespace shaderfit

@@ -1,0 +1,124 @@
+#include "shaderfit/cost/instruction_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/parse.hpp"
+
+namespace shaderfit {
+namespace {
+
+Expression parse(const std::string& f, std::vector<std::string> params = {}) {
+  ParseOptions o;
+  o.parameters = std::move(params);
+  return parse_formula(f, o);
+}
+int sass(const std::string& f) { return instruction_count(parse(f), InstructionTarget::Sass); }
+int ptx(const std::string& f) { return instruction_count(parse(f), InstructionTarget::Ptx); }
+int generic(const std::string& f) { return instruction_count(parse(f), InstructionTarget::Generic); }
+
+TEST(InstructionModel, SeedListingsCountSixFiveSix) {
+  // Seed 001's SASS listings, with cos_theta and r0 (and the shape parameter s) as inputs.
+  EXPECT_EQ(sass("r0 + (1 - r0) * (1 - cos_theta)^5"), 6);
+  EXPECT_EQ(sass("r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"), 5);
+  EXPECT_EQ(sass("r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4"), 6);
+  EXPECT_EQ(instruction_count(parse("r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", {"s"}), InstructionTarget::Sass), 6);
+}
+
+TEST(InstructionModel, SchlickListingMatchesTheSeed) {
+  const InstructionCost c = instruction_cost(parse("r0 + (1 - r0) * (1 - cos_theta)^5"), InstructionTarget::Sass);
+  ASSERT_EQ(c.listing.size(), 6u);
+  EXPECT_EQ(c.listing[0].instruction, "FADD.FTZ R2, -R0, 1");
+  EXPECT_EQ(c.listing[0].comment, "1 - r0");
+  EXPECT_EQ(c.listing[1].comment, "1 - cos_theta");
+  EXPECT_EQ(c.listing[2].comment, "(1 - cos_theta)^2");
+  EXPECT_EQ(c.listing[3].comment, "(1 - cos_theta)^4");
+  EXPECT_EQ(c.listing[4].comment, "(1 - cos_theta)^5");
+  EXPECT_EQ(c.listing[5].instruction.rfind("FFMA.FTZ", 0), 0u);
+  EXPECT_EQ(c.fp32, 6);
+  EXPECT_DOUBLE_EQ(c.weighted, 6.0);
+  const std::string text = format_listing(c);
+  EXPECT_NE(text.find("FADD.FTZ R2, -R0, 1"), std::string::npos);
+  EXPECT_NE(text.find(" ; 1 - r0\n"), std::string::npos);
+}
+
+TEST(InstructionModel, FusionNegationAndImmediates) {
+  EXPECT_EQ(sass("a * b + c"), 1);
+  EXPECT_EQ(sass("a * b - c"), 1);
+  EXPECT_EQ(sass("c - a * b"), 1);
+  EXPECT_EQ(sass("1 - a"), 1);
+  EXPECT_EQ(sass("-a"), 1);        // the result must be positive: FADD -a, -RZ
+  EXPECT_EQ(sass("-(a * b)"), 1);  // folds into the product
+  EXPECT_EQ(sass("a * 2.5 + 0.5"), 1);
+  EXPECT_EQ(ptx("a * b - c"), 2);  // neg.f32 + fma
+  EXPECT_EQ(generic("a * b - c"), 2);
+  EXPECT_EQ(generic("-a"), 1);
+  EXPECT_EQ(generic("a - b"), 1);
+}
+
+TEST(InstructionModel, SharedSubexpressionsAndPowers) {
+  EXPECT_EQ(sass("x^2"), 1);
+  EXPECT_EQ(sass("x^3"), 2);
+  EXPECT_EQ(sass("x^4"), 2);
+  EXPECT_EQ(sass("x^5"), 3);
+  EXPECT_EQ(sass("x^8"), 3);
+  EXPECT_EQ(sass("x^-2"), 2);
+  EXPECT_EQ(sass("x^2 + x^4"), 2);       // x^4 = x^2 * x^2 + x^2 as one FFMA
+  EXPECT_EQ(sass("(a + b) * (b + a)"), 2);  // commutative operands are one value
+  EXPECT_EQ(sass("sqrt(a) + sqrt(a)"), 2);
+}
+
+TEST(InstructionModel, MufuOperations) {
+  EXPECT_EQ(sass("sqrt(a)"), 1);
+  EXPECT_EQ(sass("rsqrt(a)"), 1);
+  EXPECT_EQ(sass("1 / sqrt(a)"), 1);  // nvcc makes it rsqrt
+  EXPECT_EQ(sass("a / b"), 2);        // MUFU.RCP + FMUL
+  EXPECT_EQ(sass("a / 4"), 1);        // a * 0.25
+  EXPECT_EQ(sass("exp(a)"), 2);
+  EXPECT_EQ(sass("log(a)"), 2);
+  EXPECT_EQ(sass("log(a) + b"), 2);   // ln 2 scale fused into an FFMA
+  EXPECT_EQ(sass("sin(a)"), 2);       // FMUL.RZ + MUFU.SIN
+  EXPECT_EQ(sass("sin(a) + cos(a)"), 4);  // the FMUL.RZ is shared
+  EXPECT_EQ(sass("pow(a, b)"), 3);
+  EXPECT_EQ(sass("exp2(-a)"), 2);     // MUFU takes no negated operand
+  EXPECT_EQ(sass("abs(a) * b"), 1);   // |a| is an operand modifier
+  EXPECT_EQ(sass("sqrt(abs(a))"), 2);
+  EXPECT_EQ(sass("saturate(a * b)"), 1);  // FMUL.SAT
+  EXPECT_EQ(sass("saturate(a + b)"), 2);
+  EXPECT_EQ(sass("min(a, b)"), 1);
+  EXPECT_EQ(ptx("sin(a)"), 1);
+  EXPECT_EQ(ptx("a / b"), 2);
+  EXPECT_EQ(generic("a / b"), 1);
+  EXPECT_EQ(generic("exp(a)"), 1);
+}
+
+TEST(InstructionModel, WeightsFollowTheThroughputTable) {
+  EXPECT_DOUBLE_EQ(throughput_weight(InstructionTarget::Sass, InstructionUnit::Fp32), 1.0);
+  EXPECT_DOUBLE_EQ(throughput_weight(InstructionTarget::Sass, InstructionUnit::Mufu), 8.0);
+  EXPECT_DOUBLE_EQ(throughput_weight(InstructionTarget::Sass, InstructionUnit::MinMax), 2.0);
+  const InstructionCost c = instruction_cost(parse("a / b"), InstructionTarget::Sass);
+  EXPECT_EQ(c.mufu, 1);
+  EXPECT_EQ(c.fp32, 1);
+  EXPECT_DOUBLE_EQ(c.weighted, 9.0);
+}
+
+TEST(InstructionModel, LeavesAndConstantsAreFree) {
+  EXPECT_EQ(sass("a"), 0);
+  EXPECT_EQ(sass("1 + 2 * 3"), 0);
+  EXPECT_EQ(sass("a * 1"), 0);
+}
+
+TEST(InstructionModel, TargetNames) {
+  EXPECT_EQ(instruction_target_from_name("sass"), InstructionTarget::Sass);
+  EXPECT_EQ(instruction_target_from_name("ptx"), InstructionTarget::Ptx);
+  EXPECT_EQ(instruction_target_from_name("generic"), InstructionTarget::Generic);
+  EXPECT_FALSE(instruction_target_from_name("x86").has_value());
+  EXPECT_EQ(instruction_target_name(InstructionTarget::Generic), "generic");
+}
+
+TEST(InstructionModel, EmptyExpressionIsAnError) {
+  EXPECT_THROW(instruction_count(Expression{}, InstructionTarget::Sass), Error);
+}
+
+}  // namespace
+}  // namespace shaderfit

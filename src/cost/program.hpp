@@ -1,0 +1,60 @@
+// Internal: the straight-line program that code generation prints and the cost model counts.
+//
+// A program is built from the DAG for one of two policies:
+//  - fused (CUDA, C++, Metal; the `sass` and `ptx` targets): every add with a product operand
+//    becomes one Fma (the product with the fewest uses, when both are products); a product all of
+//    whose uses were fused is not computed on its own;
+//  - unfused (GLSL, HLSL; the `generic` target): a*b + c stays a multiply and an add, and
+//    a * rcp(b) with a single-use reciprocal is one division.
+// Signs are resolved so that negations cost as little as the languages allow: a - b and b - a
+// are both one subtraction, a negative literal is free, -(a * K) is a * -K; what remains is an
+// explicit Neg step, one per value (docs/cost-model.md, "Negation").
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "cost/dag.hpp"
+
+namespace shaderfit::lowering {
+
+enum class StepOp : std::uint8_t {
+  Add, Sub, Mul, Div, Fma, Neg, Abs,
+  Sqrt, Rsqrt, Exp2, Log2, Exp, Log, Sin, Cos, Sat, Min, Max,
+};
+
+struct Operand {
+  enum class Kind : std::uint8_t { None, Step, Var, Param, Const };
+  Kind kind = Kind::None;
+  int index = 0;       // Step: step index; Var, Param: table index
+  float value = 0.0f;  // Const: the signed literal
+};
+
+struct Step {
+  StepOp op = StepOp::Add;
+  Operand args[3];
+  int arity = 0;
+  int dag_id = -1;      // the DAG node whose value (or negation) this step computes
+  bool negated = false; // the step computes minus that node's value
+  int uses = 0;         // operand references from later steps, +1 if it is the result
+  // Exp only, fused programs: the operand is read negated, exp(-x). nvcc folds that negation
+  // into the log2(e) scale, so it is no instruction of its own.
+  bool neg_arg = false;
+};
+
+struct Program {
+  std::vector<Step> steps;
+  Operand result;
+  bool fused = true;
+};
+
+Program build_program(const Dag& dag, bool fused);
+
+// True for the steps whose SASS forms take negated and absolute-value operands for free:
+// FADD (Add, Sub), FMUL, FFMA, FMNMX.
+constexpr bool takes_operand_modifiers(StepOp op) {
+  return op == StepOp::Add || op == StepOp::Sub || op == StepOp::Mul || op == StepOp::Fma ||
+         op == StepOp::Min || op == StepOp::Max;
+}
+
+}  // namespace shaderfit::lowering

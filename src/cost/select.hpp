@@ -1,0 +1,24 @@
+// Internal: instruction selection of a program for one target, with or without listing text.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cost/dag.hpp"
+#include "cost/program.hpp"
+#include "shaderfit/cost/instruction_model.hpp"
+
+namespace shaderfit::lowering {
+
+struct TargetInstruction {
+  InstructionUnit unit = InstructionUnit::Fp32;
+  std::string text;     // empty unless asked for
+  std::string comment;  // empty unless asked for
+};
+
+// The target's instructions for `program` (built fused for Sass and Ptx, unfused for Generic).
+std::vector<TargetInstruction> select_sass(const Dag& dag, const Program& program, bool with_text);
+std::vector<TargetInstruction> select_ptx(const Dag& dag, const Program& program, bool with_text);
+std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& program, bool with_text);
+
+}  // namespace shaderfit::lowering

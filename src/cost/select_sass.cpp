@@ -1,0 +1,259 @@
+// SASS selection: what ptxas makes of the PTX of the generated CUDA (nvcc --use_fast_math,
+// sm_90). Rules, each checked against cuobjdump output (docs/cost-model.md, "SASS"):
+//  - a negation or |x| read by FADD/FMUL/FFMA/FMNMX is an operand modifier: free;
+//  - a negation of a product read only there folds into the product (FMUL -a, b): free;
+//  - any other negation (before a MUFU op, FADD.SAT, or of the result) is FADD d, -x, -RZ;
+//    any other |x| is FADD d, |x|, -RZ;
+//  - -1 / x is MUFU.RCP, negated like any other value;
+//  - sin and cos scale their argument by 1/(2 pi) with FMUL.RZ, once per distinct argument;
+//  - exp(x) is FMUL by log2(e) + MUFU.EX2 (that FMUL takes |x| and -x for free); log(x) is
+//    MUFU.LG2 + FMUL by ln(2);
+//  - saturate of a product read only there is FMUL.SAT (not so for FADD, FFMA, FMNMX results);
+//  - 1 / exp2(x) and 1 / exp(x), the exponential read only there, is MUFU.EX2 of -x: no MUFU.RCP;
+//  - |x * x| is x * x;
+//  - log's ln(2) scale merges into FMUL.SAT when saturated, and into a product with a literal.
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "cost/float_text.hpp"
+#include "cost/select.hpp"
+#include "cost/step_text.hpp"
+
+namespace shaderfit::lowering {
+
+namespace {
+
+// A value as SASS reads it: a register with modifiers, or an immediate.
+struct Val {
+  int reg = -1;
+  bool neg = false, abs = false;
+  bool imm = false;
+  float value = 0.0f;
+  const char* token = nullptr;  // printed as is: RZ, PT
+};
+
+class SassSelector {
+ public:
+  SassSelector(const Dag& dag, const Program& p, bool text) : dag_(dag), p_(p), text_(text) {
+    const std::size_t n = p.steps.size();
+    consumers_.assign(n, {});
+    for (std::size_t i = 0; i < n; ++i)
+      for (int k = 0; k < p.steps[i].arity; ++k)
+        if (p.steps[i].args[k].kind == Operand::Kind::Step)
+          consumers_[static_cast<std::size_t>(p.steps[i].args[k].index)].push_back(static_cast<int>(i));
+    next_reg_ = static_cast<int>(dag.variables.size() + dag.parameters.size());
+    vals_.assign(n, {});
+  }
+
+  std::vector<TargetInstruction> run() {
+    for (std::size_t i = 0; i < p_.steps.size(); ++i) select(static_cast<int>(i));
+    return std::move(out_);
+  }
+
+ private:
+  bool is_result(int s) const { return p_.result.kind == Operand::Kind::Step && p_.result.index == s; }
+  bool all_alu(int s, bool neg_ok = false) const {
+    if (is_result(s)) return false;
+    for (int c : consumers_[static_cast<std::size_t>(s)]) {
+      const StepOp op = p_.steps[static_cast<std::size_t>(c)].op;
+      if (!takes_operand_modifiers(op) && !(neg_ok && op == StepOp::Neg && all_alu(c))) return false;
+    }
+    return true;
+  }
+  // A product whose only reader is a negation that is not free: ptxas computes it negated.
+  bool negated_product(int s) const {
+    const Step& st = p_.steps[static_cast<std::size_t>(s)];
+    if (st.op != StepOp::Mul || st.uses != 1 || consumers_[static_cast<std::size_t>(s)].size() != 1) return false;
+    const int c = consumers_[static_cast<std::size_t>(s)][0];
+    return p_.steps[static_cast<std::size_t>(c)].op == StepOp::Neg && !all_alu(c);
+  }
+
+  // The one step that reads step s, or -1.
+  int only_reader(int s) const {
+    const auto& c = consumers_[static_cast<std::size_t>(s)];
+    return p_.steps[static_cast<std::size_t>(s)].uses == 1 && c.size() == 1 ? c[0] : -1;
+  }
+  const Step* step_of(const Operand& o) const {
+    return o.kind == Operand::Kind::Step ? &p_.steps[static_cast<std::size_t>(o.index)] : nullptr;
+  }
+  bool is_rcp(const Step& st) const {
+    return st.op == StepOp::Div && st.args[0].kind == Operand::Kind::Const &&
+           (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
+  }
+  // Abs that costs nothing: read only as an operand modifier, or of a square.
+  bool free_abs(int s) const {
+    const Step& st = p_.steps[static_cast<std::size_t>(s)];
+    const Step* x = step_of(st.args[0]);
+    if (x && x->op == StepOp::Mul && x->args[0].kind == x->args[1].kind && x->args[0].index == x->args[1].index &&
+        x->args[0].kind != Operand::Kind::Const)
+      return true;
+    if (is_result(s)) return false;
+    for (int c : consumers_[static_cast<std::size_t>(s)]) {
+      const Step& rd = p_.steps[static_cast<std::size_t>(c)];
+      if (!takes_operand_modifiers(rd.op) && rd.op != StepOp::Exp && !(rd.op == StepOp::Neg && all_alu(c))) return false;
+      // -|x| as the subtrahend of FADD is not folded (checked against ptxas).
+      if (rd.op == StepOp::Sub && rd.args[1].kind == Operand::Kind::Step && rd.args[1].index == s) return false;
+    }
+    return true;
+  }
+
+  Val val(const Operand& o) const {
+    switch (o.kind) {
+      case Operand::Kind::Const: return Val{-1, false, false, true, o.value};
+      case Operand::Kind::Var: return Val{o.index};
+      case Operand::Kind::Param: return Val{static_cast<int>(dag_.variables.size()) + o.index};
+      default: return vals_[static_cast<std::size_t>(o.index)];
+    }
+  }
+  static std::string text(const Val& v) {
+    if (v.token) return v.neg ? std::string("-") + v.token : std::string(v.token);
+    if (v.imm) return float_text(v.value);
+    std::string r = "R" + std::to_string(v.reg);
+    if (v.abs) r = "|" + r + "|";
+    return v.neg ? "-" + r : r;
+  }
+  static Val negated(Val v) {
+    if (v.imm && !v.token) v.value = -v.value;
+    else v.neg = !v.neg;
+    return v;
+  }
+
+  Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args, const std::string& comment) {
+    const Val d{next_reg_++};
+    TargetInstruction ins;
+    ins.unit = unit;
+    if (text_) {
+      ins.text = op + " " + text(d);
+      for (const Val& a : args) ins.text += ", " + text(a);
+      ins.comment = comment;
+    }
+    out_.push_back(std::move(ins));
+    return d;
+  }
+
+  void select(int s) {
+    const Step& st = p_.steps[static_cast<std::size_t>(s)];
+    const std::string c = text_ ? names_text_.of(s) : std::string();
+    const Val a = st.arity > 0 ? val(st.args[0]) : Val{};
+    const Val b = st.arity > 1 ? val(st.args[1]) : Val{};
+    const Val rz{-1, true, false, true, 0.0f, "RZ"};
+    Val& out = vals_[static_cast<std::size_t>(s)];
+    using U = InstructionUnit;
+    // Immediates go last, as ptxas writes them.
+    auto ordered = [](Val x, Val y) { return x.imm && !y.imm ? std::make_pair(y, x) : std::make_pair(x, y); };
+    switch (st.op) {
+      case StepOp::Add:
+      case StepOp::Sub: {
+        const auto [x, y] = ordered(a, st.op == StepOp::Sub ? negated(b) : b);
+        out = emit(U::Fp32, "FADD.FTZ", {x, y}, c);
+        break;
+      }
+      case StepOp::Mul: {
+        auto [x, y] = ordered(a, b);
+        if (negated_product(s)) x = negated(x);
+        const int r = only_reader(s);
+        const bool sat = r >= 0 && p_.steps[static_cast<std::size_t>(r)].op == StepOp::Sat;
+        out = emit(U::Fp32, sat ? "FMUL.FTZ.SAT" : "FMUL.FTZ", {x, y}, sat ? names_text_.of(r) : c);
+        break;
+      }
+      case StepOp::Fma: {
+        const auto [x, y] = ordered(a, b);
+        out = emit(U::Fp32, "FFMA.FTZ", {x, y, val(st.args[2])}, c);
+        break;
+      }
+      case StepOp::Min:
+      case StepOp::Max: {
+        const auto [x, y] = ordered(a, b);
+        out = emit(U::MinMax, "FMNMX.FTZ", {x, y, Val{-1, false, false, true, 0.0f, st.op == StepOp::Min ? "PT" : "!PT"}}, c);
+        break;
+      }
+      case StepOp::Neg:
+        if (all_alu(s)) out = negated(a);
+        else if (st.args[0].kind == Operand::Kind::Step && negated_product(st.args[0].index)) out = a;
+        else out = emit(U::Fp32, "FADD.FTZ", {negated(a), rz}, c);
+        break;
+      case StepOp::Abs: {
+        const Step* x = step_of(st.args[0]);
+        if (x && x->op == StepOp::Mul && free_abs(s)) out = a;  // a square is not negative
+        else if (free_abs(s)) out = Val{a.reg, false, true};
+        else out = emit(U::Fp32, "FADD.FTZ", {Val{a.reg, false, true}, rz}, c);
+        break;
+      }
+      case StepOp::Div: {
+        const bool rcp = is_rcp(st);
+        const Step* den = step_of(st.args[1]);
+        const bool folded = rcp && den && (den->op == StepOp::Exp2 || den->op == StepOp::Exp) && den->uses == 1;
+        const Val r = folded ? b : emit(U::Mufu, "MUFU.RCP", {b}, rcp ? c : std::string("reciprocal of the divisor"));
+        if (!rcp) out = emit(U::Fp32, "FMUL.FTZ", {a, r}, c);
+        else if (a.value > 0) out = r;
+        else if (all_alu(s)) out = negated(r);
+        else out = emit(U::Fp32, "FADD.FTZ", {negated(r), rz}, c);
+        break;
+      }
+      case StepOp::Sqrt: out = emit(U::Mufu, "MUFU.SQRT", {a}, c); break;
+      case StepOp::Rsqrt: out = emit(U::Mufu, "MUFU.RSQ", {a}, c); break;
+      case StepOp::Exp2: {
+        const int r = only_reader(s);
+        const bool inv = r >= 0 && is_rcp(p_.steps[static_cast<std::size_t>(r)]);
+        out = emit(U::Mufu, "MUFU.EX2", {inv ? negated(a) : a}, inv ? "1 / " + c : c);
+        break;
+      }
+      case StepOp::Log2: out = emit(U::Mufu, "MUFU.LG2", {a}, c); break;
+      case StepOp::Sat: {
+        const Step* x = step_of(st.args[0]);
+        if (x && (x->op == StepOp::Mul || x->op == StepOp::Log) && only_reader(st.args[0].index) == s)
+          out = a;  // FMUL.SAT
+        else out = emit(U::Fp32, "FADD.FTZ.SAT", {a, rz}, c);
+        break;
+      }
+      case StepOp::Exp: {
+        const float scale = st.neg_arg ? -kLog2E : kLog2E;
+        const Val t = emit(U::Fp32, "FMUL.FTZ", {a, Val{-1, false, false, true, scale}}, "log2(e) * ...");
+        const int r = only_reader(s);
+        const bool inv = r >= 0 && is_rcp(p_.steps[static_cast<std::size_t>(r)]);
+        out = emit(U::Mufu, "MUFU.EX2", {inv ? negated(t) : t}, inv ? "1 / " + c : c);
+        break;
+      }
+      case StepOp::Log: {
+        const int r = only_reader(s);
+        const Step* rd = r >= 0 ? &p_.steps[static_cast<std::size_t>(r)] : nullptr;
+        // (x * 2 is x + x in PTX, which does not merge.)
+        auto scale = [](const Operand& o) { return o.kind == Operand::Kind::Const && std::fabs(o.value) != 2.0f; };
+        const bool merged = rd && rd->op == StepOp::Mul && (scale(rd->args[0]) || scale(rd->args[1]));
+        const bool sat = rd && rd->op == StepOp::Sat;
+        const Val t = emit(U::Mufu, "MUFU.LG2", {a}, merged ? c : "log2 of ...");
+        out = merged ? t : emit(U::Fp32, sat ? "FMUL.FTZ.SAT" : "FMUL.FTZ", {t, Val{-1, false, false, true, kLn2}}, c);
+        break;
+      }
+      case StepOp::Sin:
+      case StepOp::Cos: {
+        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
+        auto it = scaled_.find(key);
+        if (it == scaled_.end()) {
+          it = scaled_.emplace(key, emit(U::Fp32, "FMUL.RZ", {a, Val{-1, false, false, true, kInv2Pi}}, "argument / (2 pi)")).first;
+        }
+        out = emit(U::Mufu, st.op == StepOp::Sin ? "MUFU.SIN" : "MUFU.COS", {it->second}, c);
+        break;
+      }
+    }
+  }
+
+  const Dag& dag_;
+  const Program& p_;
+  StepText names_text_{dag_, p_};
+  bool text_;
+  std::vector<std::vector<int>> consumers_;
+  std::vector<Val> vals_;
+  std::map<std::tuple<int, int>, Val> scaled_;
+  std::vector<TargetInstruction> out_;
+  int next_reg_ = 0;
+};
+
+}  // namespace
+
+std::vector<TargetInstruction> select_sass(const Dag& dag, const Program& program, bool with_text) {
+  return SassSelector(dag, program, with_text).run();
+}
+
+}  // namespace shaderfit::lowering

@@ -1,0 +1,134 @@
+// PTX and generic (SPIR-V-like) selection: one instruction per program step, except that PTX
+// spells exp as mul + ex2 and log as lg2 + mul, as __expf and __logf do under --use_fast_math.
+#include <bit>
+#include <cstdio>
+
+#include "cost/float_text.hpp"
+#include "cost/select.hpp"
+#include "cost/step_text.hpp"
+
+namespace shaderfit::lowering {
+
+namespace {
+
+std::string ptx_const(float v) {
+  char buf[16];
+  std::snprintf(buf, sizeof buf, "0f%08X", std::bit_cast<std::uint32_t>(v));
+  return buf;
+}
+
+class TextSelector {
+ public:
+  TextSelector(const Dag& dag, const Program& p, bool text, bool ptx) : dag_(dag), p_(p), text_(text), ptx_(ptx) {
+    names_.resize(p.steps.size());
+  }
+
+  std::vector<TargetInstruction> run() {
+    for (std::size_t i = 0; i < p_.steps.size(); ++i) select(static_cast<int>(i));
+    return std::move(out_);
+  }
+
+ private:
+  std::string name(const Operand& o) const {
+    switch (o.kind) {
+      case Operand::Kind::Const: return ptx_ ? ptx_const(o.value) : float_text(o.value);
+      case Operand::Kind::Var:
+        return ptx_ ? "%f" + std::to_string(o.index + 1) : "%" + dag_.variables[static_cast<std::size_t>(o.index)];
+      case Operand::Kind::Param: {
+        const std::size_t i = dag_.variables.size() + static_cast<std::size_t>(o.index);
+        return ptx_ ? "%f" + std::to_string(i + 1) : "%" + dag_.parameters[static_cast<std::size_t>(o.index)];
+      }
+      default: return names_[static_cast<std::size_t>(o.index)];
+    }
+  }
+
+  std::string emit(InstructionUnit unit, const std::string& op, std::initializer_list<std::string> args,
+                   const std::string& comment) {
+    const std::string d = ptx_ ? "%f" + std::to_string(dag_.variables.size() + dag_.parameters.size() + ++count_)
+                               : "%" + std::to_string(++count_);
+    TargetInstruction ins;
+    ins.unit = unit;
+    if (text_) {
+      ins.text = ptx_ ? op + " " + d : d + " = " + op;
+      bool first = !ptx_;
+      for (const std::string& a : args) {
+        ins.text += (first ? " " : ", ") + a;
+        first = false;
+      }
+      ins.comment = comment;
+    }
+    out_.push_back(std::move(ins));
+    return d;
+  }
+
+  void select(int s) {
+    const Step& st = p_.steps[static_cast<std::size_t>(s)];
+    const std::string c = text_ ? names_text_.of(s) : std::string();
+    const std::string a = st.arity > 0 ? name(st.args[0]) : std::string();
+    const std::string b = st.arity > 1 ? name(st.args[1]) : std::string();
+    std::string& out = names_[static_cast<std::size_t>(s)];
+    using U = InstructionUnit;
+    auto simple = [&](U unit, const char* ptx_op, const char* spirv_op, std::initializer_list<std::string> args) {
+      out = emit(unit, ptx_ ? ptx_op : spirv_op, args, c);
+    };
+    switch (st.op) {
+      case StepOp::Add: simple(U::Fp32, "add.ftz.f32", "OpFAdd", {a, b}); break;
+      case StepOp::Sub: simple(U::Fp32, "sub.ftz.f32", "OpFSub", {a, b}); break;
+      case StepOp::Mul: simple(U::Fp32, "mul.ftz.f32", "OpFMul", {a, b}); break;
+      case StepOp::Fma: simple(U::Fp32, "fma.rn.ftz.f32", "OpExtInst Fma", {a, b, name(st.args[2])}); break;
+      case StepOp::Neg: simple(U::Fp32, "neg.ftz.f32", "OpFNegate", {a}); break;
+      case StepOp::Abs: simple(U::Fp32, "abs.ftz.f32", "OpExtInst FAbs", {a}); break;
+      case StepOp::Div:
+        if (ptx_ && st.args[0].kind == Operand::Kind::Const && st.args[0].value == 1.0f)
+          simple(U::Mufu, "rcp.approx.ftz.f32", "", {b});
+        else
+          simple(U::Mufu, "div.approx.ftz.f32", "OpFDiv", {a, b});
+        break;
+      case StepOp::Sqrt: simple(U::Mufu, "sqrt.approx.ftz.f32", "OpExtInst Sqrt", {a}); break;
+      case StepOp::Rsqrt: simple(U::Mufu, "rsqrt.approx.ftz.f32", "OpExtInst InverseSqrt", {a}); break;
+      case StepOp::Exp2: simple(U::Mufu, "ex2.approx.ftz.f32", "OpExtInst Exp2", {a}); break;
+      case StepOp::Log2: simple(U::Mufu, "lg2.approx.ftz.f32", "OpExtInst Log2", {a}); break;
+      case StepOp::Sin: simple(U::Mufu, "sin.approx.ftz.f32", "OpExtInst Sin", {a}); break;
+      case StepOp::Cos: simple(U::Mufu, "cos.approx.ftz.f32", "OpExtInst Cos", {a}); break;
+      case StepOp::Sat: simple(U::Fp32, "cvt.ftz.sat.f32.f32", "OpExtInst FClamp", ptx_ ? std::initializer_list<std::string>{a} : std::initializer_list<std::string>{a, "0", "1"}); break;
+      case StepOp::Min: simple(U::MinMax, "min.ftz.f32", "OpExtInst FMin", {a, b}); break;
+      case StepOp::Max: simple(U::MinMax, "max.ftz.f32", "OpExtInst FMax", {a, b}); break;
+      case StepOp::Exp:
+        if (ptx_) {
+          const std::string t = emit(U::Fp32, "mul.ftz.f32", {a, ptx_const(kLog2E)}, "log2(e) * ...");
+          out = emit(U::Mufu, "ex2.approx.ftz.f32", {t}, c);
+        } else {
+          simple(U::Mufu, "", "OpExtInst Exp", {a});
+        }
+        break;
+      case StepOp::Log:
+        if (ptx_) {
+          const std::string t = emit(U::Mufu, "lg2.approx.ftz.f32", {a}, "log2 of ...");
+          out = emit(U::Fp32, "mul.ftz.f32", {t, ptx_const(kLn2)}, c);
+        } else {
+          simple(U::Mufu, "", "OpExtInst Log", {a});
+        }
+        break;
+    }
+  }
+
+  const Dag& dag_;
+  const Program& p_;
+  StepText names_text_{dag_, p_};
+  bool text_, ptx_;
+  std::vector<std::string> names_;
+  std::vector<TargetInstruction> out_;
+  std::size_t count_ = 0;
+};
+
+}  // namespace
+
+std::vector<TargetInstruction> select_ptx(const Dag& dag, const Program& program, bool with_text) {
+  return TextSelector(dag, program, with_text, true).run();
+}
+
+std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& program, bool with_text) {
+  return TextSelector(dag, program, with_text, false).run();
+}
+
+}  // namespace shaderfit::lowering

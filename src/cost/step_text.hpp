@@ -1,0 +1,31 @@
+// Internal: the value a program step computes, as short infix text for listings.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "cost/program.hpp"
+
+namespace shaderfit::lowering {
+
+class StepText {
+ public:
+  StepText(const Dag& dag, const Program& program);
+
+  // Infix of step i ("1 - r0", "(1 - cos_theta)^4"), cut to max_chars with "...".
+  [[nodiscard]] std::string of(int step, std::size_t max_chars = 48) const;
+
+ private:
+  struct Power {
+    Operand base;
+    int k = 1;
+  };
+  [[nodiscard]] std::string operand(const Operand& o, int min_level) const;
+  [[nodiscard]] std::string step(int i, int min_level) const;
+
+  const Dag& dag_;
+  const Program& p_;
+  std::vector<Power> powers_;  // x^k chains of the squaring expansion, printed as powers
+};
+
+}  // namespace shaderfit::lowering
