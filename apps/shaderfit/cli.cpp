@@ -30,6 +30,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   register_search_command(app, ctx);
   register_cost_command(app, ctx);
   register_codegen_command(app, ctx);
+  register_plot_command(app, ctx);
+  register_report_command(app, ctx);
+  register_fit_command(app, ctx);
+  register_lut_command(app, ctx);
+  register_rational_command(app, ctx);
 
   try {
     app.parse(argc, argv);

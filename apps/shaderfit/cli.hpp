@@ -23,6 +23,11 @@ void register_eval_command(CLI::App& app, Context& ctx);
 void register_search_command(CLI::App& app, Context& ctx);
 void register_cost_command(CLI::App& app, Context& ctx);
 void register_codegen_command(CLI::App& app, Context& ctx);
+void register_plot_command(CLI::App& app, Context& ctx);
+void register_report_command(CLI::App& app, Context& ctx);
+void register_fit_command(CLI::App& app, Context& ctx);
+void register_lut_command(CLI::App& app, Context& ctx);
+void register_rational_command(CLI::App& app, Context& ctx);
 
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);

@@ -1,0 +1,305 @@
+#include "cmd_fit_blocks.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cctype>
+#include <map>
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/eval/dataset_eval.hpp"
+#include "shaderfit/eval/metrics.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
+#include "shaderfit/fit/builtin_reference.hpp"
+#include "shaderfit/fit/sampling.hpp"
+
+namespace shaderfit::cli {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& message, const char* option) {
+  throw Error(message, SourceLocation{option});
+}
+
+struct Param {
+  std::string name;
+  double start = 0;
+};
+
+std::vector<Param> parse_params(const std::vector<std::string>& specs) {
+  std::vector<Param> out;
+  for (const std::string& s : specs) {
+    Param p;
+    const std::size_t eq = s.find('=');
+    p.name = s.substr(0, eq);
+    if (eq != std::string::npos) {
+      ParseOptions po;
+      po.variables = {"__none__"};
+      po.source = "--param";
+      p.start = evaluate_scalar(parse_formula(s.substr(eq + 1), po), std::vector<double>{0.0});
+    }
+    if (p.name.empty()) fail("expected NAME or NAME=START, got '" + s + "'", "--param");
+    out.push_back(p);
+  }
+  return out;
+}
+
+std::string builtin_names() {
+  std::string s;
+  for (const BuiltinReference& r : builtin_references())
+    s += (s.empty() ? "" : ", ") + std::string(r.name);
+  return s;
+}
+
+bool looks_like_builtin_name(const std::string& s) {
+  return s.find('-') != std::string::npos && std::all_of(s.begin(), s.end(), [](char c) {
+           return std::islower(static_cast<unsigned char>(c)) ||
+                  std::isdigit(static_cast<unsigned char>(c)) || c == '-';
+         });
+}
+
+// The reference at every row of `d`: a column (--target), a built-in or a formula (--reference).
+std::vector<double> reference_values(const FitArgs& a, const Dataset& d, std::string* description) {
+  if (!a.target.empty()) {
+    *description = "column " + a.target;
+    return d.numeric(a.target).values;
+  }
+  if (const BuiltinReference* b = find_builtin_reference(a.reference)) {
+    *description = std::string(b->name);
+    return evaluate_reference(*b, d);
+  }
+  *description = a.reference;
+  try {
+    return evaluate_on(parse_formula_on(a.reference, d, "--reference"), d);
+  } catch (const Error&) {
+    // "fv-exat" reads as a formula with unknown names; say what the built-ins are instead.
+    if (!looks_like_builtin_name(a.reference)) throw;
+    fail("unknown reference '" + a.reference + "' (built-in: " + builtin_names() + ")",
+         "--reference");
+  }
+}
+
+std::vector<double> weight_values(const FitArgs& a, const Dataset& d) {
+  if (a.weight.empty()) return {};
+  if (const Column* c = d.find(a.weight)) return d.numeric(c->name).values;
+  return evaluate_on(parse_formula_on(a.weight, d, "--weight"), d);
+}
+
+std::string label_of(const Column& c, std::size_t row) {
+  return c.numeric() ? format_number(c.values[row]) : c.labels[row];
+}
+
+}  // namespace
+
+FitSetup make_fit_setup(const FitArgs& a) {
+  FitSetup s;
+  if (a.formula.empty()) fail("no formula to fit", "formula");
+  if (a.target.empty() == a.reference.empty())
+    fail(a.target.empty() ? "no reference: give --target COLUMN or --reference NAME|FORMULA"
+                          : "give either --target or --reference, not both",
+         "--target");
+  const bool generated = !a.domain.empty();
+  const bool has_data = !a.data.path.empty() || !a.data.dataset.empty();
+  if (generated && has_data)
+    fail("give either --domain (sampled data) or --data/--dataset, not both", "--domain");
+  if (!generated && !has_data)
+    fail("no data: give --data FILE.csv, --dataset NAME or --domain", "--data");
+  if (!a.per_cell.empty() && a.grid.empty())
+    fail("--per-cell needs a grid: give --grid name=lo:hi:cells", "--per-cell");
+  if (!a.per_group.empty() && !a.grid.empty())
+    fail("use either --per-group or a grid, not both", "--per-group");
+
+  std::vector<GridAxis> grid;
+  for (const std::string& g : a.grid) grid.push_back(parse_grid_axis(g, "--grid"));
+  std::vector<std::string> known;
+  std::unique_ptr<Dataset> data;
+  std::vector<GridCell> cells;
+  std::vector<Definition> defines;
+  if (generated) {
+    std::vector<SampleAxis> domain;
+    for (const GridAxis& g : grid) known.push_back(g.name);
+    for (const std::string& d : a.domain) {
+      domain.push_back(parse_sample_axis(d, "--domain"));
+      known.push_back(domain.back().name);
+    }
+    for (const std::string& t : a.defines) {
+      defines.push_back(parse_definition(t, known, "--define"));
+      known.push_back(defines.back().name);
+    }
+    Rng rng(a.rng_seed);
+    cells = sample_grid(grid, domain, defines, a.random_samples, rng);
+  } else {
+    data = std::make_unique<Dataset>(load_data(a.data));
+    for (const std::string& t : a.defines)
+      defines.push_back(parse_definition(t, data->names(), "--define"));
+    add_definitions(*data, defines);
+    known = data->names();
+  }
+
+  // The formula and its parameters.
+  const std::vector<Param> params = parse_params(a.params);
+  ParseOptions po;
+  po.variables = known;
+  po.source = "formula";
+  for (const Param& p : params) {
+    po.parameters.push_back(p.name);
+    po.parameter_values.push_back(p.start);
+  }
+  Expression f = parse_formula(a.formula, po);
+  if (f.parameters.empty())
+    fail("the formula '" + to_infix(f) +
+             "' has no free parameters to fit (name them with --param NAME[=START])",
+         "formula");
+  for (std::size_t j = 0; j < f.parameters.size(); ++j) {
+    const bool used = std::any_of(f.nodes.begin(), f.nodes.end(), [&](const Node& n) {
+      return n.op == Op::Param && n.index == static_cast<int>(j);
+    });
+    if (!used)
+      fail("parameter '" + f.parameters[j] + "' does not appear in the formula", "--param");
+  }
+  f.drop_unused_variables();
+  s.problem.formula = f;
+
+  // Scopes.
+  s.problem.scopes.assign(f.parameters.size(), ParameterScope::global);
+  auto per_block = [&](const std::string& name, const char* option) {
+    const auto it = std::find(f.parameters.begin(), f.parameters.end(), name);
+    if (it == f.parameters.end())
+      fail("'" + name + "' is not a parameter (declare it with --param)", option);
+    s.problem.scopes[static_cast<std::size_t>(it - f.parameters.begin())] =
+        ParameterScope::per_block;
+  };
+  std::string group_column;
+  for (const std::string& g : a.per_group) {
+    const std::size_t colon = g.find(':');
+    if (colon == std::string::npos) fail("expected PARAM:COLUMN, got '" + g + "'", "--per-group");
+    const std::string column = g.substr(colon + 1);
+    if (!group_column.empty() && column != group_column)
+      fail("every per-group parameter must use the same column ('" + group_column + "' and '" +
+               column + "')",
+           "--per-group");
+    group_column = column;
+    per_block(g.substr(0, colon), "--per-group");
+  }
+  for (const std::string& c : a.per_cell) per_block(c, "--per-cell");
+
+  for (std::size_t k = 0; k < a.constraints.size(); ++k)
+    s.problem.constraints.push_back(
+        parse_constraint(a.constraints[k], f, "--constraint " + std::to_string(k + 1)));
+  if (!a.transform.empty()) {
+    ParseOptions tp;
+    tp.variables = f.variables;
+    tp.variables.push_back("y");
+    tp.source = "--transform";
+    Expression t = parse_formula(a.transform, tp);
+    t.drop_unused_variables();
+    s.problem.transform = t;
+  }
+
+  // Blocks.
+  if (generated) {
+    s.data_description =
+        fmt::format("{} sampled cell{} of {} rows", cells.size(), cells.size() == 1 ? "" : "s",
+                    cells.empty() ? 0 : cells.front().data.rows());
+    if (!grid.empty()) s.grouping = fmt::format("per cell of a {}-axis grid", grid.size());
+    for (GridCell& c : cells) {
+      auto d = std::make_unique<Dataset>(std::move(c.data));
+      BlockSource src{d.get(), std::vector<std::size_t>(d->rows()),
+                      reference_values(a, *d, &s.reference_description)};
+      for (std::size_t i = 0; i < src.rows.size(); ++i) src.rows[i] = i;
+      FitBlock b = make_block(*d, f, src.target, weight_values(a, *d), {}, c.label());
+      b.context = c.centre;
+      s.problem.blocks.push_back(std::move(b));
+      s.sources.push_back(std::move(src));
+      s.datasets.push_back(std::move(d));
+    }
+  } else {
+    const Dataset& d = *data;
+    s.data_description = fmt::format("{}, {} rows", a.data.describe(), d.rows());
+    const std::vector<double> target = reference_values(a, d, &s.reference_description);
+    const std::vector<double> weights = weight_values(a, d);
+    std::vector<std::pair<std::string, std::vector<std::size_t>>> groups;
+    std::vector<std::vector<std::pair<std::string, double>>> contexts;
+    if (!group_column.empty()) {
+      const Column& col = d.column(group_column);
+      std::vector<std::string> labels(d.rows());
+      for (std::size_t i = 0; i < d.rows(); ++i) labels[i] = label_of(col, i);
+      for (auto& [label, rows] : group_rows(labels)) {
+        groups.emplace_back(group_column + "=" + label, rows);
+        contexts.emplace_back();
+        if (col.numeric()) contexts.back().emplace_back(group_column, col.values[rows.front()]);
+      }
+      s.grouping = "per " + group_column;
+    } else if (!grid.empty()) {
+      Rng unused(0);
+      const std::vector<GridCell> shape = sample_grid(grid, {}, {}, 0, unused);
+      std::vector<std::vector<std::size_t>> rows(shape.size());
+      std::vector<const std::vector<double>*> cols;
+      for (const GridAxis& g : grid) cols.push_back(&d.numeric(g.name).values);
+      for (std::size_t i = 0; i < d.rows(); ++i) {
+        std::size_t cell = 0;
+        bool inside = true;
+        for (std::size_t k = 0; k < grid.size(); ++k) {
+          const long c = grid[k].cell_of((*cols[k])[i]);
+          inside = inside && c >= 0;
+          cell = cell * grid[k].cells + static_cast<std::size_t>(std::max(c, 0L));
+        }
+        if (inside)
+          rows[cell].push_back(i);
+        else
+          ++s.dropped_rows;
+      }
+      for (std::size_t c = 0; c < shape.size(); ++c) {
+        groups.emplace_back(shape[c].label(), std::move(rows[c]));
+        contexts.push_back(shape[c].centre);
+      }
+      s.grouping = fmt::format("per cell of a {}-axis grid", grid.size());
+    } else {
+      std::vector<std::size_t> all(d.rows());
+      for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+      groups.emplace_back("all", std::move(all));
+      contexts.emplace_back();
+    }
+    for (std::size_t g = 0; g < groups.size(); ++g) {
+      BlockSource src{data.get(), groups[g].second, {}};
+      for (std::size_t i : src.rows) src.target.push_back(target[i]);
+      // make_block reads every row for an empty row list; an empty cell stays empty.
+      FitBlock b = groups[g].second.empty()
+                       ? FitBlock{groups[g].first,
+                                  std::vector<std::vector<double>>(f.variables.size()),
+                                  {},
+                                  {},
+                                  {}}
+                       : make_block(d, f, target, weights, groups[g].second, groups[g].first);
+      b.context = contexts[g];
+      s.problem.blocks.push_back(std::move(b));
+      s.sources.push_back(std::move(src));
+    }
+    s.datasets.push_back(std::move(data));
+  }
+
+  // Options.
+  FixedFormOptions& o = s.options;
+  if (a.loss == "ls" || a.loss == "squared")
+    o.loss = Loss::squared;
+  else if (a.loss == "log")
+    o.loss = Loss::log;
+  else if (a.loss == "max")
+    o.loss = Loss::max;
+  else
+    fail("unknown loss '" + a.loss + "' (ls, log, max)", "--loss");
+  if (a.solver == "auto")
+    o.solver = SolverKind::automatic;
+  else if (a.solver == "linear")
+    o.solver = SolverKind::linear;
+  else if (a.solver == "lm")
+    o.solver = SolverKind::levenberg_marquardt;
+  else
+    fail("unknown solver '" + a.solver + "' (auto, linear, lm)", "--solver");
+  o.max_iterations = a.max_iterations;
+  o.threads = a.threads;
+  return s;
+}
+
+}  // namespace shaderfit::cli

@@ -1,0 +1,71 @@
+// The function a rational approximation is built for: one variable, optional named parameters.
+//
+//   Target f = Target::builtin("fresnel-dielectric-f0");   // variable "cos", parameter "F0"
+//   std::vector<double> p = {0.04};
+//   double r = f.value(0.5, p);
+//   std::vector<double> d = f.derivatives(1.0, 4, p);      // f(1), f'(1), ..., f''''(1)
+//   double area = f.integral(0.0, 1.0, p);
+//
+//   Target g = Target::formula("F0 + (1 - F0) * (1 - x)^5", "x", {"F0"});
+//
+// Derivatives of every order are exact to rounding: the function is evaluated on truncated Taylor
+// series (Taylor-mode automatic differentiation), so no step size is involved and high orders are
+// as accurate as low ones. Integrals use adaptive Gauss-Legendre quadrature to about 1e-13 of the
+// integrand's scale. Parameter values are passed in the order of parameters().
+#pragma once
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "shaderfit/expr/expression.hpp"
+
+namespace shaderfit::rational {
+
+inline constexpr int kMaxDerivativeOrder = 24;
+
+struct Interval {
+  double lo = 0.0, hi = 1.0;
+  [[nodiscard]] bool contains(double x) const { return x >= lo && x <= hi; }
+  [[nodiscard]] double width() const { return hi - lo; }
+};
+
+class Target {
+ public:
+  // A built-in reference function by name (see builtin_target_names()). Throws shaderfit::Error
+  // naming the known names when `name` is not one of them.
+  static Target builtin(std::string_view name);
+  // A formula in `variable` whose other identifiers are `parameters` (parse_formula syntax).
+  // Throws shaderfit::Error with the column of a syntax error, located at `source`.
+  static Target formula(std::string_view text, const std::string& variable,
+                        const std::vector<std::string>& parameters,
+                        const std::string& source = "--target");
+
+  // Built-in names, each with a one-line description ("fresnel-schlick: F0 + (1 - F0)(1 - cos)^5").
+  static std::vector<std::string> builtin_target_names();
+  static bool is_builtin(std::string_view name);
+
+  [[nodiscard]] const std::string& name() const { return name_; }
+  [[nodiscard]] const std::string& variable() const { return variable_; }
+  [[nodiscard]] const std::vector<std::string>& parameters() const { return parameters_; }
+  // The domain the function is meant for (for example [0, 1] for a cosine); a default only.
+  [[nodiscard]] Interval natural_domain() const { return natural_domain_; }
+
+  [[nodiscard]] double value(double x, std::span<const double> params) const;
+  // f(x), f'(x), ..., f^(order)(x); order in [0, kMaxDerivativeOrder].
+  [[nodiscard]] std::vector<double> derivatives(double x, int order,
+                                                std::span<const double> params) const;
+  [[nodiscard]] double integral(double a, double b, std::span<const double> params) const;
+
+ private:
+  Target() = default;
+  std::string name_, variable_;
+  std::vector<std::string> parameters_;
+  Interval natural_domain_;
+  int builtin_ = -1;    // index into the built-in table, or -1 for a formula
+  Expression formula_;  // variables {variable_}, parameters parameters_
+};
+
+}  // namespace shaderfit::rational

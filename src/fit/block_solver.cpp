@@ -1,0 +1,265 @@
+// Solving one block on its own: constrained linear least squares (design matrix, QR), constrained
+// Levenberg-Marquardt (normal equations on the constraints' tangent space, with projection back
+// onto nonlinear constraints), and Lawson's reweighting for the minimax loss around either.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "fixed_form_internal.hpp"
+
+namespace shaderfit::fit_detail {
+
+namespace {
+
+using Index = Eigen::Index;
+
+struct Context {
+  const Model& m;
+  const PreparedBlock& b;
+  const FixedFormOptions& o;
+  std::vector<std::string> names;  // one per parameter
+  int iterations = 0;
+  std::string termination;
+};
+
+double weighted_cost(const Context& c, std::span<const double> w, std::span<const double> p) {
+  std::vector<double> v;
+  values(c.m, c.b, p, &v);
+  return loss_of(Loss::squared, v, c.b.target, w);
+}
+
+// The constraints linearised at p: C p' = d is c(p) + C (p' - p) = 0.
+void constraint_system(const Context& c, std::span<const double> p, Eigen::MatrixXd* C,
+                       Eigen::VectorXd* d, std::vector<std::string>* row_names) {
+  const auto k = static_cast<Index>(c.b.constraints.size());
+  const auto n = static_cast<Index>(p.size());
+  C->resize(k, n);
+  d->resize(k);
+  row_names->clear();
+  std::vector<double> grad(p.size());
+  const Eigen::Map<const Eigen::VectorXd> pv(p.data(), n);
+  for (Index r = 0; r < k; ++r) {
+    double v = 0;
+    constraint_row(c.m, c.b.constraints[static_cast<std::size_t>(r)], p, &v, grad);
+    for (Index j = 0; j < n; ++j) (*C)(r, j) = grad[static_cast<std::size_t>(j)];
+    (*d)(r) = C->row(r).dot(pv) - v;
+    row_names->push_back(c.b.constraints[static_cast<std::size_t>(r)].constraint->text);
+  }
+}
+
+Failure eliminate_at(const Context& c, std::span<const double> p, bool tangent, Elimination* e) {
+  Eigen::MatrixXd C;
+  Eigen::VectorXd d;
+  std::vector<std::string> rows;
+  constraint_system(c, p, &C, &d, &rows);
+  if (!C.allFinite() || !d.allFinite())
+    return {FailureKind::nonfinite, "a constraint is not finite at the parameters"};
+  if (tangent) d.setZero();
+  return eliminate(C, d, rows, c.o.constraint_tolerance, e);
+}
+
+std::vector<std::string> free_names(const Context& c, const Elimination& e) {
+  std::vector<std::string> out;
+  for (int j : e.free) out.push_back(c.names[static_cast<std::size_t>(j)]);
+  return out;
+}
+
+// One constrained linear least-squares solve around p (exact when the model is linear).
+Failure linear_solve(Context& c, std::span<const double> w, std::vector<double>* p) {
+  const std::size_t rows = c.b.rows(), n = p->size();
+  Linearization L;
+  linearize(c.m, c.b, *p, &L);
+  Elimination e;
+  if (Failure f = eliminate_at(c, *p, false, &e)) return f;
+  const Eigen::Map<const Eigen::MatrixXd> J(L.jacobian.data(), static_cast<Index>(rows),
+                                            static_cast<Index>(n));
+  const Eigen::Map<const Eigen::VectorXd> pl(p->data(), static_cast<Index>(n));
+  Eigen::VectorXd sw(static_cast<Index>(rows)), rhs(static_cast<Index>(rows));
+  const Eigen::VectorXd shift = J * (pl - e.p0);
+  for (std::size_t i = 0; i < rows; ++i) {
+    sw(static_cast<Index>(i)) = std::sqrt(w[i]);
+    rhs(static_cast<Index>(i)) =
+        sw(static_cast<Index>(i)) * (c.b.target[i] - L.values[i] + shift(static_cast<Index>(i)));
+  }
+  const Eigen::MatrixXd A = sw.asDiagonal() * (J * e.Z);
+  Eigen::VectorXd q;
+  if (Failure f = solve_design(A, rhs, free_names(c, e), c.o.rank_tolerance, &q)) return f;
+  const Eigen::VectorXd solution = e.p0 + e.Z * q;
+  std::vector<double> next(solution.data(), solution.data() + n);
+  ++c.iterations;
+  c.termination = "linear";
+  if (!c.m.structurally_linear) {
+    // Sampled linearity: the prediction must hold at the solution, or this block is nonlinear.
+    std::vector<double> v;
+    values(c.m, c.b, next, &v);
+    const Eigen::VectorXd predicted = J * (solution - pl);
+    for (std::size_t i = 0; i < rows; ++i) {
+      const double want = L.values[i] + predicted(static_cast<Index>(i));
+      if (!(std::abs(v[i] - want) <= 1e-7 * (1 + std::abs(want))))
+        return {FailureKind::not_linear, "not linear in the parameters on this block"};
+    }
+  }
+  *p = std::move(next);
+  return {};
+}
+
+Failure levenberg_marquardt(Context& c, std::span<const double> w, std::vector<double>* p) {
+  const std::size_t rows = c.b.rows(), n = p->size();
+  const bool constrained = !c.b.constraints.empty();
+  if (constrained) {
+    Elimination e;
+    if (Failure f = eliminate_at(c, *p, false, &e)) return f;
+    if (Failure f = project(c.m, c.b, c.o, p)) return f;
+  }
+  double cost = weighted_cost(c, w, *p);
+  if (!std::isfinite(cost))
+    return {FailureKind::nonfinite, "the fitted values are not finite at the starting parameters"};
+  double lambda = c.o.initial_lambda;
+  c.termination = "max iterations";
+  Linearization L;
+  Eigen::VectorXd sw(static_cast<Index>(rows));
+  for (std::size_t i = 0; i < rows; ++i) sw(static_cast<Index>(i)) = std::sqrt(w[i]);
+  Elimination e;
+  for (int it = 0; it < c.o.max_iterations; ++it) {
+    ++c.iterations;
+    if (cost == 0) {
+      c.termination = "zero residual";
+      break;
+    }
+    linearize(c.m, c.b, *p, &L);
+    if (constrained) {
+      if (Failure f = eliminate_at(c, *p, true, &e)) return f;
+    } else if (e.Z.rows() == 0) {
+      e.Z = Eigen::MatrixXd::Identity(static_cast<Index>(n), static_cast<Index>(n));
+      for (std::size_t j = 0; j < n; ++j) e.free.push_back(static_cast<int>(j));
+    }
+    const Eigen::Map<const Eigen::MatrixXd> J(L.jacobian.data(), static_cast<Index>(rows),
+                                              static_cast<Index>(n));
+    Eigen::VectorXd r(static_cast<Index>(rows));
+    for (std::size_t i = 0; i < rows; ++i)
+      r(static_cast<Index>(i)) = sw(static_cast<Index>(i)) * (L.values[i] - c.b.target[i]);
+    const Eigen::MatrixXd Jz = sw.asDiagonal() * (J * e.Z);
+    const Eigen::MatrixXd H = Jz.transpose() * Jz;
+    const Eigen::VectorXd g = Jz.transpose() * r;
+    if (!H.allFinite() || !g.allFinite()) {
+      c.termination = "non-finite jacobian";
+      break;
+    }
+    bool improved = false;
+    for (int tries = 0; tries < 12 && !improved; ++tries) {
+      Eigen::MatrixXd Hd = H;
+      for (Index k = 0; k < Hd.rows(); ++k) Hd(k, k) += lambda * std::max(H(k, k), 1e-12);
+      const Eigen::VectorXd dp = e.Z * Hd.ldlt().solve(-g);
+      std::vector<double> trial(*p);
+      for (std::size_t j = 0; j < n; ++j) trial[j] += dp(static_cast<Index>(j));
+      const bool feasible = !constrained || !project(c.m, c.b, c.o, &trial);
+      const double next =
+          feasible ? weighted_cost(c, w, trial) : std::numeric_limits<double>::infinity();
+      if (next < cost) {
+        double step = 0, size = 0;
+        for (std::size_t j = 0; j < n; ++j) {
+          step += (trial[j] - (*p)[j]) * (trial[j] - (*p)[j]);
+          size += (*p)[j] * (*p)[j];
+        }
+        const double decrease = (cost - next) / cost;
+        *p = std::move(trial);
+        cost = next;
+        lambda = std::max(lambda / 10, 1e-15);
+        improved = true;
+        if (decrease < c.o.function_tolerance)
+          c.termination = "function tolerance";
+        else if (std::sqrt(step) <
+                 c.o.parameter_tolerance * (std::sqrt(size) + c.o.parameter_tolerance))
+          c.termination = "parameter tolerance";
+      } else {
+        lambda *= 10;
+      }
+    }
+    if (!improved) {
+      c.termination = "no improving step";
+      break;
+    }
+    if (c.termination != "max iterations") break;
+  }
+  // A parameter the data do not determine at the solution makes the system singular.
+  linearize(c.m, c.b, *p, &L);
+  if (constrained) {
+    if (Failure f = eliminate_at(c, *p, true, &e)) return f;
+  } else {
+    e.Z = Eigen::MatrixXd::Identity(static_cast<Index>(n), static_cast<Index>(n));
+    e.free.clear();
+    for (std::size_t j = 0; j < n; ++j) e.free.push_back(static_cast<int>(j));
+  }
+  const Eigen::Map<const Eigen::MatrixXd> J(L.jacobian.data(), static_cast<Index>(rows),
+                                            static_cast<Index>(n));
+  Eigen::VectorXd q;
+  return solve_design(sw.asDiagonal() * (J * e.Z), Eigen::VectorXd::Zero(static_cast<Index>(rows)),
+                      free_names(c, e), c.o.rank_tolerance, &q);
+}
+
+// A least-squares solve with per-row weights w: linear when the model is, else LM.
+Failure least_squares(Context& c, std::span<const double> w, std::vector<double>* p) {
+  if (c.m.linear && c.o.solver != SolverKind::levenberg_marquardt) {
+    Failure f = linear_solve(c, w, p);
+    if (f.kind != FailureKind::not_linear) return f;
+    if (c.o.solver == SolverKind::linear)
+      return {FailureKind::not_linear,
+              "the fitted quantity is not linear in the parameters (use the LM solver)"};
+  }
+  return levenberg_marquardt(c, w, p);
+}
+
+Failure minimax(Context& c, std::vector<double>* p) {
+  std::vector<double> best = *p, v;
+  LawsonSteps steps;
+  steps.solve = [&](std::span<const double> eff) { return least_squares(c, eff, p); };
+  steps.residuals = [&](std::vector<double>* r) {
+    values(c.m, c.b, *p, &v);
+    for (std::size_t i = 0; i < v.size(); ++i) (*r)[i] = std::abs(v[i] - c.b.target[i]);
+  };
+  steps.keep = [&] { best = *p; };
+  steps.restore = [&] { *p = best; };
+  return lawson(c.b.weights, c.o.minimax_iterations, steps, &c.termination);
+}
+
+}  // namespace
+
+BlockResult solve_block(const Model& m, const PreparedBlock& b, const FixedFormOptions& o,
+                        std::span<const double> start, FailureKind* kind) {
+  BlockResult r;
+  r.label = b.block->label;
+  r.rows = b.rows();
+  std::vector<double> p(start.begin(), start.end());
+  r.parameters = p;
+  if (kind != nullptr) *kind = FailureKind::none;
+  if (b.rows() == 0) {
+    if (kind != nullptr) *kind = FailureKind::no_rows;
+    r.ok = false;
+    r.failure = "no data rows";
+    r.termination = "failed";
+    return r;
+  }
+  Context c{m, b, o, m.formula.parameters};
+  {
+    std::vector<double> v;
+    values(m, b, p, &v);
+    r.initial_cost =
+        loss_of(m.loss == Loss::max ? Loss::max : Loss::squared, v, b.target, b.weights);
+  }
+  const Failure f = m.loss == Loss::max ? minimax(c, &p) : least_squares(c, b.weights, &p);
+  r.iterations = c.iterations;
+  if (f) {
+    if (kind != nullptr) *kind = f.kind;
+    r.ok = false;
+    r.failure = f.message;
+    r.termination = "failed";
+    r.final_cost = r.initial_cost;
+    return r;
+  }
+  r.parameters = p;
+  r.termination = c.termination;
+  residual_stats(m, b, p, &r);
+  return r;
+}
+
+}  // namespace shaderfit::fit_detail

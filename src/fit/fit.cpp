@@ -1,0 +1,223 @@
+#include <Eigen/Dense>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/fit/fit.hpp"
+#include "shaderfit/fit/linear.hpp"
+
+namespace shaderfit {
+
+namespace {
+
+double weighted_mse(std::span<const double> f, std::span<const double> y, std::span<const double> w) {
+  double se = 0, sw = 0;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    const double wi = w.empty() ? 1.0 : w[i];
+    const double d = f[i] - y[i];
+    se += wi * d * d;
+    sw += wi;
+  }
+  const double m = sw > 0 ? se / sw : 0.0;
+  return std::isfinite(m) ? m : std::numeric_limits<double>::infinity();
+}
+
+struct Evaluation {
+  std::vector<double> values, jacobian;
+  double cost = 0;
+};
+
+void evaluate(const FitProblem& p, const Expression& e, Evaluation& out) {
+  const std::size_t rows = p.target.size();
+  out.values.resize(rows);
+  out.jacobian.resize(rows * e.parameters.size());
+  evaluate_with_jacobian(e, p.columns, rows, out.values, out.jacobian);
+  out.cost = weighted_mse(out.values, p.target, p.weights);
+}
+
+// Values only (a trial step): the batched evaluator, no derivatives.
+double cost_at(const FitProblem& p, const Expression& e, std::vector<double>& values) {
+  values.resize(p.target.size());
+  shaderfit::evaluate(e, p.columns, values, {.threads = 1});
+  return weighted_mse(values, p.target, p.weights);
+}
+
+// f(p) = f(0) + J p exactly for a linear formula: one weighted least-squares solve.
+void fit_linear(const FitProblem& p, Expression& e, FitSummary* s) {
+  const std::size_t rows = p.target.size(), np = e.parameters.size();
+  const std::vector<double> start = e.parameter_values;
+  std::fill(e.parameter_values.begin(), e.parameter_values.end(), 0.0);
+  Evaluation at_zero;
+  evaluate(p, e, at_zero);
+  std::vector<double> rhs(rows);
+  for (std::size_t i = 0; i < rows; ++i) rhs[i] = p.target[i] - at_zero.values[i];
+  std::vector<const double*> cols(np);
+  for (std::size_t j = 0; j < np; ++j) cols[j] = at_zero.jacobian.data() + j * rows;
+  std::vector<double> c = solve_least_squares(cols, rhs, p.weights);
+  bool finite = true;
+  for (double v : c) finite = finite && std::isfinite(v);
+  e.parameter_values = finite ? c : start;
+  std::vector<double> values;
+  double cost = cost_at(p, e, values);
+  if (!(cost <= s->initial_cost)) {  // e.g. NaN rows: keep the start
+    e.parameter_values = start;
+    cost = s->initial_cost;
+  }
+  s->parameters = e.parameter_values;
+  s->final_cost = cost;
+  s->linear = true;
+  s->iterations = 1;
+  s->termination = "linear";
+}
+
+void fit_levenberg_marquardt(const FitOptions& o, const FitProblem& p, Expression& e, FitSummary* s) {
+  const std::size_t rows = p.target.size(), np = e.parameters.size();
+  const auto n = static_cast<Eigen::Index>(np);
+  Evaluation cur;
+  evaluate(p, e, cur);
+  std::vector<double> trial_values;
+  Eigen::VectorXd residual(static_cast<Eigen::Index>(rows));
+  Eigen::MatrixXd weighted;
+  double lambda = o.initial_lambda;
+  s->termination = "max iterations";
+  for (int it = 0; it < o.max_iterations; ++it) {
+    s->iterations = it + 1;
+    if (!std::isfinite(cur.cost)) {
+      s->termination = "non-finite cost";
+      break;
+    }
+    // Normal equations of the weighted problem: (J^T W J + lambda diag) dp = -J^T W r.
+    const Eigen::Map<const Eigen::MatrixXd> jac(cur.jacobian.data(), static_cast<Eigen::Index>(rows), n);
+    for (std::size_t i = 0; i < rows; ++i) residual[i] = cur.values[i] - p.target[i];
+    Eigen::MatrixXd jtj;
+    Eigen::VectorXd jtr;
+    if (p.weights.empty()) {
+      jtj.noalias() = jac.transpose() * jac;
+      jtr.noalias() = jac.transpose() * residual;
+    } else {
+      const Eigen::Map<const Eigen::VectorXd> w(p.weights.data(), static_cast<Eigen::Index>(rows));
+      weighted = jac.array().colwise() * w.array();
+      jtj.noalias() = weighted.transpose() * jac;
+      jtr.noalias() = weighted.transpose() * residual;
+    }
+    if (!jtj.allFinite() || !jtr.allFinite()) {
+      s->termination = "non-finite jacobian";
+      break;
+    }
+    bool improved = false;
+    const std::vector<double> here = e.parameter_values;
+    for (int tries = 0; tries < 10 && !improved; ++tries) {
+      Eigen::MatrixXd m = jtj;
+      for (Eigen::Index k = 0; k < n; ++k) m(k, k) += lambda * std::max(jtj(k, k), 1e-12);
+      const Eigen::VectorXd dp = m.ldlt().solve(-jtr);
+      double step = 0, size = 0;
+      for (std::size_t k = 0; k < np; ++k) {
+        e.parameter_values[k] = here[k] + dp(static_cast<Eigen::Index>(k));
+        step += dp(static_cast<Eigen::Index>(k)) * dp(static_cast<Eigen::Index>(k));
+        size += here[k] * here[k];
+      }
+      const double trial_cost = cost_at(p, e, trial_values);
+      if (trial_cost < cur.cost) {
+        const double decrease = (cur.cost - trial_cost) / std::max(cur.cost, 1e-300);
+        if (it + 1 < o.max_iterations) {
+          evaluate(p, e, cur);  // the Jacobian for the next step
+        } else {
+          cur.cost = trial_cost;
+        }
+        lambda = std::max(lambda / 10, 1e-12);
+        improved = true;
+        if (decrease < o.function_tolerance) s->termination = "function tolerance";
+        else if (std::sqrt(step) < o.parameter_tolerance * (std::sqrt(size) + o.parameter_tolerance)) s->termination = "parameter tolerance";
+      } else {
+        lambda *= 10;
+        e.parameter_values = here;
+      }
+    }
+    if (!improved) {
+      s->termination = "no improving step";
+      break;
+    }
+    if (s->termination != "max iterations") break;
+  }
+  s->parameters = e.parameter_values;
+  s->final_cost = cur.cost;
+}
+
+}  // namespace
+
+bool FitOptions::is_valid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why != nullptr) *why = m;
+    return false;
+  };
+  if (max_iterations < 1) return fail("max_iterations must be at least 1");
+  if (!(function_tolerance > 0) || !(parameter_tolerance > 0)) return fail("tolerances must be positive");
+  if (!(initial_lambda > 0)) return fail("initial_lambda must be positive");
+  return true;
+}
+
+bool is_linear_in_parameters(const Expression& e) {
+  // Per subtree: 0 = free of parameters, 1 = affine in them, 2 = nonlinear.
+  std::vector<int> deg;
+  deg.reserve(e.nodes.size());
+  for (const Node& n : e.nodes) {
+    const int a = arity(n.op);
+    int d[3] = {0, 0, 0};
+    for (int k = a - 1; k >= 0; --k) {
+      d[k] = deg.back();
+      deg.pop_back();
+    }
+    int r = 0;
+    switch (n.op) {
+      case Op::Param: r = 1; break;
+      case Op::Const:
+      case Op::Var: r = 0; break;
+      case Op::Add:
+      case Op::Sub: r = std::max(d[0], d[1]); break;
+      case Op::Neg: r = d[0]; break;
+      case Op::Mul: r = (d[0] == 0 || d[1] == 0) ? std::max(d[0], d[1]) : 2; break;
+      case Op::Div: r = d[1] == 0 ? d[0] : 2; break;
+      case Op::Fma: r = (d[0] == 0 || d[1] == 0) ? std::max({d[0], d[1], d[2]}) : 2; break;
+      default: r = (d[0] | d[1] | d[2]) == 0 ? 0 : 2; break;
+    }
+    deg.push_back(r);
+  }
+  return deg.size() == 1 && deg.back() <= 1;
+}
+
+void fit_parameters(const FitOptions& options, const FitProblem& problem, FitSummary* summary) {
+  std::string why;
+  if (!options.is_valid(&why)) throw Error(why, {"fit options"});
+  if (problem.expression == nullptr) throw Error("fit_parameters: no expression");
+  const Expression& e0 = *problem.expression;
+  if (problem.columns.size() != e0.variables.size())
+    throw Error("fit_parameters: " + std::to_string(e0.variables.size()) + " variables but " +
+                std::to_string(problem.columns.size()) + " columns");
+  Expression e = e0;
+  e.parameter_values.resize(e.parameters.size(), 0.0);
+  FitSummary s;
+  std::vector<double> values;
+  s.initial_cost = cost_at(problem, e, values);
+  s.final_cost = s.initial_cost;
+  s.parameters = e.parameter_values;
+  if (e.parameters.empty()) {
+    s.termination = "no parameters";
+  } else if (options.use_linear_solver && is_linear_in_parameters(e)) {
+    fit_linear(problem, e, &s);
+  } else {
+    fit_levenberg_marquardt(options, problem, e, &s);
+  }
+  *summary = std::move(s);
+}
+
+std::string FitSummary::brief_report() const {
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%s: cost %.6g -> %.6g in %d iteration%s (%s)\n",
+                linear ? "linear least squares" : "Levenberg-Marquardt", initial_cost, final_cost,
+                iterations, iterations == 1 ? "" : "s", termination.c_str());
+  return buf;
+}
+
+}  // namespace shaderfit

@@ -1,0 +1,71 @@
+#include "shaderfit/fit/sampling.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/fit/builtin_reference.hpp"
+#include "shaderfit/lut/fv_reference.hpp"
+#include "shaderfit/reference/fresnel.hpp"
+
+namespace shaderfit {
+namespace {
+
+TEST(Sampling, AxesAndCells) {
+  const SampleAxis t = parse_sample_axis("theta=0:pi/2:4", "--domain");
+  EXPECT_DOUBLE_EQ(t.at(0), std::numbers::pi / 16);
+  const SampleAxis e = parse_sample_axis("t = 0:1:5:endpoints", "--domain");
+  EXPECT_EQ(e.at(4), 1.0);
+  const GridAxis g = parse_grid_axis("f0=0:1:4:sqrt", "--grid");
+  EXPECT_DOUBLE_EQ(g.centre(1), 0.375 * 0.375);
+  EXPECT_EQ(g.cell_of(0.375 * 0.375), 1);
+  EXPECT_EQ(g.cell_of(1.5), -1);
+  Rng rng(1);
+  const std::vector<GridCell> cells =
+      sample_grid({parse_grid_axis("r=0:1:2", "g"), g}, {t},
+                  {parse_definition("d = cos(theta)", {"theta"}, "--define")}, 0, rng);
+  ASSERT_EQ(cells.size(), 8u);
+  EXPECT_EQ(cells[5].index, (std::vector<std::size_t>{1, 1}));  // last axis fastest
+  EXPECT_EQ(cells[5].label(), "r=0.75 f0=0.140625");
+  EXPECT_DOUBLE_EQ(cells[5].data.numeric("d").values[0], std::cos(std::numbers::pi / 16));
+}
+
+TEST(Sampling, Errors) {
+  EXPECT_THROW(parse_grid_axis("r=0:1:0", "--grid"), Error);
+  EXPECT_THROW(parse_grid_axis("r=1:0:4", "--grid"), Error);
+  EXPECT_THROW(parse_grid_axis("r=0:1", "--grid"), Error);
+  EXPECT_THROW(parse_sample_axis("t=0:1:x", "--domain"), Error);
+  EXPECT_THROW(parse_sample_axis("t=0:1:3:sideways", "--domain"), Error);
+  try {
+    parse_grid_axis("roughness=0:1:0", "--grid");
+  } catch (const Error& e) {
+    EXPECT_EQ(std::string(e.what()), "--grid: grid size must be at least 1, got 0");
+  }
+}
+
+TEST(BuiltinReference, ValuesAndConventions) {
+  const BuiltinReference* r = find_builtin_reference("fresnel-exact");
+  ASSERT_NE(r, nullptr);
+  const double glass[] = {1.0, 1.5, 0.0};
+  EXPECT_NEAR(r->function(glass), 0.04, 1e-15);
+  const double metal[] = {1.0, 0.3, 3.0};
+  EXPECT_NEAR(r->function(metal), reference::r0_from_complex_ior(0.3, 3.0), 1e-15);
+  // FV at dot(L,H) = 1 is f0 for every FV reference (the visibility is 1 there).
+  for (const char* name : {"fv-schlick-smith-lh", "fv-schlick-smith", "fv-exact"}) {
+    const double a[] = {1.0, 0.04, 0.3};
+    EXPECT_NEAR(find_builtin_reference(name)->function(a), 0.04, 1e-12) << name;
+  }
+  // The exact visibility at n = h is 1 / (c sqrt(alpha^2 + (1 - alpha^2) c^2)).
+  const double c = 0.3, alpha = 0.25;
+  EXPECT_NEAR(lut::visibility_exact_peak(c, 0.5),
+              1 / (c * std::sqrt(alpha * alpha + (1 - alpha * alpha) * c * c)), 1e-12);
+  EXPECT_NEAR(lut::ior_from_f0(0.04), 1.5, 1e-12);
+  EXPECT_EQ(find_builtin_reference("nope"), nullptr);
+  EXPECT_NE(describe_builtin_references().find("fv-exact(dot_lh, f0, roughness)"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace shaderfit

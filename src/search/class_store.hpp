@@ -1,0 +1,73 @@
+// The distinct candidates of the enumeration ("classes": one per set of observationally
+// equivalent formulas) with their screen columns in one contiguous arena, and hash tables over
+// those columns (internal).
+//
+// Work happens in batches. During a batch, worker threads read the committed classes (records,
+// columns, and the committed table, none of which change), while the one merging thread appends
+// new classes and indexes them in a small pending table. commit() between batches folds the
+// pending classes into the committed table. Capacity is fixed at construction, so the arena is
+// never reallocated under a reader.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "search/enum_kernels.hpp"
+
+namespace shaderfit::search_detail {
+
+struct ClassRecord {
+  enum Flags : std::uint8_t { kNegA = 1, kNegB = 2, kFusable = 4, kLiteral = 8, kCanonicalNeg = 16 };
+  // Trivial on purpose: the record array is allocated without being touched.
+  std::uint32_t a, b;  // operand classes
+  std::uint16_t cost;  // enumeration (additive) cost
+  EKind kind;
+  Op op;               // Unary: the operator
+  std::int8_t k;       // IPow: exponent; Var: input index; Literal: literal index
+  std::uint8_t flags;
+  float scale;         // root mean square of the screen column
+
+  [[nodiscard]] bool has(Flags f) const { return (flags & f) != 0; }
+};
+
+ClassRecord make_record(EKind kind, std::uint16_t cost);
+
+class ClassStore {
+ public:
+  ClassStore(std::size_t screen_rows, std::size_t capacity);
+  ~ClassStore();
+  ClassStore(const ClassStore&) = delete;
+  ClassStore& operator=(const ClassStore&) = delete;
+
+  [[nodiscard]] std::size_t rows() const { return rows_; }
+  [[nodiscard]] std::uint32_t size() const { return size_; }
+  [[nodiscard]] std::uint32_t committed() const { return committed_; }
+  [[nodiscard]] bool full() const { return size_ >= capacity_; }
+  [[nodiscard]] const float* column(std::uint32_t id) const { return columns_ + std::size_t{id} * rows_; }
+  [[nodiscard]] const ClassRecord& record(std::uint32_t id) const { return records_[id]; }
+
+  // A committed class equivalent to `column` (up to sign), or -1. Safe from any thread.
+  [[nodiscard]] std::int64_t find_committed(const float* column, const ColumnStats& stats) const;
+  // A class of the current batch equivalent to `column`, or -1. Merging thread only.
+  [[nodiscard]] std::int64_t find_pending(const float* column, const ColumnStats& stats) const;
+  // Appends a class (the caller checked it is new and !full()); returns its id. Merging thread.
+  std::uint32_t insert(const float* column, const ColumnStats& stats, ClassRecord record);
+  // Ends a batch: the pending classes become committed. No batch may be running.
+  void commit();
+
+ private:
+  [[nodiscard]] std::int64_t probe(const std::vector<std::uint64_t>& table, const float* column,
+                                   const ColumnStats& stats) const;
+  static void place(std::vector<std::uint64_t>& table, std::uint64_t hash, std::uint32_t id);
+
+  std::size_t rows_, capacity_;
+  float* columns_ = nullptr;
+  ClassRecord* records_ = nullptr;
+  std::size_t arena_bytes_ = 0;
+  std::vector<std::uint64_t> committed_table_, pending_table_;  // (fingerprint << 32) | (id + 1)
+  std::vector<std::uint64_t> hashes_;                           // per class, for rebuilding
+  std::uint32_t size_ = 0, committed_ = 0;
+};
+
+}  // namespace shaderfit::search_detail

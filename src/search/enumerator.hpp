@@ -1,0 +1,121 @@
+// Exhaustive bottom-up enumeration by cost over cached screen columns (internal).
+//
+// Level L holds the distinct formulas of (additive) cost L. Each new candidate is one operator
+// applied to classes of cheaper levels; its screen column is computed, analysed (loss, hash) in
+// the same pass, and the candidate is kept only when no class computes the same values (up to
+// sign: negation is free). Work is cut into tiles that any thread may compute; tiles are merged
+// into the store strictly in order, so the result does not depend on the number of threads.
+//
+// Fused sums m +- c of a new product m with a leaf c (one FMA, the same cost as m) are screened
+// in closed form as m is made, and only materialised as classes just before their level is
+// first used as an operand. See docs/search.md for the ordering and the pruning rules.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "search/class_store.hpp"
+#include "search/search_context.hpp"
+#include "shaderfit/core/random.hpp"
+
+namespace shaderfit::search_detail {
+
+class Enumerator {
+ public:
+  Enumerator(SearchContext& ctx, Rng& rng);
+  ~Enumerator();
+
+  // Enumerates level after level until every level up to options.max_enumeration_cost is done,
+  // the store is full, the enumeration's share of the time is spent, or the search stops.
+  void run();
+
+  [[nodiscard]] int cost_completed() const { return cost_completed_; }
+  [[nodiscard]] std::uint64_t classes() const { return store_->size(); }
+  // Up to `count` formulas with the lowest screen loss, spread over the cost levels: seeds for
+  // the evolution.
+  [[nodiscard]] std::vector<Expression> seeds(std::size_t count) const;
+
+  // Public for the step generator (enum_steps.cpp).
+  struct Variant {
+    bool swap = false, neg_a = false, neg_b = false;
+  };
+  struct Step {
+    EKind kind = EKind::Var;
+    Op op = Op::Const;
+    int k = 0;
+    std::span<const std::uint32_t> a, b;  // operand lists; b empty for unary steps
+    bool triangular = false;              // a and b are one list: pairs at positions i < j
+    Variant variants[4];
+    int variant_count = 1;
+    int order = 0;  // the costliest operand's level; steps run by increasing order
+  };
+  struct Tile {
+    std::uint32_t step;
+    std::uint32_t a0, a1, b0, b1;
+  };
+  struct TileOutput;
+  struct Costs;
+
+ private:
+  void setup_screen(Rng& rng);
+  void add_leaves();
+  void make_literal_groups();
+  std::vector<Step> make_steps(int level) const;
+  std::vector<Tile> make_tiles(const std::vector<Step>& steps) const;
+  // Runs the steps as one batch whose results have cost `level`; `materialize` marks the batch
+  // that turns a level's screened fused sums into classes (already offered to the front).
+  void run_batch(int level, const std::vector<Step>& steps, bool materialize);
+  void materialize_fused(int level);
+  void process_tile(int level, const Step& step, const Tile& tile, TileOutput& out) const;
+  int emit(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,
+           TileOutput& out) const;
+  FusedBest screen_fused_sums(const float* m, TileOutput& out) const;
+  void merge(int level, TileOutput& out, bool materialize);
+  void consider_for_front(std::uint32_t id, const ColumnStats& stats, int level);
+  void consider_fused_for_front(std::uint32_t m, const FusedBest& best, int level);
+  template <typename Negated>
+  void offer_scored(Expression e, Negated negated, float screen_loss);
+  [[nodiscard]] bool fusable(const ClassRecord& r) const;
+  [[nodiscard]] double front_threshold(int level) const;
+  bool enumeration_should_stop();
+
+  SearchContext& ctx_;
+  std::unique_ptr<Costs> costs_;
+  std::size_t screen_rows_ = 0;
+  std::vector<std::size_t> screen_rows_picked_;  // data row of each screen row
+  std::vector<float> screen_y_, screen_w_, screen_log2_y_;
+  ScreenTarget target_;
+  FusedScreen fused_screen_;
+  std::unique_ptr<ClassStore> store_;
+  std::vector<std::vector<std::uint32_t>> level_ids_, fusable_ids_;
+  std::vector<bool> materialized_;  // the level's fused sums are classes
+  std::vector<std::uint32_t> var_ids_, literal_ids_;
+  std::vector<std::uint32_t> fused_leaf_ids_;  // inputs and nonzero literals: c of m +- c
+  std::vector<std::pair<double, double>> screen_front_;  // (cost, screen loss) of front entries
+  struct Elite {
+    float loss;
+    std::uint32_t id;
+    bool negate;
+    bool operator<(const Elite& o) const { return loss < o.loss || (loss == o.loss && id < o.id); }
+  };
+  std::vector<std::vector<Elite>> elite_levels_;  // best classes per level, for seeds()
+  std::vector<std::unique_ptr<TileOutput>> output_pool_;  // reused across batches
+  int cost_completed_ = -1;
+  std::atomic<bool> exhausted_{false};  // store full or time share spent
+  double time_share_s_ = 0;
+};
+
+// The formula of class `id` (negated when `negate`), over `variables`.
+Expression build_class_expression(const ClassStore& store, std::uint32_t id, bool negate,
+                                  const std::vector<std::string>& variables,
+                                  std::span<const double> literals);
+// The formula m +- c (c a leaf class), negated when `negate`.
+Expression build_fused_expression(const ClassStore& store, std::uint32_t m, std::uint32_t leaf,
+                                  bool neg_leaf, bool negate,
+                                  const std::vector<std::string>& variables,
+                                  std::span<const double> literals);
+
+}  // namespace shaderfit::search_detail

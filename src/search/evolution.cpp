@@ -1,0 +1,255 @@
+#include "search/evolution.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "search/nsga2.hpp"
+#include "shaderfit/core/parallel.hpp"
+#include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/expr/simplify.hpp"
+#include "shaderfit/fit/fit.hpp"
+#include "shaderfit/fit/linear.hpp"
+
+namespace shaderfit::search_detail {
+
+namespace {
+
+// An individual is scored on every row when its fit-row loss is within this factor of the
+// front's loss at its cost (the fit rows are a sample, so their loss is an estimate).
+constexpr double kFrontMargin = 1.1;
+constexpr int kFitIterations = 4;      // Levenberg-Marquardt on the fit rows, warm-started: the
+                                       // fitted values are inherited, so few steps suffice
+constexpr int kRefitIterations = 10;   // and on every row, from there, for front candidates
+constexpr std::size_t kMigrants = 4;
+
+double best_at(const std::vector<std::pair<double, double>>& front, double cost) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [c, l] : front)
+    if (c <= cost) best = std::min(best, l);
+  return best;
+}
+
+}  // namespace
+
+Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
+  const SearchOptions& o = ctx.options;
+  limits_.variables = ctx.problem.input_names;
+  limits_.operators = o.operators;
+  limits_.max_power = o.max_power;
+  limits_.literals = o.literals;
+  limits_.max_nodes = o.max_nodes;
+  limits_.max_parameters = o.max_parameters;
+
+  // The fit rows: a uniform sample without replacement (all rows when there are few).
+  const std::size_t rows = ctx.rows;
+  std::vector<std::size_t> pick(rows);
+  for (std::size_t i = 0; i < rows; ++i) pick[i] = i;
+  const std::size_t m = std::min(rows, o.fit_rows);
+  for (std::size_t i = 0; i < m; ++i) std::swap(pick[i], pick[i + uniform_index(rng, rows - i)]);
+  pick.resize(m);
+  std::sort(pick.begin(), pick.end());
+  const SearchProblem& p = ctx.problem;
+  fit_columns_.assign(p.inputs.size(), std::vector<double>(m));
+  fit_target_.resize(m);
+  if (!p.weights.empty()) fit_weights_.resize(m);
+  for (std::size_t i = 0; i < m; ++i) {
+    for (std::size_t v = 0; v < p.inputs.size(); ++v) fit_columns_[v][i] = p.inputs[v][pick[i]];
+    fit_target_[i] = p.target[pick[i]];
+    if (!p.weights.empty()) fit_weights_[i] = p.weights[pick[i]];
+  }
+  for (const auto& c : fit_columns_) fit_pointers_.push_back(c.data());
+
+  const int count = o.islands > 0 ? o.islands : 4;
+  for (int i = 0; i < count; ++i) islands_.push_back(Island{Rng(rng()), {}, {}, 0});
+}
+
+bool Evolution::out_of_time() const {
+  return ctx_.stopped() || ctx_.elapsed() >= ctx_.options.time_limit_s ||
+         (ctx_.options.interrupt != nullptr && ctx_.options.interrupt->load(std::memory_order_relaxed));
+}
+
+bool Evolution::evaluate(Individual& ind, Island& island, std::vector<double>& values) const {
+  ++island.evaluated;
+  Expression& e = ind.expr;
+  values.resize(fit_target_.size());
+  if (!e.parameters.empty()) {
+    FitOptions fo;
+    fo.max_iterations = kFitIterations;
+    FitProblem fp{&e, fit_pointers_, fit_target_, fit_weights_};
+    FitSummary fs;
+    fit_parameters(fo, fp, &fs);
+    e.parameter_values = fs.parameters;
+    ctx_.node_evaluations.fetch_add(static_cast<std::uint64_t>(fs.iterations + 1) * e.size() *
+                                        fit_target_.size() * (1 + e.parameters.size()),
+                                    std::memory_order_relaxed);
+  }
+  shaderfit::evaluate(e, fit_pointers_, values, {.threads = 1});
+  ctx_.node_evaluations.fetch_add(e.size() * fit_target_.size(), std::memory_order_relaxed);
+  ind.loss = loss_of(ctx_.options.loss, values, fit_target_, fit_weights_);
+  ind.cost = expression_cost(e, ctx_.options.cost);
+  ind.hash = structural_hash(e);
+  return std::isfinite(ind.loss);
+}
+
+Evolution::Candidate Evolution::score_on_all_rows(Expression e) const {
+  if (!e.parameters.empty()) {
+    FitOptions fo;
+    fo.max_iterations = kRefitIterations;
+    FitProblem fp{&e, ctx_.columns, ctx_.problem.target, ctx_.problem.weights};
+    FitSummary fs;
+    fit_parameters(fo, fp, &fs);
+    e.parameter_values = fs.parameters;
+  }
+  Candidate c;
+  c.metrics = ctx_.score(e);
+  c.expr = std::move(e);
+  return c;
+}
+
+void Evolution::consider(const Individual& ind, const std::vector<double>& values, Island& island,
+                         const Snapshot& front) const {
+  if (ind.loss <= kFrontMargin * best_at(front, ind.cost)) island.found.push_back(score_on_all_rows(ind.expr));
+  if (!ctx_.options.linear_scaling) return;
+  // The optimal a * f + b, in closed form on the fit rows.
+  const LinearScaling ls = fit_linear_scaling(values, fit_target_, fit_weights_);
+  if (!std::isfinite(ls.mse) || ls.a == 0.0) return;
+  std::vector<double> scaled(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) scaled[i] = ls.a * values[i] + ls.b;
+  const double loss = loss_of(ctx_.options.loss, scaled, fit_target_, fit_weights_);
+  if (!(loss < ind.loss)) return;
+  Expression s = with_linear_scaling(ind.expr, ls.a, ls.b);
+  if (loss <= kFrontMargin * best_at(front, expression_cost(s, ctx_.options.cost)))
+    island.found.push_back(score_on_all_rows(std::move(s)));
+}
+
+const Evolution::Individual& Evolution::tournament(Island& island, const std::vector<int>& rank,
+                                                   const std::vector<double>& crowd) const {
+  const std::size_t n = island.population.size();
+  const std::size_t a = uniform_index(island.rng, n), b = uniform_index(island.rng, n);
+  const bool a_better = rank[a] != rank[b] ? rank[a] < rank[b] : crowd[a] >= crowd[b];
+  return island.population[a_better ? a : b];
+}
+
+void Evolution::init_island(Island& island, const std::vector<Expression>& seeds, std::size_t index) {
+  const std::size_t size = ctx_.options.population;
+  std::vector<Expression> start;
+  // This island's share of the seeds, each also with a fitted linear scaling and with its
+  // literals as free parameters.
+  for (std::size_t i = index; i < seeds.size(); i += islands_.size()) {
+    start.push_back(seeds[i]);
+    if (limits_.max_parameters >= 2) start.push_back(with_linear_scaling(seeds[i], 1.0, 0.0));
+  }
+  std::vector<double> values;
+  std::set<std::uint64_t> seen;
+  auto add = [&](Expression e) {
+    e = normalize_parameters(std::move(e), limits_);
+    if (e.empty()) return;
+    Individual ind{std::move(e), 0, 0, 0};
+    if (!evaluate(ind, island, values) || !seen.insert(ind.hash).second) return;
+    island.population.push_back(std::move(ind));
+  };
+  for (Expression& e : start) {
+    if (island.population.size() >= size) break;
+    add(std::move(e));
+  }
+  for (std::size_t attempts = 0; island.population.size() < size && attempts < 20 * size; ++attempts)
+    add(random_formula(island.rng, limits_, 1 + static_cast<int>(uniform_index(island.rng, 4))));
+}
+
+void Evolution::generation(Island& island, const Snapshot& front) {
+  const std::size_t size = ctx_.options.population;
+  std::vector<Objectives> obj;
+  for (const Individual& ind : island.population) obj.push_back({ind.loss, ind.cost});
+  std::vector<int> rank;
+  std::vector<double> crowd;
+  rank_and_crowding(obj, &rank, &crowd);
+  std::set<std::uint64_t> seen;
+  for (const Individual& ind : island.population) seen.insert(ind.hash);
+
+  std::vector<Individual> offspring;
+  std::vector<double> values;
+  for (std::size_t attempts = 0; offspring.size() < size && attempts < 4 * size; ++attempts) {
+    if ((attempts & 15) == 15 && out_of_time()) break;
+    const Individual& a = tournament(island, rank, crowd);
+    Expression child = bernoulli(island.rng, 0.5)
+                           ? crossover(island.rng, a.expr, tournament(island, rank, crowd).expr, limits_)
+                           : mutate(island.rng, a.expr, limits_);
+    if (child.empty()) continue;
+    if (bernoulli(island.rng, 0.3) && !child.empty()) child = mutate(island.rng, child, limits_);
+    if (child.empty()) continue;
+    child = normalize_parameters(simplify(child), limits_);
+    if (child.empty()) continue;
+    Individual ind{std::move(child), 0, 0, 0};
+    if (seen.count(structural_hash(ind.expr)) != 0) continue;
+    if (!evaluate(ind, island, values)) continue;
+    if (!seen.insert(ind.hash).second) continue;
+    consider(ind, values, island, front);
+    offspring.push_back(std::move(ind));
+  }
+  for (Individual& ind : offspring) island.population.push_back(std::move(ind));
+  obj.clear();
+  for (const Individual& ind : island.population) obj.push_back({ind.loss, ind.cost});
+  std::vector<Individual> next;
+  for (std::size_t i : nsga2_select(obj, size)) next.push_back(std::move(island.population[i]));
+  island.population = std::move(next);
+}
+
+void Evolution::migrate() {
+  const std::size_t n = islands_.size();
+  if (n < 2) return;
+  std::vector<std::vector<Individual>> emigrants(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<const Individual*> best;
+    for (const Individual& ind : islands_[i].population) best.push_back(&ind);
+    std::sort(best.begin(), best.end(), [](const Individual* a, const Individual* b) {
+      return a->loss < b->loss || (a->loss == b->loss && a->hash < b->hash);
+    });
+    for (std::size_t k = 0; k < std::min(kMigrants, best.size()); ++k) emigrants[i].push_back(*best[k]);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    Island& to = islands_[(i + 1) % n];
+    for (Individual& ind : emigrants[i]) to.population.push_back(std::move(ind));
+    std::vector<Objectives> obj;
+    for (const Individual& ind : to.population) obj.push_back({ind.loss, ind.cost});
+    std::vector<Individual> next;
+    for (std::size_t k : nsga2_select(obj, ctx_.options.population)) next.push_back(std::move(to.population[k]));
+    to.population = std::move(next);
+  }
+}
+
+void Evolution::run(const std::vector<Expression>& seeds) {
+  std::vector<Expression> all = seeds;
+  for (const FrontMember& m : ctx_.front.members()) all.insert(all.begin(), m.expression);
+  const auto threads = static_cast<std::size_t>(ctx_.threads);
+  parallel_for(islands_.size(), 1, [&](std::size_t b, std::size_t e) {
+    for (std::size_t i = b; i < e; ++i) init_island(islands_[i], all, i);
+  }, static_cast<int>(threads));
+  while (true) {
+    std::uint64_t evaluated = 0;
+    for (Island& is : islands_) {
+      // Offered at this synchronisation point, in island order.
+      for (Candidate& c : is.found) {
+        Expression tidy = simplify(c.expr);
+        ctx_.offer(expression_cost(tidy, ctx_.options.cost) <= expression_cost(c.expr, ctx_.options.cost) ? tidy : c.expr,
+                   c.metrics, "evolution");
+      }
+      is.found.clear();
+      evaluated += is.evaluated;
+      is.evaluated = 0;
+    }
+    ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
+    ctx_.maybe_progress("evolution");
+    if (ctx_.should_stop()) break;
+    Snapshot front;
+    for (const FrontMember& m : ctx_.front.members()) front.emplace_back(m.cost, m.loss);
+    parallel_for(islands_.size(), 1, [&](std::size_t b, std::size_t e) {
+      for (std::size_t i = b; i < e; ++i) generation(islands_[i], front);
+    }, static_cast<int>(threads));
+    ++generations_;
+    if (generations_ % static_cast<std::uint64_t>(ctx_.options.migration_interval) == 0) migrate();
+  }
+}
+
+}  // namespace shaderfit::search_detail

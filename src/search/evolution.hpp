@@ -1,0 +1,65 @@
+// Island-model NSGA-II over expressions, seeded from the enumeration (internal).
+//
+// Each island evolves its own population with its own generator (derived from the seed and the
+// island's number), ranking individuals by (loss on the fit rows, cost). Islands run in
+// parallel between synchronisation points; at each one the candidates they found for the front
+// are offered in island order, and every migration_interval generations each island sends its
+// best individuals to the next (a ring). The result therefore depends on the seed and the
+// number of islands, not on the number of threads, as long as the stop is not by the clock.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "search/search_context.hpp"
+#include "search/variation.hpp"
+#include "shaderfit/core/random.hpp"
+
+namespace shaderfit::search_detail {
+
+class Evolution {
+ public:
+  Evolution(SearchContext& ctx, Rng& rng);
+  void run(const std::vector<Expression>& seeds);
+  [[nodiscard]] std::uint64_t generations() const { return generations_; }
+
+ private:
+  struct Individual {
+    Expression expr;
+    double loss = 0;  // on the fit rows
+    double cost = 0;
+    std::uint64_t hash = 0;
+  };
+  struct Candidate {  // for the front, scored on every row
+    Expression expr;
+    LossMetrics metrics;
+  };
+  struct Island {
+    Rng rng;
+    std::vector<Individual> population;
+    std::vector<Candidate> found;
+    std::uint64_t evaluated = 0;
+  };
+  using Snapshot = std::vector<std::pair<double, double>>;  // (cost, loss) of the front
+
+  void init_island(Island& island, const std::vector<Expression>& seeds, std::size_t index);
+  void generation(Island& island, const Snapshot& front);
+  bool evaluate(Individual& ind, Island& island, std::vector<double>& values) const;
+  void consider(const Individual& ind, const std::vector<double>& values, Island& island,
+                const Snapshot& front) const;
+  Candidate score_on_all_rows(Expression e) const;
+  [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
+                                             const std::vector<double>& crowd) const;
+  void migrate();
+  [[nodiscard]] bool out_of_time() const;
+
+  SearchContext& ctx_;
+  VariationLimits limits_;
+  std::vector<std::vector<double>> fit_columns_;
+  std::vector<const double*> fit_pointers_;
+  std::vector<double> fit_target_, fit_weights_;
+  std::vector<Island> islands_;
+  std::uint64_t generations_ = 0;
+};
+
+}  // namespace shaderfit::search_detail

@@ -1,0 +1,128 @@
+#include <gtest/gtest.h>
+
+#include "shaderfit/search/loss.hpp"
+#include "shaderfit/search/search.hpp"
+
+namespace shaderfit {
+namespace {
+
+TEST(SearchOptions, DefaultsAreValid) {
+  std::string why;
+  EXPECT_TRUE(SearchOptions{}.is_valid(&why)) << why;
+}
+
+TEST(SearchOptions, InvalidValuesSayWhy) {
+  auto reason = [](auto edit) {
+    SearchOptions o;
+    edit(o);
+    std::string why;
+    EXPECT_FALSE(o.is_valid(&why));
+    return why;
+  };
+  EXPECT_NE(reason([](SearchOptions& o) { o.time_limit_s = 0; }).find("time budget"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.time_limit_s = -1; }).find("time budget"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.max_candidates = 0; }).find("evaluation budget"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.threads = -2; }).find("threads"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.operators.clear(); }).find("operators"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.operators = {Op::Fma}; }).find("fma"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.max_power = 17; }).find("max_power"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.screen_rows = 100; }).find("screen_rows"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.population = 2; }).find("population"), std::string::npos);
+}
+
+TEST(SearchOptions, OperatorLists) {
+  EXPECT_EQ(parse_operator_list("+,-,*,/,^"), (std::vector<Op>{Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow}));
+  EXPECT_EQ(parse_operator_list("add, mul ,sqrt,exp2,pow"), (std::vector<Op>{Op::Add, Op::Mul, Op::Sqrt, Op::Exp2, Op::Pow}));
+  EXPECT_EQ(operator_list_name({Op::Add, Op::IPow, Op::Sqrt}), "+,^,sqrt");
+  try {
+    parse_operator_list("+,frobnicate");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("unknown operator 'frobnicate'"), std::string::npos);
+    EXPECT_EQ(e.where().source, "--ops");
+  }
+  EXPECT_THROW(parse_operator_list(""), Error);
+}
+
+TEST(SearchProblem, ValidationErrors) {
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs = {{1.0, 2.0, 3.0}};
+  p.target = {1.0, 2.0, 3.0};
+  EXPECT_NO_THROW(p.validate());
+  auto message = [](SearchProblem q) {
+    try {
+      q.validate();
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  SearchProblem one = p;
+  one.inputs = {{1.0}};
+  one.target = {1.0};
+  EXPECT_NE(message(one).find("1 row"), std::string::npos);
+  SearchProblem ragged = p;
+  ragged.inputs = {{1.0, 2.0}};
+  EXPECT_NE(message(ragged).find("rows"), std::string::npos);
+  SearchProblem nan = p;
+  nan.target[1] = std::nan("");
+  EXPECT_NE(message(nan).find("NaN"), std::string::npos);
+  SearchProblem twice = p;
+  twice.input_names = {"x", "x"};
+  twice.inputs = {p.inputs[0], p.inputs[0]};
+  EXPECT_NE(message(twice).find("twice"), std::string::npos);
+  SearchProblem weights = p;
+  weights.weights = {0, 0, 0};
+  EXPECT_NE(message(weights).find("sum to 0"), std::string::npos);
+}
+
+TEST(Loss, Definitions) {
+  const std::vector<double> p = {1.0, 2.0, 4.0}, t = {1.0, 1.0, 2.0}, w = {1.0, 1.0, 2.0};
+  const LossMetrics m = loss_metrics(p, t);
+  EXPECT_DOUBLE_EQ(m.mse, (0 + 1 + 4) / 3.0);
+  EXPECT_DOUBLE_EQ(m.rmse, std::sqrt(5 / 3.0));
+  EXPECT_DOUBLE_EQ(m.max_abs, 2.0);
+  EXPECT_DOUBLE_EQ(m.rel, (0 + 1 + 1) / 3.0);
+  EXPECT_NEAR(m.log, (0 + std::log(2.0) * std::log(2.0) * 2) / 3.0, 1e-15);
+  const LossMetrics mw = loss_metrics(p, t, w);
+  EXPECT_DOUBLE_EQ(mw.mse, (0 + 1 + 2 * 4) / 4.0);
+  EXPECT_EQ(loss_value(LossKind::MaxAbs, m), 2.0);
+  // Non-finite predictions make every metric infinite; a zero target leaves rel undefined.
+  EXPECT_TRUE(std::isinf(loss_metrics(std::vector<double>{1, NAN, 2}, t).mse));
+  EXPECT_TRUE(std::isnan(loss_metrics(p, std::vector<double>{0, 1, 2}).rel));
+  EXPECT_EQ(loss_from_name("max"), LossKind::MaxAbs);
+  EXPECT_EQ(loss_from_name("relative"), LossKind::Relative);
+  EXPECT_FALSE(loss_from_name("l1").has_value());
+  EXPECT_EQ(loss_name(LossKind::Log), "log");
+}
+
+TEST(Search, LossesCheckTheirTarget) {
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs = {{1.0, 2.0, 3.0}};
+  p.target = {0.0, 2.0, 3.0};
+  SearchOptions o;
+  o.loss = LossKind::Log;
+  SearchSummary s;
+  EXPECT_THROW(run_search(o, p, &s), Error);
+  o.loss = LossKind::Relative;
+  EXPECT_THROW(run_search(o, p, &s), Error);
+}
+
+}  // namespace
+}  // namespace shaderfit
+
+namespace shaderfit {
+namespace {
+
+TEST(Loss, LossOfAgreesWithTheMetrics) {
+  const std::vector<double> p = {1.0, 2.5, 4.0, 0.5}, t = {1.5, 1.0, 2.0, 0.25}, w = {1.0, 0.0, 2.0, 1.0};
+  for (LossKind k : {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
+    EXPECT_DOUBLE_EQ(loss_of(k, p, t), loss_value(k, loss_metrics(p, t))) << loss_name(k);
+    EXPECT_DOUBLE_EQ(loss_of(k, p, t, w), loss_value(k, loss_metrics(p, t, w))) << loss_name(k);
+  }
+}
+
+}  // namespace
+}  // namespace shaderfit

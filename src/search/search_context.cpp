@@ -1,0 +1,107 @@
+#include "search/search_context.hpp"
+
+#include <algorithm>
+#include <thread>
+
+#include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/expr/print.hpp"
+
+namespace shaderfit::search_detail {
+
+SearchContext::SearchContext(const SearchOptions& opts, const SearchProblem& prob)
+    : options(opts),
+      problem(prob),
+      front(opts.on_new_member),
+      start_(std::chrono::steady_clock::now()) {
+  for (const auto& c : problem.inputs) columns.push_back(c.data());
+  rows = problem.target.size();
+  threads = options.threads > 0 ? options.threads
+                                : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+double SearchContext::elapsed() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void SearchContext::stop(std::string_view reason) {
+  std::lock_guard lock(reason_mutex_);
+  if (reason_.empty()) reason_ = reason;
+  stopped_.store(true, std::memory_order_relaxed);
+}
+
+std::string SearchContext::stop_reason() const {
+  std::lock_guard lock(reason_mutex_);
+  return reason_;
+}
+
+bool SearchContext::should_stop() {
+  if (stopped()) return true;
+  if (options.interrupt != nullptr && options.interrupt->load(std::memory_order_relaxed)) {
+    stop("interrupted");
+  } else if (elapsed() >= options.time_limit_s) {
+    stop("time limit");
+  } else if (options.max_candidates &&
+             candidates.load(std::memory_order_relaxed) >=
+                 static_cast<std::uint64_t>(*options.max_candidates)) {
+    stop("candidate limit");
+  }
+  return stopped();
+}
+
+void SearchContext::maybe_progress(std::string_view phase) {
+  if (!options.on_progress) return;
+  const double now = elapsed();
+  if (now - last_progress_.load(std::memory_order_relaxed) < options.progress_interval_s) return;
+  std::unique_lock lock(progress_mutex_, std::try_to_lock);
+  if (!lock.owns_lock()) return;
+  last_progress_.store(now, std::memory_order_relaxed);
+  SearchProgress p;
+  p.elapsed_s = now;
+  p.candidates = candidates.load(std::memory_order_relaxed);
+  p.candidates_per_s = now > 0 ? static_cast<double>(p.candidates) / now : 0.0;
+  p.front_size = front.size();
+  p.phase = phase;
+  options.on_progress(p);
+}
+
+void SearchContext::predict(const Expression& e, std::span<double> out) {
+  std::vector<const double*> cols(e.variables.size(), nullptr);
+  for (std::size_t i = 0; i < e.variables.size(); ++i) {
+    auto it = std::find(problem.input_names.begin(), problem.input_names.end(), e.variables[i]);
+    if (it != problem.input_names.end())
+      cols[i] = columns[static_cast<std::size_t>(it - problem.input_names.begin())];
+  }
+  evaluate(e, cols, out, {.threads = 1});
+  node_evaluations.fetch_add(e.size() * rows, std::memory_order_relaxed);
+}
+
+LossMetrics SearchContext::metrics_of(std::span<const double> prediction) const {
+  return loss_metrics(prediction, problem.target, problem.weights);
+}
+
+LossMetrics SearchContext::score(const Expression& e) {
+  std::vector<double> out(rows);
+  predict(e, out);
+  return metrics_of(out);
+}
+
+bool SearchContext::offer(Expression e, const LossMetrics& metrics, std::string_view origin) {
+  FrontMember m;
+  m.cost = expression_cost(e, options.cost);
+  m.loss = loss_value(options.loss, metrics);
+  if (!front.would_enter(m.cost, m.loss)) return false;
+  m.nodes = e.size();
+  m.metrics = metrics;
+  m.formula = to_infix(e, {.substitute_parameters = true});
+  m.expression = std::move(e);
+  m.time_s = elapsed();
+  m.origin = origin;
+  const double cost = m.cost, loss = m.loss;
+  if (!front.offer(std::move(m))) return false;
+  if (options.stop_at && loss <= options.stop_at->max_loss && cost <= options.stop_at->max_cost) {
+    stop("target reached");
+  }
+  return true;
+}
+
+}  // namespace shaderfit::search_detail
