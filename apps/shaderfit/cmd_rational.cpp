@@ -35,7 +35,7 @@ struct Param {
 };
 
 // A constant formula ("0.5", "pi/2"), located at `where` + `offset` on error.
-double constant(const std::string& text, SourceLocation where, int offset) {
+double constant(const std::string& text, const SourceLocation& where, int offset) {
   ParseOptions po;
   po.source = where.source;
   po.line = where.line > 0 ? where.line : 1;

@@ -167,6 +167,7 @@ Normalised normalise(const std::vector<std::vector<double>>& fit_c,
     if ((!lead && i == m + 1) || (lead && k == *lead)) continue;  // the coefficient that is 1
     auto column = [&](const std::vector<std::vector<double>>& set) {
       std::vector<double> c;
+      c.reserve(set.size());
       for (const auto& row : set) c.push_back(lead ? row[k] / row[*lead] : row[k]);
       return c;
     };

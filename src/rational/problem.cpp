@@ -48,8 +48,8 @@ std::vector<double> RationalProblem::target_parameter_values() const {
   for (const std::string& name : target.parameters()) {
     auto it = std::find(parameter_names.begin(), parameter_names.end(), name);
     if (it == parameter_names.end())
-      throw Error("target " + target.name() + " needs a value for its parameter " + name +
-                      " (--param " + name + "=...)",
+      throw Error(fmt::format("target {} needs a value for its parameter {} (--param {}=...)",
+                              target.name(), name, name),
                   {"--param"});
     out.push_back(parameter_values[static_cast<std::size_t>(it - parameter_names.begin())]);
   }

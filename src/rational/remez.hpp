@@ -34,6 +34,6 @@ struct Extremum {
 // From candidate extrema sorted by s, `count` points with alternating signs that keep the
 // largest |e|: consecutive points of one sign are merged into the largest, then end points or
 // adjacent pairs of the smallest |e| are dropped. Empty if fewer than `count` alternate.
-std::vector<Extremum> choose_reference(std::vector<Extremum> candidates, std::size_t count);
+std::vector<Extremum> choose_reference(const std::vector<Extremum>& candidates, std::size_t count);
 
 }  // namespace shaderfit::rational::detail

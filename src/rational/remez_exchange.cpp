@@ -5,7 +5,7 @@
 
 namespace shaderfit::rational::detail {
 
-std::vector<Extremum> choose_reference(std::vector<Extremum> c, std::size_t count) {
+std::vector<Extremum> choose_reference(const std::vector<Extremum>& c, std::size_t count) {
   std::vector<Extremum> merged;
   for (const Extremum& x : c) {
     if (x.e == 0.0) continue;

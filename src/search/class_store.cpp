@@ -39,32 +39,38 @@ ClassRecord make_record(EKind kind, std::uint16_t cost) {
   return r;
 }
 
-ClassStore::ClassStore(std::size_t screen_rows, std::size_t capacity)
-    : rows_(screen_rows), capacity_(capacity) {
-  const std::size_t column_bytes = capacity * rows_ * sizeof(float);
+ClassStore::ClassStore(std::size_t screen_rows, std::size_t capacity, std::size_t verify_rows)
+    : rows_(screen_rows), verify_rows_(std::min(verify_rows, screen_rows)), capacity_(capacity) {
+  // One reservation: the column pointers, the records, then the columns themselves (with room
+  // for the candidates that a merge drops after their worker kept them).
+  const std::size_t pointer_bytes = (capacity * sizeof(const float*) + 63) / 64 * 64;
   const std::size_t record_bytes = (capacity * sizeof(ClassRecord) + 63) / 64 * 64;
-  arena_bytes_ = (column_bytes + record_bytes + kHugePage - 1) / kHugePage * kHugePage;
+  column_arena_columns_ = capacity + capacity / 2 + 65536;
+  const std::size_t column_bytes = column_arena_columns_ * rows_ * sizeof(float);
+  arena_bytes_ = (pointer_bytes + record_bytes + column_bytes + kHugePage - 1) / kHugePage * kHugePage;
   auto* base = static_cast<unsigned char*>(map_arena(arena_bytes_));
-  columns_ = reinterpret_cast<float*>(base);
-  records_ = reinterpret_cast<ClassRecord*>(base + column_bytes);
+  arena_ = base;
+  columns_ = reinterpret_cast<const float**>(base);
+  records_ = reinterpret_cast<ClassRecord*>(base + pointer_bytes);
+  column_arena_ = reinterpret_cast<float*>(base + pointer_bytes + record_bytes);
   committed_table_.assign(1024, 0);
   pending_table_.assign(1024, 0);
 }
 
-ClassStore::~ClassStore() { munmap(columns_, arena_bytes_); }
+ClassStore::~ClassStore() { munmap(arena_, arena_bytes_); }
 
 std::int64_t ClassStore::probe(const std::vector<std::uint64_t>& table, const float* column,
                                const ColumnStats& stats) const {
+  // Everything the check needs is in the slot and the two columns: no record is read.
   const std::size_t mask = table.size() - 1;
-  const std::uint64_t fingerprint = stats.hash >> 32;
+  const std::uint64_t fingerprint = stats.hash >> 33;
   for (std::size_t i = stats.hash & mask;; i = (i + 1) & mask) {
     const std::uint64_t slot = table[i];
     if (slot == 0) return -1;
-    if ((slot >> 32) != fingerprint) continue;
+    if ((slot >> 33) != fingerprint) continue;
     const auto id = static_cast<std::uint32_t>((slot & 0xffffffffu) - 1);
-    const ClassRecord& r = records_[id];
-    const bool negate = r.has(ClassRecord::kCanonicalNeg) != stats.canonical_neg;
-    if (columns_equivalent(column, this->column(id), negate, std::max(stats.scale, r.scale), rows_)) return id;
+    const bool negate = (((slot >> 32) & 1u) != 0) != stats.canonical_neg;
+    if (columns_equivalent(column, this->column(id), negate, stats.scale, verify_rows_)) return id;
   }
 }
 
@@ -76,11 +82,13 @@ std::int64_t ClassStore::find_pending(const float* column, const ColumnStats& st
   return probe(pending_table_, column, stats);
 }
 
-void ClassStore::place(std::vector<std::uint64_t>& table, std::uint64_t hash, std::uint32_t id) {
+void ClassStore::place(std::vector<std::uint64_t>& table, std::uint32_t id) const {
+  const std::uint64_t hash = hashes_[id];
+  const std::uint64_t neg = records_[id].has(ClassRecord::kCanonicalNeg) ? 1 : 0;
   const std::size_t mask = table.size() - 1;
   std::size_t i = hash & mask;
   while (table[i] != 0) i = (i + 1) & mask;
-  table[i] = ((hash >> 32) << 32) | (std::uint64_t{id} + 1);
+  table[i] = ((hash >> 33) << 33) | (neg << 32) | (std::uint64_t{id} + 1);
 }
 
 std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats, ClassRecord record) {
@@ -88,24 +96,37 @@ std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats, 
   record.scale = stats.scale;
   if (stats.canonical_neg) record.flags |= ClassRecord::kCanonicalNeg;
   records_[id] = record;
-  std::memcpy(columns_ + std::size_t{id} * rows_, column, rows_ * sizeof(float));
+  columns_[id] = column;
   hashes_.push_back(stats.hash);
   const std::uint32_t pending = size_ - committed_;
   if (pending_table_.size() < 2 * pending) {  // keep it at most half full
     std::vector<std::uint64_t> bigger(2 * pending_table_.size(), 0);
-    for (std::uint32_t j = committed_; j + 1 < size_; ++j) place(bigger, hashes_[j], j);
+    for (std::uint32_t j = committed_; j + 1 < size_; ++j) place(bigger, j);
     pending_table_.swap(bigger);
   }
-  place(pending_table_, stats.hash, id);
+  place(pending_table_, id);
   return id;
+}
+
+std::uint32_t ClassStore::insert_copy(const float* column, const ColumnStats& stats, ClassRecord record) {
+  float* kept = allocate_block(1);
+  if (kept == nullptr) throw std::bad_alloc();
+  std::copy(column, column + rows_, kept);
+  return insert(kept, stats, record);
+}
+
+float* ClassStore::allocate_block(std::size_t columns) {
+  const std::size_t at = column_arena_used_.fetch_add(columns, std::memory_order_relaxed);
+  if (at + columns > column_arena_columns_) return nullptr;
+  return column_arena_ + at * rows_;
 }
 
 void ClassStore::commit() {
   if (committed_table_.size() < 2 * std::size_t{size_}) {  // over half full: rebuild bigger
     committed_table_.assign(table_size_for(size_), 0);
-    for (std::uint32_t j = 0; j < size_; ++j) place(committed_table_, hashes_[j], j);
+    for (std::uint32_t j = 0; j < size_; ++j) place(committed_table_, j);
   } else {
-    for (std::uint32_t j = committed_; j < size_; ++j) place(committed_table_, hashes_[j], j);
+    for (std::uint32_t j = committed_; j < size_; ++j) place(committed_table_, j);
   }
   committed_ = size_;
   // Cleared, not shrunk: reallocating it every batch would fault its pages in again.

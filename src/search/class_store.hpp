@@ -1,14 +1,17 @@
 // The distinct candidates of the enumeration ("classes": one per set of observationally
-// equivalent formulas) with their screen columns in one contiguous arena, and hash tables over
-// those columns (internal).
+// equivalent formulas) with their screen columns, and hash tables over those columns (internal).
 //
+// Columns live in one big arena of huge pages, handed out in blocks of many columns to the
+// workers (any thread may allocate_block), which write their survivors' columns there; the
+// serial merge then records where a new class's column is and never copies it.
 // Work happens in batches. During a batch, worker threads read the committed classes (records,
 // columns, and the committed table, none of which change), while the one merging thread appends
 // new classes and indexes them in a small pending table. commit() between batches folds the
-// pending classes into the committed table. Capacity is fixed at construction, so the arena is
-// never reallocated under a reader.
+// pending classes into the committed table. Capacity is fixed at construction, so the record
+// arrays are never reallocated under a reader.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -35,7 +38,9 @@ ClassRecord make_record(EKind kind, std::uint16_t cost);
 
 class ClassStore {
  public:
-  ClassStore(std::size_t screen_rows, std::size_t capacity);
+  // Equivalence is checked on the first `verify_rows` screen rows (the hash covers the first
+  // kHashRows of them).
+  ClassStore(std::size_t screen_rows, std::size_t capacity, std::size_t verify_rows);
   ~ClassStore();
   ClassStore(const ClassStore&) = delete;
   ClassStore& operator=(const ClassStore&) = delete;
@@ -44,7 +49,7 @@ class ClassStore {
   [[nodiscard]] std::uint32_t size() const { return size_; }
   [[nodiscard]] std::uint32_t committed() const { return committed_; }
   [[nodiscard]] bool full() const { return size_ >= capacity_; }
-  [[nodiscard]] const float* column(std::uint32_t id) const { return columns_ + std::size_t{id} * rows_; }
+  [[nodiscard]] const float* column(std::uint32_t id) const { return columns_[id]; }
   [[nodiscard]] const ClassRecord& record(std::uint32_t id) const { return records_[id]; }
 
   // A committed class equivalent to `column` (up to sign), or -1. Safe from any thread.
@@ -52,19 +57,28 @@ class ClassStore {
   // A class of the current batch equivalent to `column`, or -1. Merging thread only.
   [[nodiscard]] std::int64_t find_pending(const float* column, const ColumnStats& stats) const;
   // Appends a class (the caller checked it is new and !full()); returns its id. Merging thread.
+  // `column` must be in a block from allocate_block (insert_copy copies it into one).
   std::uint32_t insert(const float* column, const ColumnStats& stats, ClassRecord record);
+  std::uint32_t insert_copy(const float* column, const ColumnStats& stats, ClassRecord record);
+  // Room for `columns` columns in the arena, or null when it is spent. Thread-safe.
+  float* allocate_block(std::size_t columns);
   // Ends a batch: the pending classes become committed. No batch may be running.
   void commit();
 
  private:
   [[nodiscard]] std::int64_t probe(const std::vector<std::uint64_t>& table, const float* column,
                                    const ColumnStats& stats) const;
-  static void place(std::vector<std::uint64_t>& table, std::uint64_t hash, std::uint32_t id);
+  // Slot: (hash >> 33) << 33 | canonical sign << 32 | (id + 1); 0 is empty.
+  void place(std::vector<std::uint64_t>& table, std::uint32_t id) const;
 
-  std::size_t rows_, capacity_;
-  float* columns_ = nullptr;
+  std::size_t rows_, verify_rows_, capacity_;
+  const float** columns_ = nullptr;
   ClassRecord* records_ = nullptr;
   std::size_t arena_bytes_ = 0;
+  void* arena_ = nullptr;
+  float* column_arena_ = nullptr;
+  std::size_t column_arena_columns_ = 0;
+  std::atomic<std::size_t> column_arena_used_{0};
   std::vector<std::uint64_t> committed_table_, pending_table_;  // (fingerprint << 32) | (id + 1)
   std::vector<std::uint64_t> hashes_;                           // per class, for rebuilding
   std::uint32_t size_ = 0, committed_ = 0;

@@ -274,6 +274,10 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
                      bool neg_b, TileOutput& out) const {
   const std::size_t n = screen_rows_;
   float* dst = out.next_column();
+  if (dst == nullptr) {  // the column arena is spent: the enumeration ends
+    out.full = true;
+    return -1;
+  }
   compute_column(rec_in.kind, rec_in.op, rec_in.k, a, b, neg_a, neg_b, dst, n);
   ++out.evaluated;
   ColumnStats st;
@@ -298,6 +302,7 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
   if (fusable(rec)) rec.flags |= ClassRecord::kFusable;
   out.records.push_back(rec);
   out.stats.push_back(st);
+  out.keep_column();
   if (2 * out.records.size() > out.table.size()) {  // keep the local table at most half full
     std::vector<std::uint64_t> bigger(2 * out.table.size(), 0);
     const std::size_t m2 = bigger.size() - 1;

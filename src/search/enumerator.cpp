@@ -5,35 +5,26 @@
 #include <limits>
 #include <mutex>
 #include <thread>
-#include <cstdio>  // DEBUG
-#include <ctime>  // DEBUG
-#include <cstdlib>  // DEBUG
 
 #include "search/enum_costs.hpp"
 #include "search/enum_tile.hpp"
 #include "shaderfit/core/parallel.hpp"
-#include "shaderfit/expr/simplify.hpp"
 
 namespace shaderfit::search_detail {
-int g_full_scores = 0;  // DEBUG
 
-namespace {
-
-// A class is scored on every row when its screen loss is within this factor of the best screen
-// loss on the front at its cost or below. Both are measured on the same rows, so their ratio is
-// far less noisy than either loss; see docs/search.md for the measured miss rate.
-constexpr double kScreenMargin = 1.5;
-// Elite classes kept per level as seeds for the evolution.
-constexpr std::size_t kElitePerLevel = 64;
-
-}  // namespace
 
 Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
     : ctx_(ctx), costs_(std::make_unique<Costs>(ctx.options)) {
   const SearchOptions& o = ctx.options;
   time_share_s_ = o.evolve ? o.max_enumeration_share * o.time_limit_s : o.time_limit_s;
   setup_screen(rng);
-  store_ = std::make_unique<ClassStore>(screen_rows_, o.max_classes);
+  setup_full_rows();
+  // Formulas built from + - * / and powers are rational functions: two that agree on 64 random
+  // points to 2e-5 are the same function. Piecewise operators can agree on many points and
+  // differ elsewhere, so with them every screen row is checked.
+  bool piecewise = false;
+  for (Op op : o.operators) piecewise = piecewise || op == Op::Min || op == Op::Max || op == Op::Abs || op == Op::Saturate;
+  store_ = std::make_unique<ClassStore>(screen_rows_, o.max_classes, piecewise ? screen_rows_ : 64);
   const std::size_t levels = static_cast<std::size_t>(std::max(o.max_enumeration_cost, 0)) + 2;
   level_ids_.resize(levels);
   fusable_ids_.resize(levels);
@@ -51,14 +42,17 @@ void Enumerator::setup_screen(Rng& rng) {
   if (rows <= wanted) {
     for (std::size_t i = 0; i < rows; ++i) picked.push_back(i);
   } else {
-    // Partial Fisher-Yates: `wanted` distinct rows, uniformly; sorted for locality.
-    std::vector<std::size_t> all(rows);
-    for (std::size_t i = 0; i < rows; ++i) all[i] = i;
-    for (std::size_t i = 0; i < wanted; ++i) {
-      const std::size_t j = i + static_cast<std::size_t>(uniform_index(rng, rows - i));
-      std::swap(all[i], all[j]);
+    // Stratified by the target: rows sorted by target value, cut into `wanted` strata of equal
+    // size, one row drawn uniformly from each. The large errors sit at the large targets
+    // (grazing angles), so this screens with far less sampling noise than a plain sample.
+    std::vector<std::size_t> order(rows);
+    for (std::size_t i = 0; i < rows; ++i) order[i] = i;
+    const auto& y = ctx_.problem.target;
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return y[a] < y[b]; });
+    for (std::size_t k = 0; k < wanted; ++k) {
+      const std::size_t lo = k * rows / wanted, hi = (k + 1) * rows / wanted;
+      picked.push_back(order[lo + static_cast<std::size_t>(uniform_index(rng, hi - lo))]);
     }
-    picked.assign(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(wanted));
     std::sort(picked.begin(), picked.end());
   }
   const std::size_t real = picked.size();
@@ -102,7 +96,7 @@ void Enumerator::add_leaves() {
       stats.valid = true;
       stats.hash = 0x5bd1e995u + std::uint64_t{store_->size()};
     }
-    const std::uint32_t id = store_->insert(col.data(), stats, rec);
+    const std::uint32_t id = store_->insert_copy(col.data(), stats, rec);
     consider_for_front(id, stats, rec.cost);
     return id;
   };
@@ -186,11 +180,7 @@ void Enumerator::run() {
       steps.erase(steps.begin(), std::partition_point(steps.begin(), steps.end(), early_of));
       run_batch(level, steps, false);
     }
-    auto& elite = elite_levels_[static_cast<std::size_t>(level)];
-    if (elite.size() > kElitePerLevel) {
-      std::nth_element(elite.begin(), elite.begin() + kElitePerLevel, elite.end());
-      elite.resize(kElitePerLevel);
-    }
+    prune_elite(level);
     if (ctx_.stopped() || exhausted_.load(std::memory_order_relaxed)) break;
     cost_completed_ = level;
   }
@@ -230,10 +220,6 @@ void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool mater
     std::size_t m = merged.load(std::memory_order_relaxed);
     while (m < n && ready[m].load(std::memory_order_acquire) && !exhausted_.load(std::memory_order_relaxed)) {
       merge(level, *outputs[m], materialize);
-      if (std::getenv("SF_DEBUG3") && (m + 1 == n || tiles[m + 1].step != tiles[m].step)) {
-        const Step& st = steps[tiles[m].step];
-        std::fprintf(stderr, "  L%d step %u done at %.1f ms: kind %d k %d |a|=%zu |b|=%zu order %d, candidates %llu\n", level, tiles[m].step, ctx_.elapsed() * 1e3, (int)st.kind, st.k, st.a.size(), st.b.size(), st.order, (unsigned long long)ctx_.candidates.load());
-      }
       {
         std::lock_guard pl(pool_mutex);
         pool.push_back(std::move(outputs[m]));
@@ -264,7 +250,10 @@ void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool mater
           pool.pop_back();
         }
       }
-      if (!out) out = std::make_unique<TileOutput>();
+      if (!out) {
+        out = std::make_unique<TileOutput>();
+        out->store = store_.get();
+      }
       out->clear(screen_rows_);
       const Tile& t = tiles[i];
       process_tile(level, steps[t.step], t, *out);
@@ -274,19 +263,8 @@ void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool mater
       ready[i].store(true, std::memory_order_release);
     }
   };
-  const std::uint32_t before = store_->size();
-  const std::uint64_t cand_before = ctx_.candidates.load();
-  const double t0 = ctx_.elapsed();
-  timespec c0{}; clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c0);
   parallel_for(threads, 1, worker, static_cast<int>(threads));
   store_->commit();
-  if (std::getenv("SF_DEBUG")) {
-    timespec c1{}; clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &c1);
-    std::fprintf(stderr, "level %d%s: %zu steps, %zu tiles, %llu candidates -> %u classes (total %u), %.1f ms -> %.1f ms  cpu %.1f ms\n", level, materialize ? " (fused)" : "", steps.size(), n,
-                 (unsigned long long)(ctx_.candidates.load() - cand_before), store_->size() - before, store_->size(), t0 * 1e3, ctx_.elapsed() * 1e3, (c1.tv_sec - c0.tv_sec) * 1e3 + (c1.tv_nsec - c0.tv_nsec) * 1e-6);
-    std::fprintf(stderr, "   full scores so far: %d\n", g_full_scores);
-    for (const Step& st : steps) std::fprintf(stderr, "    kind %d op %d k %d |a|=%zu |b|=%zu tri=%d var=%d order=%d\n", (int)st.kind, (int)st.op, st.k, st.a.size(), st.b.size(), (int)st.triangular, st.variant_count, st.order);
-  }
 }
 
 void Enumerator::merge(int level, TileOutput& out, bool materialize) {
@@ -297,7 +275,7 @@ void Enumerator::merge(int level, TileOutput& out, bool materialize) {
     if (store_->find_pending(col, st) >= 0) continue;  // workers checked the committed classes
     if (store_->full()) {
       exhausted_.store(true, std::memory_order_relaxed);
-      return;
+      break;
     }
     const ClassRecord& rec = out.records[i];
     const std::uint32_t id = store_->insert(col, st, rec);
@@ -310,80 +288,7 @@ void Enumerator::merge(int level, TileOutput& out, bool materialize) {
     consider_for_front(id, st, level);
     if (out.fused[i].leaf >= 0) consider_fused_for_front(id, out.fused[i], level);
   }
-}
-
-double Enumerator::front_threshold(int level) const {
-  double best = std::numeric_limits<double>::infinity();
-  for (const auto& [c, l] : screen_front_)
-    if (c <= level) best = std::min(best, l);
-  return kScreenMargin * best;
-}
-
-void Enumerator::consider_for_front(std::uint32_t id, const ColumnStats& stats, int level) {
-  const float loss = std::min(stats.loss_pos, stats.loss_neg);
-  auto& elite = elite_levels_[std::min(static_cast<std::size_t>(level), elite_levels_.size() - 1)];
-  elite.push_back({loss, id, stats.loss_neg < stats.loss_pos});
-  if (elite.size() >= 8 * kElitePerLevel) {
-    std::nth_element(elite.begin(), elite.begin() + kElitePerLevel, elite.end());
-    elite.resize(kElitePerLevel);
-  }
-  if (!(loss <= front_threshold(level))) return;
-  const auto& names = ctx_.problem.input_names;
-  const auto& lits = ctx_.options.literals;
-  Expression e = build_class_expression(*store_, id, false, names, lits);
-  offer_scored(e, [&] { return build_class_expression(*store_, id, true, names, lits); }, loss);
-}
-
-void Enumerator::consider_fused_for_front(std::uint32_t m, const FusedBest& best, int level) {
-  if (!(best.loss <= front_threshold(level))) return;
-  const auto& names = ctx_.problem.input_names;
-  const auto& lits = ctx_.options.literals;
-  const std::uint32_t leaf = fused_leaf_ids_[static_cast<std::size_t>(best.leaf)];
-  Expression e = build_fused_expression(*store_, m, leaf, best.neg_leaf, false, names, lits);
-  offer_scored(e, [&] { return build_fused_expression(*store_, m, leaf, best.neg_leaf, true, names, lits); },
-               best.loss);
-}
-
-// Scores e on every row with both signs and offers the better one, tidied, to the front.
-template <typename Negated>
-void Enumerator::offer_scored(Expression e, Negated negated, float screen_loss) {
-  ++g_full_scores;
-  std::vector<double> f(ctx_.rows);
-  ctx_.predict(e, f);
-  const LossMetrics pos = ctx_.metrics_of(f);
-  for (double& v : f) v = -v;
-  const LossMetrics neg = ctx_.metrics_of(f);
-  const LossKind kind = ctx_.options.loss;
-  const bool negate = loss_value(kind, neg) < loss_value(kind, pos);
-  if (negate) e = negated();
-  Expression tidy = simplify(e);
-  if (expression_cost(tidy, ctx_.options.cost) <= expression_cost(e, ctx_.options.cost)) e = std::move(tidy);
-  const double cost = expression_cost(e, ctx_.options.cost);
-  const double full = loss_value(kind, negate ? neg : pos);
-  if (std::getenv("SF_DEBUG2")) std::fprintf(stderr, "full-score screen=%.3g full=%.3g ratio=%.3f best=%.3g\n", screen_loss, full, screen_loss / full, front_threshold(1000) / kScreenMargin);
-  if (ctx_.offer(std::move(e), negate ? neg : pos, "enumeration")) screen_front_.emplace_back(cost, screen_loss);
-}
-
-std::vector<Expression> Enumerator::seeds(std::size_t count) const {
-  std::vector<std::vector<Elite>> levels;
-  for (auto lv : elite_levels_) {
-    std::sort(lv.begin(), lv.end());
-    if (!lv.empty()) levels.push_back(std::move(lv));
-  }
-  std::vector<Expression> out;
-  for (std::size_t rank = 0; out.size() < count; ++rank) {
-    bool any = false;
-    for (const auto& lv : levels) {
-      if (rank >= lv.size() || out.size() >= count) continue;
-      any = true;
-      const std::uint32_t id = lv[rank].id;
-      if (store_->record(id).kind == EKind::Literal) continue;
-      out.push_back(build_class_expression(*store_, id, lv[rank].negate, ctx_.problem.input_names,
-                                           ctx_.options.literals));
-    }
-    if (!any) break;
-  }
-  return out;
+  if (out.full) exhausted_.store(true, std::memory_order_relaxed);
 }
 
 }  // namespace shaderfit::search_detail

@@ -74,6 +74,12 @@ class Enumerator {
            TileOutput& out) const;
   FusedBest screen_fused_sums(const float* m, TileOutput& out) const;
   void merge(int level, TileOutput& out, bool materialize);
+  void setup_full_rows();
+  const float* full_column(std::uint32_t id);
+  const float* full_eval(std::uint32_t id);
+  float* scratch_column();
+  bool passes_full_rows(const float* column, int level);
+  void prune_elite(int level);
   void consider_for_front(std::uint32_t id, const ColumnStats& stats, int level);
   void consider_fused_for_front(std::uint32_t m, const FusedBest& best, int level);
   template <typename Negated>
@@ -89,6 +95,14 @@ class Enumerator {
   std::vector<float> screen_y_, screen_w_, screen_log2_y_;
   ScreenTarget target_;
   FusedScreen fused_screen_;
+  struct FullRows {  // every row in float32, padded to a multiple of 8 with weight-0 rows
+    std::size_t n = 0;
+    std::vector<std::vector<float>> inputs, literals, scratch;
+    std::vector<float> y, w, log2_y;
+    double wyy = 0;
+    ScreenTarget target;
+    std::size_t next = 0;  // next free scratch column
+  } full_;
   std::unique_ptr<ClassStore> store_;
   std::vector<std::vector<std::uint32_t>> level_ids_, fusable_ids_;
   std::vector<bool> materialized_;  // the level's fused sums are classes
