@@ -11,6 +11,11 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/fit/fit.hpp"
 
+// Compiled for AVX2 and the baseline ISA, picked at load time (the row loops vectorise); the
+// helpers are always inlined so that each clone compiles them for its own ISA.
+#define SF_JACOBIAN_KERNEL __attribute__((target_clones("avx2", "default")))
+#define SF_ALWAYS_INLINE inline __attribute__((always_inline))
+
 namespace shaderfit {
 
 namespace {
@@ -25,7 +30,7 @@ struct Entry {
 };
 
 // dy/dx of a unary op at x, given y = op(x) (the ops without a loop of their own below).
-inline double unary_derivative(Op op, double x, double y) {
+SF_ALWAYS_INLINE double unary_derivative(Op op, double x, double y) {
   constexpr double kLn2 = 0.6931471805599453;
   switch (op) {
     case Op::Rsqrt: return -0.5 * y / x;
@@ -44,7 +49,7 @@ inline double unary_derivative(Op op, double x, double y) {
 
 // out = x^k over a block, by the squaring chain of apply_ipow (the same operations in the same
 // order, so the same bits), with the chain's loop outside the row loop.
-void ipow_block(const double* x, int k, double* out, std::size_t n) {
+SF_ALWAYS_INLINE void ipow_block(const double* x, int k, double* out, std::size_t n) {
   const bool inverse = k < 0;
   unsigned e = static_cast<unsigned>(inverse ? -k : k);
   double base[kBlock];
@@ -67,7 +72,7 @@ void ipow_block(const double* x, int k, double* out, std::size_t n) {
 }
 
 template <typename F>
-void for_each_bit(std::uint64_t mask, F f) {
+SF_ALWAYS_INLINE void for_each_bit(std::uint64_t mask, F f) {
   while (mask != 0) {
     const int j = __builtin_ctzll(mask);
     f(static_cast<std::size_t>(j));
@@ -77,8 +82,9 @@ void for_each_bit(std::uint64_t mask, F f) {
 
 }  // namespace
 
-void evaluate_with_jacobian(const Expression& e, std::span<const double* const> columns,
-                            std::size_t rows, std::span<double> values, std::span<double> jacobian) {
+SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e, std::span<const double* const> columns,
+                                               std::size_t rows, std::span<double> values,
+                                               std::span<double> jacobian) {
   const std::size_t np = e.parameters.size();
   if (columns.size() != e.variables.size()) throw Error("evaluate_with_jacobian: one column per variable expected");
   if (e.parameter_values.size() != np) throw Error("evaluate_with_jacobian: one value per parameter expected");

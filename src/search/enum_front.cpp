@@ -102,7 +102,9 @@ void Enumerator::consider_for_front(std::uint32_t id, const ColumnStats& stats, 
     elite.resize(kElitePerLevel);
   }
   if (!(loss <= front_threshold(level))) return;
-  if (!passes_full_rows(full_column(id), level)) return;
+  const EKind kind = store_->record(id).kind;
+  const bool leaf = kind == EKind::Var || kind == EKind::Literal;  // (a literal is constant)
+  if (!leaf && !passes_full_rows(full_column(id), level)) return;
   const auto& names = ctx_.problem.input_names;
   const auto& lits = ctx_.options.literals;
   Expression e = build_class_expression(*store_, id, false, names, lits);

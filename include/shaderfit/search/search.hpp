@@ -95,7 +95,7 @@ struct SearchOptions {
   // Enumeration. `screen_rows` random rows are cached per distinct candidate (float32) and used
   // to deduplicate and to screen; candidates that pass are scored on every row.
   bool enumerate = true;
-  std::size_t screen_rows = 256;       // multiple of 8, >= 16, at most the number of rows
+  std::size_t screen_rows = 64;        // multiple of 8, >= 16; stratified by the target
   std::size_t max_classes = 1'500'000; // distinct candidates kept (memory: screen_rows * 4 bytes each)
   double max_enumeration_share = 0.15; // fraction of the time limit the enumeration may use
   int max_enumeration_cost = 12;       // highest cost level enumerated
