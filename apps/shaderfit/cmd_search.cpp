@@ -33,6 +33,7 @@ struct SearchArgs {
   std::string loss = "mse";
   std::string cost = "instructions";
   std::string ops = "+,-,*,/,^";
+  std::string evolve_ops = "pow,exp2";
   std::string literals = "0.5,1,2";
   int max_power = 5;
   std::size_t max_nodes = 25;
@@ -102,6 +103,9 @@ SearchOptions make_options(const SearchArgs& a) {
   if (!cost) throw Error("unknown cost '" + a.cost + "' (known: instructions, nodes)", {"--cost"});
   o.cost = *cost;
   o.operators = parse_operator_list(a.ops, {"--ops"});
+  o.evolution_operators.clear();
+  if (!a.evolve_ops.empty() && a.evolve_ops != "none")
+    o.evolution_operators = parse_operator_list(a.evolve_ops, {"--evolve-ops"});
   o.literals = parse_literals(a.literals);
   o.max_power = a.max_power;
   o.max_nodes = a.max_nodes;
@@ -196,6 +200,7 @@ void register_search_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--loss", args->loss, "mse, rmse, max_abs, rel or log (default mse)");
   cmd->add_option("--cost", args->cost, "instructions or nodes (default instructions)");
   cmd->add_option("--ops", args->ops, "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs saturate sin cos min max pow (default +,-,*,/,^)");
+  cmd->add_option("--evolve-ops", args->evolve_ops, "more operators for the evolution only, or 'none' (default pow,exp2)");
   cmd->add_option("--literals", args->literals, "literal constants, comma-separated (default 0.5,1,2)");
   cmd->add_option("--max-power", args->max_power, "largest integer power x^k (default 5)");
   cmd->add_option("--max-nodes", args->max_nodes, "largest formula of the evolution, in nodes (default 25)");

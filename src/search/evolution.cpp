@@ -37,6 +37,9 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
   const SearchOptions& o = ctx.options;
   limits_.variables = ctx.problem.input_names;
   limits_.operators = o.operators;
+  for (Op op : o.evolution_operators)
+    if (std::find(limits_.operators.begin(), limits_.operators.end(), op) == limits_.operators.end())
+      limits_.operators.push_back(op);
   limits_.max_power = o.max_power;
   limits_.literals = o.literals;
   limits_.max_nodes = o.max_nodes;
@@ -60,6 +63,12 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
     if (!p.weights.empty()) fit_weights_[i] = p.weights[pick[i]];
   }
   for (const auto& c : fit_columns_) fit_pointers_.push_back(c.data());
+
+  Expression x;
+  x.variables = {"x"};
+  x.nodes = {Node::variable(0)};
+  x.update_lengths();
+  scaling_cost_ = expression_cost(with_linear_scaling(x, 2.0, 1.0), o.cost) - expression_cost(x, o.cost);
 
   const int count = o.islands > 0 ? o.islands : 4;
   for (int i = 0; i < count; ++i) islands_.push_back(Island{Rng(rng()), {}, {}, 0});
@@ -87,9 +96,24 @@ bool Evolution::evaluate(Individual& ind, Island& island, std::vector<double>& v
   }
   shaderfit::evaluate(e, fit_pointers_, values, {.threads = 1});
   ctx_.node_evaluations.fetch_add(e.size() * fit_target_.size(), std::memory_order_relaxed);
-  ind.loss = loss_of(ctx_.options.loss, values, fit_target_, fit_weights_);
-  ind.cost = expression_cost(e, ctx_.options.cost);
+  ind.raw_loss = ind.loss = loss_of(ctx_.options.loss, values, fit_target_, fit_weights_);
+  ind.raw_cost = ind.cost = expression_cost(e, ctx_.options.cost);
   ind.hash = structural_hash(e);
+  ind.scaled = false;
+  if (ctx_.options.linear_scaling && std::isfinite(ind.loss)) {
+    const LinearScaling ls = fit_linear_scaling(values, fit_target_, fit_weights_);
+    if (std::isfinite(ls.mse) && ls.a != 0.0) {
+      for (double& v : values) v = ls.a * v + ls.b;
+      const double loss = loss_of(ctx_.options.loss, values, fit_target_, fit_weights_);
+      if (loss < ind.loss) {
+        ind.loss = loss;
+        ind.cost += scaling_cost_;
+        ind.scaled = true;
+        ind.a = ls.a;
+        ind.b = ls.b;
+      }
+    }
+  }
   return std::isfinite(ind.loss);
 }
 
@@ -108,20 +132,10 @@ Evolution::Candidate Evolution::score_on_all_rows(Expression e) const {
   return c;
 }
 
-void Evolution::consider(const Individual& ind, const std::vector<double>& values, Island& island,
-                         const Snapshot& front) const {
-  if (ind.loss <= kFrontMargin * best_at(front, ind.cost)) island.found.push_back(score_on_all_rows(ind.expr));
-  if (!ctx_.options.linear_scaling) return;
-  // The optimal a * f + b, in closed form on the fit rows.
-  const LinearScaling ls = fit_linear_scaling(values, fit_target_, fit_weights_);
-  if (!std::isfinite(ls.mse) || ls.a == 0.0) return;
-  std::vector<double> scaled(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) scaled[i] = ls.a * values[i] + ls.b;
-  const double loss = loss_of(ctx_.options.loss, scaled, fit_target_, fit_weights_);
-  if (!(loss < ind.loss)) return;
-  Expression s = with_linear_scaling(ind.expr, ls.a, ls.b);
-  if (loss <= kFrontMargin * best_at(front, expression_cost(s, ctx_.options.cost)))
-    island.found.push_back(score_on_all_rows(std::move(s)));
+void Evolution::consider(const Individual& ind, Island& island, const Snapshot& front) const {
+  if (ind.raw_loss <= kFrontMargin * best_at(front, ind.raw_cost)) island.found.push_back(score_on_all_rows(ind.expr));
+  if (ind.scaled && ind.loss <= kFrontMargin * best_at(front, ind.cost))
+    island.found.push_back(score_on_all_rows(with_linear_scaling(ind.expr, ind.a, ind.b)));
 }
 
 const Evolution::Individual& Evolution::tournament(Island& island, const std::vector<int>& rank,
@@ -168,12 +182,18 @@ void Evolution::generation(Island& island, const Snapshot& front) {
   std::set<std::uint64_t> seen;
   for (const Individual& ind : island.population) seen.insert(ind.hash);
 
+  // A quarter of the children are mutants of the island's most accurate individual: a local
+  // search at the front's accurate end, where the large formulas are.
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < island.population.size(); ++i)
+    if (island.population[i].loss < island.population[best].loss) best = i;
   std::vector<Individual> offspring;
   std::vector<double> values;
   for (std::size_t attempts = 0; offspring.size() < size && attempts < 4 * size; ++attempts) {
     if ((attempts & 15) == 15 && out_of_time()) break;
-    const Individual& a = tournament(island, rank, crowd);
-    Expression child = bernoulli(island.rng, 0.5)
+    const bool local = attempts % 4 == 3;
+    const Individual& a = local ? island.population[best] : tournament(island, rank, crowd);
+    Expression child = !local && bernoulli(island.rng, 0.5)
                            ? crossover(island.rng, a.expr, tournament(island, rank, crowd).expr, limits_)
                            : mutate(island.rng, a.expr, limits_);
     if (child.empty()) continue;
@@ -185,7 +205,7 @@ void Evolution::generation(Island& island, const Snapshot& front) {
     if (seen.count(structural_hash(ind.expr)) != 0) continue;
     if (!evaluate(ind, island, values)) continue;
     if (!seen.insert(ind.hash).second) continue;
-    consider(ind, values, island, front);
+    consider(ind, island, front);
     offspring.push_back(std::move(ind));
   }
   for (Individual& ind : offspring) island.population.push_back(std::move(ind));

@@ -26,9 +26,14 @@ class Evolution {
  private:
   struct Individual {
     Expression expr;
+    // Selection objectives: the raw formula's, or its optimal a * f + b's when that is better
+    // (the scaling's cost included), so shapes count before their constants are right.
     double loss = 0;  // on the fit rows
     double cost = 0;
     std::uint64_t hash = 0;
+    double raw_loss = 0, raw_cost = 0;
+    bool scaled = false;
+    double a = 1, b = 0;  // the optimal scaling
   };
   struct Candidate {  // for the front, scored on every row
     Expression expr;
@@ -45,8 +50,7 @@ class Evolution {
   void init_island(Island& island, const std::vector<Expression>& seeds, std::size_t index);
   void generation(Island& island, const Snapshot& front);
   bool evaluate(Individual& ind, Island& island, std::vector<double>& values) const;
-  void consider(const Individual& ind, const std::vector<double>& values, Island& island,
-                const Snapshot& front) const;
+  void consider(const Individual& ind, Island& island, const Snapshot& front) const;
   Candidate score_on_all_rows(Expression e) const;
   [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
                                              const std::vector<double>& crowd) const;
@@ -55,6 +59,7 @@ class Evolution {
 
   SearchContext& ctx_;
   VariationLimits limits_;
+  double scaling_cost_ = 1;  // cost(a * f + b) - cost(f)
   std::vector<std::vector<double>> fit_columns_;
   std::vector<const double*> fit_pointers_;
   std::vector<double> fit_target_, fit_weights_;

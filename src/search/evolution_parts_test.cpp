@@ -77,8 +77,12 @@ TEST(Variation, ChildrenAreWellFormedAndWithinLimits) {
     Expression copy = c;
     ASSERT_NO_THROW(copy.update_lengths());
     for (const Node& n : c.nodes) {
-      if (n.op == Op::Param) ASSERT_LT(static_cast<std::size_t>(n.index), c.parameters.size());
-      if (n.op == Op::IPow) ASSERT_TRUE(n.index >= 2 && n.index <= 5);
+      if (n.op == Op::Param) {
+        ASSERT_LT(static_cast<std::size_t>(n.index), c.parameters.size());
+      }
+      if (n.op == Op::IPow) {
+        ASSERT_TRUE(n.index >= 2 && n.index <= 5);
+      }
     }
     pool[uniform_index(rng, pool.size())] = c;
   }

@@ -86,6 +86,7 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
        {{"loss", loss_name(o.loss)},
         {"cost", cost_target_name(o.cost)},
         {"operators", operator_list_name(o.operators)},
+        {"evolution_operators", operator_list_name(o.evolution_operators)},
         {"max_power", o.max_power},
         {"literals", literals},
         {"seed", o.seed},

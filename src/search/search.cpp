@@ -77,9 +77,11 @@ bool SearchOptions::is_valid(std::string* why) const {
   if (max_candidates && *max_candidates <= 0) return fail("the evaluation budget must be positive");
   if (threads < 0) return fail("threads must be >= 0 (0: all hardware threads)");
   if (operators.empty()) return fail("no operators given");
-  for (Op op : operators) {
-    if (std::find(std::begin(kSearchable), std::end(kSearchable), op) == std::end(kSearchable))
-      return fail("operator '" + std::string(op_info(op).name) + "' cannot be searched");
+  for (const auto* list : {&operators, &evolution_operators}) {
+    for (Op op : *list) {
+      if (std::find(std::begin(kSearchable), std::end(kSearchable), op) == std::end(kSearchable))
+        return fail("operator '" + std::string(op_info(op).name) + "' cannot be searched");
+    }
   }
   if (max_power < 2 || max_power > kMaxIntegerPower) return fail("max_power must be in [2, 16]");
   if (literals.size() > 100) return fail("at most 100 literal constants");

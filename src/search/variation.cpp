@@ -24,9 +24,55 @@ Node param_node(double value) {
   return p;
 }
 
+// Folds every subtree made only of parameters and literals, with at least one parameter, into
+// one parameter with the subtree's value: p * q, -p, p + 2, (p * 0.5)^2 fit as well as a single
+// constant, and each one saved is a node and a parameter for something else.
+Nodes fold_parameter_subtrees(const Nodes& in) {
+  struct Info {
+    std::size_t start;  // where the subtree begins in `out`
+    bool constant;      // only parameters and literals
+    bool has_param;
+    double value;
+  };
+  Nodes out;
+  std::vector<Info> stack;
+  for (const Node& n : in) {
+    const int a = arity(n.op);
+    Info kids[3];
+    for (int k = a - 1; k >= 0; --k) {
+      kids[k] = stack.back();
+      stack.pop_back();
+    }
+    const std::size_t start = a > 0 ? kids[0].start : out.size();
+    bool constant = n.op == Op::Const || n.op == Op::Param || a > 0;
+    bool has_param = n.op == Op::Param;
+    for (int k = 0; k < a; ++k) {
+      constant = constant && kids[k].constant;
+      has_param = has_param || kids[k].has_param;
+    }
+    double value = n.value;
+    if (constant && a > 0) {
+      if (a == 1) value = n.op == Op::Neg ? -kids[0].value : (n.op == Op::IPow ? apply_ipow(kids[0].value, n.index) : apply_unary(n.op, kids[0].value));
+      else if (a == 2) value = apply_binary(n.op, kids[0].value, kids[1].value);
+      else value = apply_fma(kids[0].value, kids[1].value, kids[2].value);
+    }
+    if (constant && has_param && a > 0 && std::isfinite(value)) {
+      out.resize(start);
+      out.push_back(param_node(value));
+    } else {
+      if (!std::isfinite(value)) constant = false;
+      out.push_back(n);
+    }
+    stack.push_back({start, constant, has_param, value});
+  }
+  return out;
+}
+
 Expression finish(Nodes nodes, const VariationLimits& limits) {
   Expression e;
-  if (nodes.empty() || nodes.size() > limits.max_nodes) return e;
+  if (nodes.empty()) return e;
+  nodes = fold_parameter_subtrees(nodes);
+  if (nodes.size() > limits.max_nodes) return e;
   e.nodes = std::move(nodes);
   e.variables = limits.variables;
   for (Node& x : e.nodes) {

@@ -89,6 +89,9 @@ struct SearchOptions {
   // Operators formulas may use (Op::IPow stands for x^2 .. x^max_power) and literal constants
   // (their negatives come free with negation).
   std::vector<Op> operators = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow};
+  // Operators the evolution may use besides `operators` (the enumeration keeps to those): the
+  // larger formulas gain most from a fitted exponent or exponential.
+  std::vector<Op> evolution_operators = {Op::Pow, Op::Exp2};
   int max_power = 5;
   std::vector<double> literals = {0.5, 1.0, 2.0};
 
@@ -97,7 +100,7 @@ struct SearchOptions {
   bool enumerate = true;
   std::size_t screen_rows = 64;        // multiple of 8, >= 16; stratified by the target
   std::size_t max_classes = 1'500'000; // distinct candidates kept (memory: screen_rows * 4 bytes each)
-  double max_enumeration_share = 0.15; // fraction of the time limit the enumeration may use
+  double max_enumeration_share = 0.1;  // fraction of the time limit the enumeration may use
   int max_enumeration_cost = 12;       // highest cost level enumerated
 
   // Evolution (island-model NSGA-II).
@@ -120,7 +123,7 @@ struct SearchOptions {
   const std::atomic<bool>* interrupt = nullptr;
 
   // False, with the reason in *why, for: a time limit <= 0 or not finite, max_candidates <= 0,
-  // threads < 0, no operators, a leaf or unsupported operator, max_power outside [2, 16], a
+  // threads < 0, no operators, a leaf or unsupported operator (in either list), max_power outside [2, 16], a
   // non-finite literal, screen_rows not a multiple of 8 or < 16, max_nodes < 1, population < 4,
   // islands < 0, migration_interval < 1, max_parameters < 0, fit_rows < 8.
   bool is_valid(std::string* why) const;
