@@ -5,7 +5,7 @@
 #include <numbers>
 
 #include "shaderfit/expr/print.hpp"
-#include "shaderfit/reference/fresnel.hpp"
+#include "data/fresnel_rows.hpp"
 
 namespace shaderfit {
 
@@ -65,40 +65,21 @@ std::vector<Material> seed_materials() {
 Dataset make_fresnel_sweep(const std::vector<Material>& materials, int angles) {
   if (angles < 2) throw Error("a sweep needs at least 2 angles, got " + std::to_string(angles), {"--angles"});
   if (materials.empty()) throw Error("a sweep needs at least one material", {"--material"});
-  std::vector<double> deg, cosv, x, r0, r, n, k;
-  std::vector<std::string> kind, name;
+  std::vector<double> deg;
+  data_internal::FresnelRows rows;
   for (const Material& m : materials) {
     for (int a = 0; a < angles; ++a) {
       const double d = 90.0 * a / (angles - 1);
       // cos(90 deg) is 6e-17 in double; the sweep ends at exactly grazing incidence.
       const double c = a == angles - 1 ? 0.0 : std::cos(d * std::numbers::pi / 180.0);
       deg.push_back(d);
-      cosv.push_back(c);
-      x.push_back(1.0 - c);
-      n.push_back(m.n);
-      k.push_back(m.k);
-      if (m.k == 0) {
-        r0.push_back(reference::r0_from_ior(m.n));
-        r.push_back(reference::fresnel_dielectric(c, m.n));
-      } else {
-        r0.push_back(reference::r0_from_complex_ior(m.n, m.k));
-        r.push_back(reference::fresnel_conductor(c, m.n, m.k));
-      }
-      kind.push_back(m.k == 0 ? "dielectric" : "metal");
-      name.push_back(m.name);
+      rows.add(c, m.n, m.k, m.name);
     }
   }
   Dataset d;
   d.source = "fresnel-sweep";
   d.add_numeric("theta_deg", std::move(deg));
-  d.add_numeric("cos_theta", std::move(cosv));
-  d.add_numeric("x", std::move(x));
-  d.add_numeric("r0", std::move(r0));
-  d.add_numeric("R", std::move(r));
-  d.add_numeric("ior_n", std::move(n));
-  d.add_numeric("ior_k", std::move(k));
-  d.add_text("kind", std::move(kind));
-  d.add_text("material", std::move(name));
+  rows.move_into(d);
   return d;
 }
 

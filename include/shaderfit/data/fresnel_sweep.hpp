@@ -4,8 +4,8 @@
 //   std::vector<Material> m = {parse_material("aluminium"), parse_material("1.5")};
 //   Dataset d = make_fresnel_sweep(m, 181);   // 0, 0.5, ..., 90 degrees for each material
 //
-// Columns: theta_deg, cos_theta, x (= 1 - cos_theta), r0, R (exact unpolarized Fresnel), ior_n,
-// ior_k, kind ("dielectric" / "metal"), material (its name).
+// Columns: theta_deg, then those of the seed data set: r0, cos_theta, x (= 1 - cos_theta), R (exact
+// unpolarized Fresnel), ior_n, ior_k, kind ("dielectric" / "metal"), material (its name).
 #pragma once
 
 #include <string>
