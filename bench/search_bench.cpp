@@ -75,7 +75,8 @@ void BM_TimeToTarget(benchmark::State& state) {
     run_search(o, p, &s);
     double found = -1;
     for (const FrontMember& m : s.front)
-      if (m.cost <= 4 && m.metrics.mse <= target) found = found < 0 ? m.time_s : std::min(found, m.time_s);
+      if (m.cost <= 4 && m.metrics.mse <= target)
+        found = found < 0 ? m.time_s : std::min(found, m.time_s);
     if (found < 0) {
       state.SkipWithError("target not reached");
       break;
@@ -105,7 +106,8 @@ void BM_Throughput(benchmark::State& state) {
 }
 
 void BM_DataLoading(benchmark::State& state) {
-  const std::string csv = (std::filesystem::temp_directory_path() / "shaderfit_bench_seed.csv").string();
+  const std::string csv =
+      (std::filesystem::temp_directory_path() / "shaderfit_bench_seed.csv").string();
   {
     Rng rng(1);
     write_csv(make_fresnel_seed_dataset(rng), csv);
@@ -118,7 +120,8 @@ void BM_DataLoading(benchmark::State& state) {
     } else {
       benchmark::DoNotOptimize(read_csv(csv));
     }
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
 }
 
@@ -134,7 +137,8 @@ void BM_ProcessStart(benchmark::State& state) {
       state.SkipWithError("shaderfit --version failed");
       break;
     }
-    state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    state.SetIterationTime(
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
   }
 }
 
@@ -160,7 +164,12 @@ BENCHMARK(BM_Throughput)
     ->Iterations(1)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_DataLoading)->ArgName("csv")->Arg(0)->Arg(1)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_DataLoading)
+    ->ArgName("csv")
+    ->Arg(0)
+    ->Arg(1)
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ProcessStart)->Iterations(10)->UseManualTime()->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -69,13 +69,15 @@ std::vector<double> parse_literals(const std::string& list) {
     } catch (const std::exception&) {
       used = 0;
     }
-    if (used != s.size() || !std::isfinite(v)) throw Error("not a number: '" + s + "'", {"--literals"});
+    if (used != s.size() || !std::isfinite(v))
+      throw Error("not a number: '" + s + "'", {"--literals"});
     out.push_back(v);
   }
   return out;
 }
 
-const std::vector<double>& numeric_column(const Dataset& d, const std::string& name, const char* option) {
+const std::vector<double>& numeric_column(const Dataset& d, const std::string& name,
+                                          const char* option) {
   const Column* c = d.find(name);
   if (c == nullptr) {
     std::string names;
@@ -89,15 +91,20 @@ const std::vector<double>& numeric_column(const Dataset& d, const std::string& n
 
 SearchOptions make_options(const SearchArgs& a) {
   SearchOptions o;
-  if (!(a.time_s > 0)) throw Error("the time budget must be positive (got " + fmt::format("{:g}", a.time_s) + ")", {"--time"});
-  if (a.evals_given && a.evals <= 0) throw Error("the evaluation budget must be positive (got " + std::to_string(a.evals) + ")", {"--evals"});
+  if (!(a.time_s > 0))
+    throw Error("the time budget must be positive (got " + fmt::format("{:g}", a.time_s) + ")",
+                {"--time"});
+  if (a.evals_given && a.evals <= 0)
+    throw Error("the evaluation budget must be positive (got " + std::to_string(a.evals) + ")",
+                {"--evals"});
   if (a.threads < 0) throw Error("threads must be >= 0 (0: all cores)", {"--threads"});
   o.time_limit_s = a.time_s;
   if (a.evals_given) o.max_candidates = a.evals;
   o.seed = a.seed;
   o.threads = a.threads;
   const auto loss = loss_from_name(a.loss);
-  if (!loss) throw Error("unknown loss '" + a.loss + "' (known: mse, rmse, max_abs, rel, log)", {"--loss"});
+  if (!loss)
+    throw Error("unknown loss '" + a.loss + "' (known: mse, rmse, max_abs, rel, log)", {"--loss"});
   o.loss = *loss;
   const auto cost = cost_target_from_name(a.cost);
   if (!cost) throw Error("unknown cost '" + a.cost + "' (known: instructions, nodes)", {"--cost"});
@@ -109,11 +116,16 @@ SearchOptions make_options(const SearchArgs& a) {
   o.literals = parse_literals(a.literals);
   o.max_power = a.max_power;
   o.max_nodes = a.max_nodes;
-  if (a.strategy == "enumerate") o.evolve = false;
-  else if (a.strategy == "evolve") o.enumerate = false;
-  else if (a.strategy != "both") throw Error("unknown strategy '" + a.strategy + "' (known: both, enumerate, evolve)", {"--strategy"});
+  if (a.strategy == "enumerate")
+    o.evolve = false;
+  else if (a.strategy == "evolve")
+    o.enumerate = false;
+  else if (a.strategy != "both")
+    throw Error("unknown strategy '" + a.strategy + "' (known: both, enumerate, evolve)",
+                {"--strategy"});
   if (a.stop_loss >= 0 || a.stop_cost >= 0) {
-    o.stop_at = SearchTarget{a.stop_loss >= 0 ? a.stop_loss : 1e300, a.stop_cost >= 0 ? a.stop_cost : 1e300};
+    o.stop_at = SearchTarget{a.stop_loss >= 0 ? a.stop_loss : 1e300,
+                             a.stop_cost >= 0 ? a.stop_cost : 1e300};
   }
   std::string why;
   if (!o.is_valid(&why)) throw Error(why, {"search options"});
@@ -127,19 +139,22 @@ void run(const SearchArgs& a, Context& ctx) {
   SearchProblem problem;
   problem.input_names = split_names(a.inputs);
   if (problem.input_names.empty()) throw Error("no inputs given", {"--inputs"});
-  for (const std::string& n : problem.input_names) problem.inputs.push_back(numeric_column(d, n, "--inputs"));
+  for (const std::string& n : problem.input_names)
+    problem.inputs.push_back(numeric_column(d, n, "--inputs"));
   problem.target = numeric_column(d, a.target, "--target");
   if (!a.weights.empty()) problem.weights = numeric_column(d, a.weights, "--weights");
   problem.validate();
-  const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double load_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
   // With the JSON on stdout, everything for people goes to stderr.
   const bool json_stdout = a.json_path == "-";
   std::ostream& human = json_stdout ? ctx.err : ctx.out;
-  human << fmt::format("shaderfit search: {}, {} rows, inputs {}, target {}, loss {}, cost {} "
-                       "(data ready in {:.1f} ms)\n",
-                       a.data.describe(), d.rows(), a.inputs, a.target, loss_name(options.loss),
-                       cost_target_name(options.cost), load_s * 1e3);
+  human << fmt::format(
+      "shaderfit search: {}, {} rows, inputs {}, target {}, loss {}, cost {} "
+      "(data ready in {:.1f} ms)\n",
+      a.data.describe(), d.rows(), a.inputs, a.target, loss_name(options.loss),
+      cost_target_name(options.cost), load_s * 1e3);
   bool progress_shown = false;
   if (!a.quiet) {
     options.on_new_member = [&](const FrontMember& m) {
@@ -150,8 +165,8 @@ void run(const SearchArgs& a, Context& ctx) {
   }
   if (ctx.progress) {
     options.on_progress = [&](const SearchProgress& p) {
-      ctx.err << fmt::format("\r\033[K[{:.1f} s] {} {} candidates, {:.3g}/s, front {}", p.elapsed_s, p.phase,
-                             p.candidates, p.candidates_per_s, p.front_size)
+      ctx.err << fmt::format("\r\033[K[{:.1f} s] {} {} candidates, {:.3g}/s, front {}", p.elapsed_s,
+                             p.phase, p.candidates, p.candidates_per_s, p.front_size)
               << std::flush;
       progress_shown = true;
     };
@@ -187,27 +202,38 @@ void run(const SearchArgs& a, Context& ctx) {
 
 void register_search_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<SearchArgs>();
-  CLI::App* cmd = app.add_subcommand("search", "Find the Pareto front of error against GPU cost (symbolic regression)");
+  CLI::App* cmd = app.add_subcommand(
+      "search", "Find the Pareto front of error against GPU cost (symbolic regression)");
   add_data_options(cmd, args->data, false);
-  cmd->add_option("--seed-data", args->data.seed, "seed of the built-in data set (same as --data-seed)");
+  cmd->add_option("--seed-data", args->data.seed,
+                  "seed of the built-in data set (same as --data-seed)");
   cmd->add_option("--inputs", args->inputs, "input columns, comma-separated (default r0,x)");
   cmd->add_option("--target", args->target, "target column (default R)");
   cmd->add_option("--weights", args->weights, "column of sample weights (default: all 1)");
   cmd->add_option("--time", args->time_s, "time budget in seconds (default 10)");
-  cmd->add_option("--evals", args->evals, "budget of candidate formulas evaluated")->each([a = args.get()](const std::string&) { a->evals_given = true; });
+  cmd->add_option("--evals", args->evals, "budget of candidate formulas evaluated")
+      ->each([a = args.get()](const std::string&) { a->evals_given = true; });
   cmd->add_option("--seed", args->seed, "seed of the search (default 1)");
   cmd->add_option("--threads", args->threads, "threads, 0 for all cores (default 0)");
   cmd->add_option("--loss", args->loss, "mse, rmse, max_abs, rel or log (default mse)");
   cmd->add_option("--cost", args->cost, "instructions or nodes (default instructions)");
-  cmd->add_option("--ops", args->ops, "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs saturate sin cos min max pow (default +,-,*,/,^)");
-  cmd->add_option("--evolve-ops", args->evolve_ops, "more operators for the evolution only, or 'none' (default pow,exp2)");
-  cmd->add_option("--literals", args->literals, "literal constants, comma-separated (default 0.5,1,2)");
+  cmd->add_option("--ops", args->ops,
+                  "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs "
+                  "saturate sin cos min max pow (default +,-,*,/,^)");
+  cmd->add_option("--evolve-ops", args->evolve_ops,
+                  "more operators for the evolution only, or 'none' (default pow,exp2)");
+  cmd->add_option("--literals", args->literals,
+                  "literal constants, comma-separated (default 0.5,1,2)");
   cmd->add_option("--max-power", args->max_power, "largest integer power x^k (default 5)");
-  cmd->add_option("--max-nodes", args->max_nodes, "largest formula of the evolution, in nodes (default 25)");
+  cmd->add_option("--max-nodes", args->max_nodes,
+                  "largest formula of the evolution, in nodes (default 25)");
   cmd->add_option("--strategy", args->strategy, "both, enumerate or evolve (default both)");
-  cmd->add_option("--stop-loss", args->stop_loss, "stop once a formula has at most this loss (and --stop-cost)");
-  cmd->add_option("--stop-cost", args->stop_cost, "stop once a formula has at most this cost (and --stop-loss)");
-  cmd->add_option("--json", args->json_path, "write the result as JSON to this file ('-' for stdout)");
+  cmd->add_option("--stop-loss", args->stop_loss,
+                  "stop once a formula has at most this loss (and --stop-cost)");
+  cmd->add_option("--stop-cost", args->stop_cost,
+                  "stop once a formula has at most this cost (and --stop-loss)");
+  cmd->add_option("--json", args->json_path,
+                  "write the result as JSON to this file ('-' for stdout)");
   cmd->add_flag("--quiet", args->quiet, "do not print front members as they are found");
   cmd->callback([args, &ctx] { run(*args, ctx); });
 }

@@ -19,8 +19,9 @@ void expect_bad_input(const std::vector<std::string>& args, const std::string& t
 }
 
 TEST(CmdSearch, SeedTaskFindsTheSeedFormulaAndWritesJson) {
-  const auto r = run({"search", "--dataset", "fresnel-seed", "--inputs", "r0,x", "--target", "R", "--time", "60",
-                      "--strategy", "enumerate", "--stop-loss", "0.00035236", "--stop-cost", "4", "--json", "-"});
+  const auto r = run({"search", "--dataset", "fresnel-seed", "--inputs", "r0,x", "--target", "R",
+                      "--time", "60", "--strategy", "enumerate", "--stop-loss", "0.00035236",
+                      "--stop-cost", "4", "--json", "-"});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.err.find("] mse="), std::string::npos);  // members as found, on stderr with --json -
   const auto j = nlohmann::json::parse(r.out);
@@ -39,7 +40,8 @@ TEST(CmdSearch, SeedTaskFindsTheSeedFormulaAndWritesJson) {
 }
 
 TEST(CmdSearch, TableForPeople) {
-  const auto r = run({"search", "--dataset", "fresnel-seed", "--time", "0.2", "--strategy", "enumerate"});
+  const auto r =
+      run({"search", "--dataset", "fresnel-seed", "--time", "0.2", "--strategy", "enumerate"});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("formula"), std::string::npos);
   EXPECT_NE(r.out.find("] mse="), std::string::npos);
@@ -47,11 +49,13 @@ TEST(CmdSearch, TableForPeople) {
 }
 
 TEST(CmdSearch, UnknownOperator) {
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--ops", "+,*,frob"}, "unknown operator 'frob'");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--ops", "+,*,frob"},
+                   "unknown operator 'frob'");
 }
 
 TEST(CmdSearch, VariableNotInTheData) {
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--inputs", "r0,theta"}, "no column 'theta'");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--inputs", "r0,theta"},
+                   "no column 'theta'");
 }
 
 TEST(CmdSearch, TargetColumnMissing) {
@@ -60,10 +64,14 @@ TEST(CmdSearch, TargetColumnMissing) {
 }
 
 TEST(CmdSearch, ZeroOrNegativeBudget) {
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--time", "0"}, "time budget must be positive");
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--time", "-3"}, "time budget must be positive");
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--evals", "0"}, "evaluation budget must be positive");
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--evals", "-5"}, "evaluation budget must be positive");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--time", "0"},
+                   "time budget must be positive");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--time", "-3"},
+                   "time budget must be positive");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--evals", "0"},
+                   "evaluation budget must be positive");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--evals", "-5"},
+                   "evaluation budget must be positive");
 }
 
 TEST(CmdSearch, DataSetWithOneRow) {
@@ -73,8 +81,10 @@ TEST(CmdSearch, DataSetWithOneRow) {
 
 TEST(CmdSearch, OtherBadOptions) {
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--loss", "l7"}, "unknown loss 'l7'");
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--cost", "watts"}, "unknown cost 'watts'");
-  expect_bad_input({"search", "--dataset", "fresnel-seed", "--literals", "1,two"}, "not a number: 'two'");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--cost", "watts"},
+                   "unknown cost 'watts'");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--literals", "1,two"},
+                   "not a number: 'two'");
 }
 
 }  // namespace

@@ -104,7 +104,9 @@ class Lowering {
   [[nodiscard]] const std::vector<DagNode>& nodes() const { return nodes_; }
 
  private:
-  [[nodiscard]] bool is_const(Ref r) const { return nodes_[static_cast<std::size_t>(r.id)].op == Op::Const; }
+  [[nodiscard]] bool is_const(Ref r) const {
+    return nodes_[static_cast<std::size_t>(r.id)].op == Op::Const;
+  }
   [[nodiscard]] double value(Ref r) const {
     const double v = nodes_[static_cast<std::size_t>(r.id)].value;
     return r.neg ? -v : v;
@@ -187,7 +189,8 @@ double count_instructions(const Expression& e) {
     int best = -1;
     for (const Ref& c : {nodes[i].a, nodes[i].b}) {
       if (nodes[static_cast<std::size_t>(c.id)].op != Op::Mul) continue;
-      if (best < 0 || uses[static_cast<std::size_t>(c.id)] < uses[static_cast<std::size_t>(best)]) best = c.id;
+      if (best < 0 || uses[static_cast<std::size_t>(c.id)] < uses[static_cast<std::size_t>(best)])
+        best = c.id;
     }
     if (best >= 0) ++fused[static_cast<std::size_t>(best)];
   }

@@ -1,3 +1,5 @@
+#include "shaderfit/fit/fit.hpp"
+
 #include <Eigen/Dense>
 #include <cmath>
 #include <cstdio>
@@ -5,14 +7,14 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/evaluate.hpp"
-#include "shaderfit/fit/fit.hpp"
 #include "shaderfit/fit/linear.hpp"
 
 namespace shaderfit {
 
 namespace {
 
-double weighted_mse(std::span<const double> f, std::span<const double> y, std::span<const double> w) {
+double weighted_mse(std::span<const double> f, std::span<const double> y,
+                    std::span<const double> w) {
   double se = 0, sw = 0;
   for (std::size_t i = 0; i < y.size(); ++i) {
     const double wi = w.empty() ? 1.0 : w[i];
@@ -72,7 +74,8 @@ void fit_linear(const FitProblem& p, Expression& e, FitSummary* s) {
   s->termination = "linear";
 }
 
-void fit_levenberg_marquardt(const FitOptions& o, const FitProblem& p, Expression& e, FitSummary* s) {
+void fit_levenberg_marquardt(const FitOptions& o, const FitProblem& p, Expression& e,
+                             FitSummary* s) {
   const std::size_t rows = p.target.size(), np = e.parameters.size();
   const auto n = static_cast<Eigen::Index>(np);
   Evaluation cur;
@@ -89,7 +92,8 @@ void fit_levenberg_marquardt(const FitOptions& o, const FitProblem& p, Expressio
       break;
     }
     // Normal equations of the weighted problem: (J^T W J + lambda diag) dp = -J^T W r.
-    const Eigen::Map<const Eigen::MatrixXd> jac(cur.jacobian.data(), static_cast<Eigen::Index>(rows), n);
+    const Eigen::Map<const Eigen::MatrixXd> jac(cur.jacobian.data(),
+                                                static_cast<Eigen::Index>(rows), n);
     for (std::size_t i = 0; i < rows; ++i) residual[i] = cur.values[i] - p.target[i];
     Eigen::MatrixXd jtj;
     Eigen::VectorXd jtr;
@@ -128,8 +132,11 @@ void fit_levenberg_marquardt(const FitOptions& o, const FitProblem& p, Expressio
         }
         lambda = std::max(lambda / 10, 1e-12);
         improved = true;
-        if (decrease < o.function_tolerance) s->termination = "function tolerance";
-        else if (std::sqrt(step) < o.parameter_tolerance * (std::sqrt(size) + o.parameter_tolerance)) s->termination = "parameter tolerance";
+        if (decrease < o.function_tolerance)
+          s->termination = "function tolerance";
+        else if (std::sqrt(step) <
+                 o.parameter_tolerance * (std::sqrt(size) + o.parameter_tolerance))
+          s->termination = "parameter tolerance";
       } else {
         lambda *= 10;
         e.parameter_values = here;
@@ -153,7 +160,8 @@ bool FitOptions::is_valid(std::string* why) const {
     return false;
   };
   if (max_iterations < 1) return fail("max_iterations must be at least 1");
-  if (!(function_tolerance > 0) || !(parameter_tolerance > 0)) return fail("tolerances must be positive");
+  if (!(function_tolerance > 0) || !(parameter_tolerance > 0))
+    return fail("tolerances must be positive");
   if (!(initial_lambda > 0)) return fail("initial_lambda must be positive");
   return true;
 }

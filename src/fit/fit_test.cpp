@@ -45,8 +45,9 @@ TEST(LinearScaling, ClosedForm) {
   EXPECT_EQ(flat.a, 0.0);
   EXPECT_NEAR(flat.b, 4.0, 1e-15);
   // Weights: the zero-weight row does not count.
-  const LinearScaling w = fit_linear_scaling(std::vector<double>{0, 1, 2, 3}, std::vector<double>{1, 3, 5, 100},
-                                             std::vector<double>{1, 1, 1, 0});
+  const LinearScaling w =
+      fit_linear_scaling(std::vector<double>{0, 1, 2, 3}, std::vector<double>{1, 3, 5, 100},
+                         std::vector<double>{1, 1, 1, 0});
   EXPECT_NEAR(w.a, 2.0, 1e-12);
 }
 
@@ -70,9 +71,14 @@ TEST(Fit, LinearInParametersDetection) {
 }
 
 TEST(Fit, JacobianMatchesFiniteDifferences) {
-  const char* formulas[] = {"a * x + b", "pow(x + 0.1, a) * b", "exp2(a * x) / (b + r0)", "sqrt(a + x) * rsqrt(b + r0)",
-                            "log(a + x) + log2(b + x) + exp(a * r0)", "rcp(a + x) + sin(a * x) * cos(b * r0)",
-                            "min(a * x, b) + max(a, b * r0) + abs(a - x) + (a * x)^3", "fma(a, x, b * r0) - -a"};
+  const char* formulas[] = {"a * x + b",
+                            "pow(x + 0.1, a) * b",
+                            "exp2(a * x) / (b + r0)",
+                            "sqrt(a + x) * rsqrt(b + r0)",
+                            "log(a + x) + log2(b + x) + exp(a * r0)",
+                            "rcp(a + x) + sin(a * x) * cos(b * r0)",
+                            "min(a * x, b) + max(a, b * r0) + abs(a - x) + (a * x)^3",
+                            "fma(a, x, b * r0) - -a"};
   const Data d = make_data(100, [](double r0, double x) { return r0 + x; });
   const double* cols[] = {d.r0.data(), d.x.data()};
   for (const char* text : formulas) {
@@ -85,13 +91,15 @@ TEST(Fit, JacobianMatchesFiniteDifferences) {
       ep.parameter_values[p] += h;
       evaluate_with_jacobian(ep, cols, 100, vp, jp);
       for (std::size_t i = 0; i < 100; ++i)
-        EXPECT_NEAR(j[p * 100 + i], (vp[i] - v[i]) / h, 1e-4 * (1 + std::abs(j[p * 100 + i]))) << text << " p" << p;
+        EXPECT_NEAR(j[p * 100 + i], (vp[i] - v[i]) / h, 1e-4 * (1 + std::abs(j[p * 100 + i])))
+            << text << " p" << p;
     }
   }
 }
 
 TEST(Fit, LinearFormulasAreSolvedDirectly) {
-  const Data d = make_data(500, [](double r0, double x) { return r0 + (0.965 * x - r0) * x * x * x * x + 0.01; });
+  const Data d = make_data(
+      500, [](double r0, double x) { return r0 + (0.965 * x - r0) * x * x * x * x + 0.01; });
   Expression e = parse("r0 + (a * x - r0) * x^4 + b", {"a", "b"}, {1.0, 0.0});
   FitProblem p{&e, {d.r0.data(), d.x.data()}, d.y};
   FitSummary s;
@@ -103,7 +111,8 @@ TEST(Fit, LinearFormulasAreSolvedDirectly) {
 }
 
 TEST(Fit, LevenbergMarquardtRecoversAnExponent) {
-  const Data d = make_data(500, [](double r0, double x) { return r0 + (1 - r0) * std::pow(x, 4.6) * 0.97; });
+  const Data d =
+      make_data(500, [](double r0, double x) { return r0 + (1 - r0) * std::pow(x, 4.6) * 0.97; });
   Expression e = parse("r0 + (1 - r0) * pow(x, a) * b", {"a", "b"}, {3.0, 1.0});
   FitProblem p{&e, {d.r0.data(), d.x.data()}, d.y};
   FitSummary s;

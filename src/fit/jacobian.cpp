@@ -57,7 +57,8 @@ SF_ALWAYS_INLINE void ipow_block(const double* x, int k, double* out, std::size_
   bool first = true;
   while (e != 0) {
     if (e & 1u) {
-      if (first) std::copy(base, base + n, out);
+      if (first)
+        std::copy(base, base + n, out);
       else
         for (std::size_t i = 0; i < n; ++i) out[i] *= base[i];
       first = false;
@@ -82,14 +83,18 @@ SF_ALWAYS_INLINE void for_each_bit(std::uint64_t mask, F f) {
 
 }  // namespace
 
-SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e, std::span<const double* const> columns,
+SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e,
+                                               std::span<const double* const> columns,
                                                std::size_t rows, std::span<double> values,
                                                std::span<double> jacobian) {
   const std::size_t np = e.parameters.size();
-  if (columns.size() != e.variables.size()) throw Error("evaluate_with_jacobian: one column per variable expected");
-  if (e.parameter_values.size() != np) throw Error("evaluate_with_jacobian: one value per parameter expected");
+  if (columns.size() != e.variables.size())
+    throw Error("evaluate_with_jacobian: one column per variable expected");
+  if (e.parameter_values.size() != np)
+    throw Error("evaluate_with_jacobian: one value per parameter expected");
   if (np > 64) throw Error("evaluate_with_jacobian: at most 64 parameters");
-  if (values.size() < rows || jacobian.size() < rows * np) throw Error("evaluate_with_jacobian: output too small");
+  if (values.size() < rows || jacobian.size() < rows * np)
+    throw Error("evaluate_with_jacobian: output too small");
   const std::size_t depth = e.nodes.size();
   thread_local std::vector<double> storage;
   storage.resize(depth * (1 + np) * kBlock);
@@ -141,22 +146,47 @@ SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e, std::span<co
           double* r = a.own;
           switch (n.op) {
             case Op::Add:
-              for (std::size_t i = 0; i < nb; ++i) { r[i] = x[i] + y[i]; ga[i] = 1; gb[i] = 1; }
+              for (std::size_t i = 0; i < nb; ++i) {
+                r[i] = x[i] + y[i];
+                ga[i] = 1;
+                gb[i] = 1;
+              }
               break;
             case Op::Sub:
-              for (std::size_t i = 0; i < nb; ++i) { r[i] = x[i] - y[i]; ga[i] = 1; gb[i] = -1; }
+              for (std::size_t i = 0; i < nb; ++i) {
+                r[i] = x[i] - y[i];
+                ga[i] = 1;
+                gb[i] = -1;
+              }
               break;
             case Op::Mul:
-              for (std::size_t i = 0; i < nb; ++i) { ga[i] = y[i]; gb[i] = x[i]; r[i] = x[i] * y[i]; }
+              for (std::size_t i = 0; i < nb; ++i) {
+                ga[i] = y[i];
+                gb[i] = x[i];
+                r[i] = x[i] * y[i];
+              }
               break;
             case Op::Div:
-              for (std::size_t i = 0; i < nb; ++i) { const double q = x[i] / y[i]; ga[i] = 1 / y[i]; gb[i] = -q / y[i]; r[i] = q; }
+              for (std::size_t i = 0; i < nb; ++i) {
+                const double q = x[i] / y[i];
+                ga[i] = 1 / y[i];
+                gb[i] = -q / y[i];
+                r[i] = q;
+              }
               break;
             case Op::Min:
-              for (std::size_t i = 0; i < nb; ++i) { ga[i] = x[i] <= y[i] ? 1 : 0; gb[i] = 1 - ga[i]; r[i] = std::fmin(x[i], y[i]); }
+              for (std::size_t i = 0; i < nb; ++i) {
+                ga[i] = x[i] <= y[i] ? 1 : 0;
+                gb[i] = 1 - ga[i];
+                r[i] = std::fmin(x[i], y[i]);
+              }
               break;
             case Op::Max:
-              for (std::size_t i = 0; i < nb; ++i) { ga[i] = x[i] >= y[i] ? 1 : 0; gb[i] = 1 - ga[i]; r[i] = std::fmax(x[i], y[i]); }
+              for (std::size_t i = 0; i < nb; ++i) {
+                ga[i] = x[i] >= y[i] ? 1 : 0;
+                gb[i] = 1 - ga[i];
+                r[i] = std::fmax(x[i], y[i]);
+              }
               break;
             default:  // pow = exp2(y log2 x)
               for (std::size_t i = 0; i < nb; ++i) {
@@ -191,7 +221,8 @@ SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e, std::span<co
           Entry& a = stack.back();
           for_each_bit(a.mask | b.mask | c.mask, [&](std::size_t j) {
             double* da = a.d + j * kBlock;
-            const bool in_a = (a.mask >> j) & 1u, in_b = (b.mask >> j) & 1u, in_c = (c.mask >> j) & 1u;
+            const bool in_a = (a.mask >> j) & 1u, in_b = (b.mask >> j) & 1u,
+                       in_c = (c.mask >> j) & 1u;
             for (std::size_t i = 0; i < nb; ++i) {
               const double pa = in_a ? da[i] * b.v[i] : 0.0;
               const double pb = in_b ? b.d[j * kBlock + i] * a.v[i] : 0.0;
@@ -212,7 +243,10 @@ SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e, std::span<co
           double g[kBlock];
           switch (n.op) {
             case Op::Neg:
-              for (std::size_t i = 0; i < nb; ++i) { r[i] = -x[i]; g[i] = -1; }
+              for (std::size_t i = 0; i < nb; ++i) {
+                r[i] = -x[i];
+                g[i] = -1;
+              }
               break;
             case Op::IPow:
               if (a.mask != 0) {
@@ -222,7 +256,10 @@ SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e, std::span<co
               ipow_block(x, k, r, nb);
               break;
             case Op::Sqrt:
-              for (std::size_t i = 0; i < nb; ++i) { r[i] = std::sqrt(x[i]); g[i] = 0.5 / r[i]; }
+              for (std::size_t i = 0; i < nb; ++i) {
+                r[i] = std::sqrt(x[i]);
+                g[i] = 0.5 / r[i];
+              }
               break;
             default:
               for (std::size_t i = 0; i < nb; ++i) {
@@ -245,8 +282,10 @@ SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e, std::span<co
     std::copy(top.v, top.v + nb, values.data() + r0);
     for (std::size_t j = 0; j < np; ++j) {
       double* out = jacobian.data() + j * rows + r0;
-      if ((top.mask >> j) & 1u) std::copy(top.d + j * kBlock, top.d + j * kBlock + nb, out);
-      else std::fill(out, out + nb, 0.0);
+      if ((top.mask >> j) & 1u)
+        std::copy(top.d + j * kBlock, top.d + j * kBlock + nb, out);
+      else
+        std::fill(out, out + nb, 0.0);
     }
   }
 }

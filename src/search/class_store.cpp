@@ -47,7 +47,8 @@ ClassStore::ClassStore(std::size_t screen_rows, std::size_t capacity, std::size_
   const std::size_t record_bytes = (capacity * sizeof(ClassRecord) + 63) / 64 * 64;
   column_arena_columns_ = capacity + capacity / 2 + 65536;
   const std::size_t column_bytes = column_arena_columns_ * rows_ * sizeof(float);
-  arena_bytes_ = (pointer_bytes + record_bytes + column_bytes + kHugePage - 1) / kHugePage * kHugePage;
+  arena_bytes_ =
+      (pointer_bytes + record_bytes + column_bytes + kHugePage - 1) / kHugePage * kHugePage;
   auto* base = static_cast<unsigned char*>(map_arena(arena_bytes_));
   arena_ = base;
   columns_ = reinterpret_cast<const float**>(base);
@@ -91,7 +92,8 @@ void ClassStore::place(std::vector<std::uint64_t>& table, std::uint32_t id) cons
   table[i] = ((hash >> 33) << 33) | (neg << 32) | (std::uint64_t{id} + 1);
 }
 
-std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats, ClassRecord record) {
+std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats,
+                                 ClassRecord record) {
   const std::uint32_t id = size_++;
   record.scale = stats.scale;
   if (stats.canonical_neg) record.flags |= ClassRecord::kCanonicalNeg;
@@ -108,7 +110,8 @@ std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats, 
   return id;
 }
 
-std::uint32_t ClassStore::insert_copy(const float* column, const ColumnStats& stats, ClassRecord record) {
+std::uint32_t ClassStore::insert_copy(const float* column, const ColumnStats& stats,
+                                      ClassRecord record) {
   float* kept = allocate_block(1);
   if (kept == nullptr) throw std::bad_alloc();
   std::copy(column, column + rows_, kept);

@@ -21,15 +21,21 @@
 namespace shaderfit::search_detail {
 
 struct ClassRecord {
-  enum Flags : std::uint8_t { kNegA = 1, kNegB = 2, kFusable = 4, kLiteral = 8, kCanonicalNeg = 16 };
+  enum Flags : std::uint8_t {
+    kNegA = 1,
+    kNegB = 2,
+    kFusable = 4,
+    kLiteral = 8,
+    kCanonicalNeg = 16
+  };
   // Trivial on purpose: the record array is allocated without being touched.
   std::uint32_t a, b;  // operand classes
   std::uint16_t cost;  // enumeration (additive) cost
   EKind kind;
-  Op op;               // Unary: the operator
-  std::int8_t k;       // IPow: exponent; Var: input index; Literal: literal index
+  Op op;          // Unary: the operator
+  std::int8_t k;  // IPow: exponent; Var: input index; Literal: literal index
   std::uint8_t flags;
-  float scale;         // root mean square of the screen column
+  float scale;  // root mean square of the screen column
 
   [[nodiscard]] bool has(Flags f) const { return (flags & f) != 0; }
 };

@@ -41,17 +41,20 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
   binary.fill(-1);
   for (Op op : {Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2, Op::Log2, Op::Exp, Op::Log, Op::Abs,
                 Op::Saturate, Op::Sin, Op::Cos}) {
-    if (has(o, op)) unary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, Node::op_node(op)}) - leaf);
+    if (has(o, op))
+      unary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, Node::op_node(op)}) - leaf);
   }
   if (has(o, Op::IPow)) {
     for (int k = 2; k <= o.max_power; ++k)
       powers.emplace_back(k, at_least_one(cost_of(o, {a, Node::ipow(k)}) - leaf));
   }
   if (has(o, Op::Add) || has(o, Op::Sub)) {
-    binary[static_cast<int>(Op::Add)] = at_least_one(cost_of(o, {a, b, Node::op_node(Op::Add)}) - 2 * leaf);
+    binary[static_cast<int>(Op::Add)] =
+        at_least_one(cost_of(o, {a, b, Node::op_node(Op::Add)}) - 2 * leaf);
   }
   for (Op op : {Op::Mul, Op::Div, Op::Min, Op::Max, Op::Pow}) {
-    if (has(o, op)) binary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, b, Node::op_node(op)}) - 2 * leaf);
+    if (has(o, op))
+      binary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, b, Node::op_node(op)}) - 2 * leaf);
   }
   if (binary[static_cast<int>(Op::Add)] >= 0 && binary[static_cast<int>(Op::Mul)] >= 0) {
     const double product = cost_of(o, {a, b, Node::op_node(Op::Mul)});
@@ -64,7 +67,8 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
 int Enumerator::Costs::literal_increment(const SearchOptions& o, Op op, double value, bool left) {
   const Node a = Node::variable(0), k = Node::constant(value);
   const double leaf_cost = cost_of(o, {a}) + cost_of(o, {k});
-  const double c = left ? cost_of(o, {k, a, Node::op_node(op)}) : cost_of(o, {a, k, Node::op_node(op)});
+  const double c =
+      left ? cost_of(o, {k, a, Node::op_node(op)}) : cost_of(o, {a, k, Node::op_node(op)});
   return at_least_one(c - leaf_cost) + static_cast<int>(cost_of(o, {k}) + 0.5);
 }
 

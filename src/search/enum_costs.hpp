@@ -18,16 +18,16 @@ namespace shaderfit::search_detail {
 
 struct LiteralGroup {
   EKind kind = EKind::AddSub;
-  int increment = 0;                  // literal cost + operator increment
-  std::vector<std::uint32_t> ids;     // literal classes
+  int increment = 0;               // literal cost + operator increment
+  std::vector<std::uint32_t> ids;  // literal classes
   Enumerator::Variant variants[2];
   int variant_count = 1;
 };
 
 struct Enumerator::Costs {
-  int leaf = 0;     // an input variable
-  int literal = 0;  // a literal constant
-  std::array<int, kOpCount> unary{};   // -1: not enumerated
+  int leaf = 0;                             // an input variable
+  int literal = 0;                          // a literal constant
+  std::array<int, kOpCount> unary{};        // -1: not enumerated
   std::vector<std::pair<int, int>> powers;  // (k, increment)
   std::array<int, kOpCount> binary{};  // by Op::Add (for AddSub), Mul, Div, Min, Max, Pow; -1: off
   int fused = -1;                      // m +- b over cost(m) + cost(b); -1: fusion saves nothing
@@ -35,8 +35,11 @@ struct Enumerator::Costs {
 
   Costs(const SearchOptions& options);
   // Increment for `op` with a literal operand (on the left when `left`).
-  [[nodiscard]] static int literal_increment(const SearchOptions& options, Op op, double literal, bool left);
-  [[nodiscard]] bool eager_fusion() const { return fused >= 0 && leaf + fused == 0 && literal + fused == 0; }
+  [[nodiscard]] static int literal_increment(const SearchOptions& options, Op op, double literal,
+                                             bool left);
+  [[nodiscard]] bool eager_fusion() const {
+    return fused >= 0 && leaf + fused == 0 && literal + fused == 0;
+  }
 };
 
 // Which unary operators give different classes for a and -a (neither odd nor even).

@@ -65,7 +65,8 @@ const float* Enumerator::full_eval(std::uint32_t id) {
   const bool unary = r.kind == EKind::Unary || r.kind == EKind::IPow;
   const float* b = unary ? nullptr : full_eval(r.b);
   float* out = scratch_column();
-  compute_column(r.kind, r.op, r.k, a, b, r.has(ClassRecord::kNegA), r.has(ClassRecord::kNegB), out, full_.n);
+  compute_column(r.kind, r.op, r.k, a, b, r.has(ClassRecord::kNegA), r.has(ClassRecord::kNegB), out,
+                 full_.n);
   return out;
 }
 
@@ -108,7 +109,8 @@ void Enumerator::consider_for_front(std::uint32_t id, const ColumnStats& stats, 
   const auto& names = ctx_.problem.input_names;
   const auto& lits = ctx_.options.literals;
   Expression e = build_class_expression(*store_, id, false, names, lits);
-  offer_scored(e, [&] { return build_class_expression(*store_, id, true, names, lits); }, loss);
+  offer_scored(
+      e, [&] { return build_class_expression(*store_, id, true, names, lits); }, loss);
 }
 
 void Enumerator::consider_fused_for_front(std::uint32_t m, const FusedBest& best, int level) {
@@ -122,8 +124,9 @@ void Enumerator::consider_fused_for_front(std::uint32_t m, const FusedBest& best
   const auto& names = ctx_.problem.input_names;
   const auto& lits = ctx_.options.literals;
   Expression e = build_fused_expression(*store_, m, leaf, best.neg_leaf, false, names, lits);
-  offer_scored(e, [&] { return build_fused_expression(*store_, m, leaf, best.neg_leaf, true, names, lits); },
-               best.loss);
+  offer_scored(
+      e, [&] { return build_fused_expression(*store_, m, leaf, best.neg_leaf, true, names, lits); },
+      best.loss);
 }
 
 // Scores e on every row with both signs and offers the better one, tidied, to the front.
@@ -142,10 +145,12 @@ void Enumerator::offer_scored(Expression e, Negated negated, float screen_loss) 
     for (double& v : f) v = -v;
   if (negate) e = negated();
   Expression tidy = simplify(e);
-  if (expression_cost(tidy, ctx_.options.cost) <= expression_cost(e, ctx_.options.cost)) e = std::move(tidy);
+  if (expression_cost(tidy, ctx_.options.cost) <= expression_cost(e, ctx_.options.cost))
+    e = std::move(tidy);
   const double cost = expression_cost(e, ctx_.options.cost);
   if (!ctx_.front.would_enter(cost, std::min(pos, neg))) return;  // every metric only for entrants
-  if (ctx_.offer(std::move(e), ctx_.metrics_of(f), "enumeration")) screen_front_.emplace_back(cost, screen_loss);
+  if (ctx_.offer(std::move(e), ctx_.metrics_of(f), "enumeration"))
+    screen_front_.emplace_back(cost, screen_loss);
 }
 
 void Enumerator::prune_elite(int level) {

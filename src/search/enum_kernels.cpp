@@ -54,7 +54,7 @@ SF_INLINE v8f vexp2(v8f x) {
   const v8f xc = select(x > 128.0f, splat(128.0f), select(x < -126.0f, splat(-126.0f), x));
   v8f r = xc + 0.5f;
   v8i n = __builtin_convertvector(r, v8i);
-  n -= (__builtin_convertvector(n, v8f) > r) & 1;  // floor
+  n -= (__builtin_convertvector(n, v8f) > r) & 1;      // floor
   const v8f f = xc - __builtin_convertvector(n, v8f);  // in [-0.5, 0.5]
   const v8f t = f * 0.69314718f;
   v8f p = splat(1.0f / 5040);
@@ -194,11 +194,16 @@ SF_KERNEL void column_key(const float* v, ColumnStats* s) {
   // Each value rounded to 10 mantissa bits (relative 1e-3), so float noise rarely changes it,
   // then two independent multiply-sum hashes over the rows.
   using v8u = std::uint32_t __attribute__((vector_size(32)));
-  const v8u q0 = (std::bit_cast<v8u>(c0) + 0x1000u) >> 13, q1 = (std::bit_cast<v8u>(c1) + 0x1000u) >> 13;
-  const v8u m0 = {0x9e3779b1u, 0x85ebca77u, 0xc2b2ae3du, 0x27d4eb2fu, 0x165667b1u, 0xd3a2646cu, 0xfd7046c5u, 0xb55a4f09u};
-  const v8u m1 = {0x7feb352du, 0x846ca68bu, 0x68e31da4u, 0xb5297a4du, 0x1b56c4e9u, 0x2c1b3c6du, 0x297a2d39u, 0x0bf58476u};
-  const v8u m2 = {0x94d049bbu, 0x133111ebu, 0xbf58476du, 0x1ce4e5b9u, 0x2545f491u, 0x4f6cdd1du, 0xff51afd7u, 0xed558ccdu};
-  const v8u m3 = {0xc4ceb9feu, 0x1a85ec53u, 0x62a9d9edu, 0x799f3cd3u, 0x8bc2e4f1u, 0xa24baed4u, 0x963fdb2bu, 0x5bd1e995u};
+  const v8u q0 = (std::bit_cast<v8u>(c0) + 0x1000u) >> 13,
+            q1 = (std::bit_cast<v8u>(c1) + 0x1000u) >> 13;
+  const v8u m0 = {0x9e3779b1u, 0x85ebca77u, 0xc2b2ae3du, 0x27d4eb2fu,
+                  0x165667b1u, 0xd3a2646cu, 0xfd7046c5u, 0xb55a4f09u};
+  const v8u m1 = {0x7feb352du, 0x846ca68bu, 0x68e31da4u, 0xb5297a4du,
+                  0x1b56c4e9u, 0x2c1b3c6du, 0x297a2d39u, 0x0bf58476u};
+  const v8u m2 = {0x94d049bbu, 0x133111ebu, 0xbf58476du, 0x1ce4e5b9u,
+                  0x2545f491u, 0x4f6cdd1du, 0xff51afd7u, 0xed558ccdu};
+  const v8u m3 = {0xc4ceb9feu, 0x1a85ec53u, 0x62a9d9edu, 0x799f3cd3u,
+                  0x8bc2e4f1u, 0xa24baed4u, 0x963fdb2bu, 0x5bd1e995u};
   const v8u h1 = q0 * (m0 | 1u) + q1 * (m1 | 1u);
   const v8u h2 = (q0 ^ (q0 >> 11)) * (m2 | 1u) + (q1 ^ (q1 >> 11)) * (m3 | 1u);
   std::uint32_t s1 = 0, s2 = 0;
@@ -333,8 +338,9 @@ FusedBest screen_fused(const float* m, const FusedScreen& fs) {
   FusedBest best;
   double best_loss = best.loss;
   for (std::size_t j = 0; j < fs.leaf_values.size(); ++j) {
-    const double smc = fs.leaf_columns[j] != nullptr ? weighted_dot(m, fs.leaf_columns[j], fs.w, fs.n)
-                                                     : static_cast<double>(fs.leaf_values[j]) * sm;
+    const double smc = fs.leaf_columns[j] != nullptr
+                           ? weighted_dot(m, fs.leaf_columns[j], fs.w, fs.n)
+                           : static_cast<double>(fs.leaf_values[j]) * sm;
     for (int b = 0; b < 2; ++b) {
       const double k = b == 0 ? fs.k_plus[j] : fs.k_minus[j];
       const double sb = b == 0 ? 1.0 : -1.0;

@@ -43,7 +43,7 @@ void compute_column(EKind kind, Op unary, int k, const float* a, const float* b,
 // The screen target: y and per-row weights, normalised so that the loss is sum w * e(row).
 struct ScreenTarget {
   const float* y = nullptr;
-  const float* w = nullptr;  // for Relative: w / y^2; for MaxAbs: 1 or 0 (row selected)
+  const float* w = nullptr;       // for Relative: w / y^2; for MaxAbs: 1 or 0 (row selected)
   const float* log2_y = nullptr;  // log2(y), for the Log loss
   double wyy = 0;                 // sum w y^2 (squared losses expand around it)
   LossKind loss = LossKind::Mse;

@@ -42,7 +42,8 @@ TEST(EnumKernels, TranscendentalsAreCloseToLibm) {
     compute_column(EKind::Unary, op, 0, in.data(), nullptr, neg, false, out.data(), kRows);
     for (std::size_t i = 0; i < kRows; ++i) {
       const double want = apply_unary(op, static_cast<double>(neg ? -in[i] : in[i]));
-      EXPECT_NEAR(out[i], want, 2e-6 * std::abs(want) + 1e-7) << op_info(op).name << "(" << in[i] << ")";
+      EXPECT_NEAR(out[i], want, 2e-6 * std::abs(want) + 1e-7)
+          << op_info(op).name << "(" << in[i] << ")";
     }
   };
   check(Op::Sqrt, pos, false);
@@ -106,7 +107,8 @@ TEST(EnumKernels, LossOfBothSignsAndValidity) {
 
 TEST(EnumKernels, FusedSumsInClosedFormMatchTheirColumns) {
   Rng rng(5);
-  const auto m = random_column(rng, -1, 1), v = random_column(rng, 0, 1), y = random_column(rng, -1, 2);
+  const auto m = random_column(rng, -1, 1), v = random_column(rng, 0, 1),
+             y = random_column(rng, -1, 2);
   std::vector<float> w(kRows, 1.0f / kRows), ly(kRows, 0.0f);
   double wyy = 0;
   for (std::size_t i = 0; i < kRows; ++i) wyy += w[i] * y[i] * y[i];

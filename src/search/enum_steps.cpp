@@ -73,14 +73,17 @@ void Enumerator::make_literal_groups() {
       const double v = o.literals[l];
       if (v == 0.0) continue;
       const bool unit = std::abs(v) == 1.0;
-      if (unit && (f.kind == EKind::Mul || (f.kind == EKind::Div && !f.left))) continue;  // a * 1, a / 1
+      if (unit && (f.kind == EKind::Mul || (f.kind == EKind::Div && !f.left)))
+        continue;  // a * 1, a / 1
       // a / c is a * (1 / c) at the same cost: skip it when 1 / c is a literal too (and products
       // are enumerated).
       if (f.kind == EKind::Div && !f.left && on(Op::Mul) &&
-          std::any_of(o.literals.begin(), o.literals.end(), [&](double u) { return std::abs(u * v) == 1.0; }))
+          std::any_of(o.literals.begin(), o.literals.end(),
+                      [&](double u) { return std::abs(u * v) == 1.0; }))
         continue;
       const int inc = Costs::literal_increment(o, f.op, v, f.left);
-      auto g = std::find_if(groups.begin(), groups.end(), [&](const LiteralGroup& x) { return x.increment == inc; });
+      auto g = std::find_if(groups.begin(), groups.end(),
+                            [&](const LiteralGroup& x) { return x.increment == inc; });
       if (g == groups.end()) {
         LiteralGroup ng;
         ng.kind = f.kind;
@@ -187,7 +190,8 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   // By the costliest operand's level (the batches need that), then smallest step first: the
   // many small steps finish early, which is where most distinct formulas per unit of work are.
   const auto work = [](const Step& x) {
-    const std::size_t pairs = x.triangular ? x.a.size() * (x.a.size() - 1) / 2 : x.a.size() * std::max<std::size_t>(x.b.size(), 1);
+    const std::size_t pairs = x.triangular ? x.a.size() * (x.a.size() - 1) / 2
+                                           : x.a.size() * std::max<std::size_t>(x.b.size(), 1);
     return pairs * static_cast<std::size_t>(x.variant_count);
   };
   std::stable_sort(steps.begin(), steps.end(), [&](const Step& x, const Step& y) {
@@ -204,21 +208,27 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
     const std::size_t na = s.a.size(), nb = s.b.size();
     if (nb == 0) {
       for (std::size_t a0 = 0; a0 < na; a0 += kUnaryTile)
-        tiles.push_back({id, static_cast<std::uint32_t>(a0), static_cast<std::uint32_t>(std::min(na, a0 + kUnaryTile)), 0, 1});
+        tiles.push_back({id, static_cast<std::uint32_t>(a0),
+                         static_cast<std::uint32_t>(std::min(na, a0 + kUnaryTile)), 0, 1});
     } else if (s.triangular) {
       for (std::size_t a0 = 0; a0 < na; a0 += kTriangleBlock) {
         for (std::size_t b0 = a0; b0 < nb; b0 += kTriangleBlock) {
-          tiles.push_back({id, static_cast<std::uint32_t>(a0), static_cast<std::uint32_t>(std::min(na, a0 + kTriangleBlock)),
-                           static_cast<std::uint32_t>(b0), static_cast<std::uint32_t>(std::min(nb, b0 + kTriangleBlock))});
+          tiles.push_back({id, static_cast<std::uint32_t>(a0),
+                           static_cast<std::uint32_t>(std::min(na, a0 + kTriangleBlock)),
+                           static_cast<std::uint32_t>(b0),
+                           static_cast<std::uint32_t>(std::min(nb, b0 + kTriangleBlock))});
         }
       }
     } else {
       const std::size_t bb = std::min<std::size_t>(nb, 256);
-      const std::size_t ba = std::max<std::size_t>(1, kPairsPerTile / (bb * static_cast<std::size_t>(s.variant_count)));
+      const std::size_t ba = std::max<std::size_t>(
+          1, kPairsPerTile / (bb * static_cast<std::size_t>(s.variant_count)));
       for (std::size_t a0 = 0; a0 < na; a0 += ba) {
         for (std::size_t b0 = 0; b0 < nb; b0 += bb) {
-          tiles.push_back({id, static_cast<std::uint32_t>(a0), static_cast<std::uint32_t>(std::min(na, a0 + ba)),
-                           static_cast<std::uint32_t>(b0), static_cast<std::uint32_t>(std::min(nb, b0 + bb))});
+          tiles.push_back({id, static_cast<std::uint32_t>(a0),
+                           static_cast<std::uint32_t>(std::min(na, a0 + ba)),
+                           static_cast<std::uint32_t>(b0),
+                           static_cast<std::uint32_t>(std::min(nb, b0 + bb))});
         }
       }
     }
@@ -233,7 +243,8 @@ void Enumerator::process_tile(int level, const Step& s, const Tile& t, TileOutpu
     if (idx < 0) return;
     const auto i = static_cast<std::size_t>(idx);
     out.fused.resize(out.records.size());
-    if (screen_sums && out.records[i].has(ClassRecord::kFusable)) out.fused[i] = screen_fused_sums(out.column(i), out);
+    if (screen_sums && out.records[i].has(ClassRecord::kFusable))
+      out.fused[i] = screen_fused_sums(out.column(i), out);
   };
   for (std::uint32_t ia = t.a0; ia < t.a1; ++ia) {
     const std::uint32_t ida = s.a[ia];
@@ -292,7 +303,8 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
     if ((v >> 32) != fp) continue;
     const std::size_t j = static_cast<std::size_t>(v & 0xffffffffu) - 1;
     const bool negate = out.stats[j].canonical_neg != st.canonical_neg;
-    if (columns_equivalent(dst, out.column(j), negate, std::max(st.scale, out.stats[j].scale), n)) return -1;
+    if (columns_equivalent(dst, out.column(j), negate, std::max(st.scale, out.stats[j].scale), n))
+      return -1;
   }
   column_loss(dst, target_, &st);  // only for candidates that are new
   if (!st.valid) return -1;
@@ -325,8 +337,8 @@ FusedBest Enumerator::screen_fused_sums(const float* m, TileOutput& out) const {
   FusedBest best;
   for (std::size_t j = 0; j < leaves; ++j) {
     for (const bool nb : {false, true}) {
-      compute_column(EKind::FusedAdd, Op::Const, 0, m, store_->column(fused_leaf_ids_[j]), false, nb,
-                     out.scratch.data(), screen_rows_);
+      compute_column(EKind::FusedAdd, Op::Const, 0, m, store_->column(fused_leaf_ids_[j]), false,
+                     nb, out.scratch.data(), screen_rows_);
       const ColumnStats st = analyze_column(out.scratch.data(), target_);
       if (!st.valid) continue;
       const float l = std::min(st.loss_pos, st.loss_neg);

@@ -14,7 +14,7 @@ struct Enumerator::TileOutput {
   // Survivors: candidates new with respect to the committed classes and to each other.
   std::vector<ClassRecord> records;
   std::vector<ColumnStats> stats;
-  std::vector<FusedBest> fused;      // the best fused sum m +- c of each product survivor
+  std::vector<FusedBest> fused;  // the best fused sum m +- c of each product survivor
   // Screen columns: survivor i's at cols[i], in blocks of kBlockColumns columns from the
   // store's arena (the merge records those of new classes where they are); then room for the
   // next candidate's column. A spent arena leaves `full` set and the tile unfinished.

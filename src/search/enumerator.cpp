@@ -12,7 +12,6 @@
 
 namespace shaderfit::search_detail {
 
-
 Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
     : ctx_(ctx), costs_(std::make_unique<Costs>(ctx.options)) {
   const SearchOptions& o = ctx.options;
@@ -23,7 +22,8 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
   // points to 2e-5 are the same function. Piecewise operators can agree on many points and
   // differ elsewhere, so with them every screen row is checked.
   bool piecewise = false;
-  for (Op op : o.operators) piecewise = piecewise || op == Op::Min || op == Op::Max || op == Op::Abs || op == Op::Saturate;
+  for (Op op : o.operators)
+    piecewise = piecewise || op == Op::Min || op == Op::Max || op == Op::Abs || op == Op::Saturate;
   store_ = std::make_unique<ClassStore>(screen_rows_, o.max_classes, piecewise ? screen_rows_ : 64);
   const std::size_t levels = static_cast<std::size_t>(std::max(o.max_enumeration_cost, 0)) + 2;
   level_ids_.resize(levels);
@@ -48,7 +48,8 @@ void Enumerator::setup_screen(Rng& rng) {
     std::vector<std::size_t> order(rows);
     for (std::size_t i = 0; i < rows; ++i) order[i] = i;
     const auto& y = ctx_.problem.target;
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return y[a] < y[b]; });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return y[a] < y[b]; });
     for (std::size_t k = 0; k < wanted; ++k) {
       const std::size_t lo = k * rows / wanted, hi = (k + 1) * rows / wanted;
       picked.push_back(order[lo + static_cast<std::size_t>(uniform_index(rng, hi - lo))]);
@@ -130,7 +131,8 @@ void Enumerator::add_leaves() {
     const ClassRecord& r = store_->record(leaf);
     const bool literal = r.kind == EKind::Literal;
     fs.leaf_columns.push_back(literal ? nullptr : store_->column(leaf));
-    fs.leaf_values.push_back(literal ? static_cast<float>(lits[static_cast<std::size_t>(r.k)]) : 0.0f);
+    fs.leaf_values.push_back(literal ? static_cast<float>(lits[static_cast<std::size_t>(r.k)])
+                                     : 0.0f);
     double kp = 0, km = 0;
     const float* c = store_->column(leaf);
     for (std::size_t i = 0; i < screen_rows_; ++i) {
@@ -218,7 +220,8 @@ void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool mater
     std::unique_lock lock(merge_mutex, std::try_to_lock);
     if (!lock.owns_lock()) return;
     std::size_t m = merged.load(std::memory_order_relaxed);
-    while (m < n && ready[m].load(std::memory_order_acquire) && !exhausted_.load(std::memory_order_relaxed)) {
+    while (m < n && ready[m].load(std::memory_order_acquire) &&
+           !exhausted_.load(std::memory_order_relaxed)) {
       merge(level, *outputs[m], materialize);
       {
         std::lock_guard pl(pool_mutex);
@@ -282,7 +285,8 @@ void Enumerator::merge(int level, TileOutput& out, bool materialize) {
     level_ids_[L].push_back(id);
     if (rec.has(ClassRecord::kFusable)) fusable_ids_[L].push_back(id);
     if (materialize) {
-      elite_levels_[L].push_back({std::min(st.loss_pos, st.loss_neg), id, st.loss_neg < st.loss_pos});
+      elite_levels_[L].push_back(
+          {std::min(st.loss_pos, st.loss_neg), id, st.loss_neg < st.loss_pos});
       continue;
     }
     consider_for_front(id, st, level);

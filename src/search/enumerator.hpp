@@ -107,7 +107,7 @@ class Enumerator {
   std::vector<std::vector<std::uint32_t>> level_ids_, fusable_ids_;
   std::vector<bool> materialized_;  // the level's fused sums are classes
   std::vector<std::uint32_t> var_ids_, literal_ids_;
-  std::vector<std::uint32_t> fused_leaf_ids_;  // inputs and nonzero literals: c of m +- c
+  std::vector<std::uint32_t> fused_leaf_ids_;            // inputs and nonzero literals: c of m +- c
   std::vector<std::pair<double, double>> screen_front_;  // (cost, screen loss) of front entries
   struct Elite {
     float loss;
@@ -115,7 +115,7 @@ class Enumerator {
     bool negate;
     bool operator<(const Elite& o) const { return loss < o.loss || (loss == o.loss && id < o.id); }
   };
-  std::vector<std::vector<Elite>> elite_levels_;  // best classes per level, for seeds()
+  std::vector<std::vector<Elite>> elite_levels_;          // best classes per level, for seeds()
   std::vector<std::unique_ptr<TileOutput>> output_pool_;  // reused across batches
   int cost_completed_ = -1;
   std::atomic<bool> exhausted_{false};  // store full or time share spent

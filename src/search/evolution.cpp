@@ -19,10 +19,14 @@ namespace {
 // An individual is scored on every row when its fit-row loss is within this factor of the
 // front's loss at its cost (the fit rows are a sample, so their loss is an estimate).
 constexpr double kFrontMargin = 1.1;
-constexpr int kFitIterations = 4;      // Levenberg-Marquardt on the fit rows, warm-started: the
-                                       // fitted values are inherited, so few steps suffice
-constexpr int kRefitIterations = 10;   // and on every row, from there, for front candidates
+constexpr int kFitIterations = 4;     // Levenberg-Marquardt on the fit rows, warm-started: the
+                                      // fitted values are inherited, so few steps suffice
+constexpr int kRefitIterations = 10;  // and on every row, from there, for front candidates
 constexpr std::size_t kMigrants = 4;
+// Near the end of the time budget, the front's fitted constants are refined on every row with a
+// full Levenberg-Marquardt run (the evolution fits a few steps on the fit rows only).
+constexpr double kPolishAt = 0.9;
+constexpr int kPolishIterations = 100;
 
 double best_at(const std::vector<std::pair<double, double>>& front, double cost) {
   double best = std::numeric_limits<double>::infinity();
@@ -38,7 +42,8 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
   limits_.variables = ctx.problem.input_names;
   limits_.operators = o.operators;
   for (Op op : o.evolution_operators)
-    if (std::find(limits_.operators.begin(), limits_.operators.end(), op) == limits_.operators.end())
+    if (std::find(limits_.operators.begin(), limits_.operators.end(), op) ==
+        limits_.operators.end())
       limits_.operators.push_back(op);
   limits_.max_power = o.max_power;
   limits_.literals = o.literals;
@@ -68,7 +73,8 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
   x.variables = {"x"};
   x.nodes = {Node::variable(0)};
   x.update_lengths();
-  scaling_cost_ = expression_cost(with_linear_scaling(x, 2.0, 1.0), o.cost) - expression_cost(x, o.cost);
+  scaling_cost_ =
+      expression_cost(with_linear_scaling(x, 2.0, 1.0), o.cost) - expression_cost(x, o.cost);
 
   const int count = o.islands > 0 ? o.islands : 4;
   for (int i = 0; i < count; ++i) islands_.push_back(Island{Rng(rng()), {}, {}, 0});
@@ -76,7 +82,8 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
 
 bool Evolution::out_of_time() const {
   return ctx_.stopped() || ctx_.elapsed() >= ctx_.options.time_limit_s ||
-         (ctx_.options.interrupt != nullptr && ctx_.options.interrupt->load(std::memory_order_relaxed));
+         (ctx_.options.interrupt != nullptr &&
+          ctx_.options.interrupt->load(std::memory_order_relaxed));
 }
 
 bool Evolution::evaluate(Individual& ind, Island& island, std::vector<double>& values) const {
@@ -133,7 +140,8 @@ Evolution::Candidate Evolution::score_on_all_rows(Expression e) const {
 }
 
 void Evolution::consider(const Individual& ind, Island& island, const Snapshot& front) const {
-  if (ind.raw_loss <= kFrontMargin * best_at(front, ind.raw_cost)) island.found.push_back(score_on_all_rows(ind.expr));
+  if (ind.raw_loss <= kFrontMargin * best_at(front, ind.raw_cost))
+    island.found.push_back(score_on_all_rows(ind.expr));
   if (ind.scaled && ind.loss <= kFrontMargin * best_at(front, ind.cost))
     island.found.push_back(score_on_all_rows(with_linear_scaling(ind.expr, ind.a, ind.b)));
 }
@@ -146,7 +154,8 @@ const Evolution::Individual& Evolution::tournament(Island& island, const std::ve
   return island.population[a_better ? a : b];
 }
 
-void Evolution::init_island(Island& island, const std::vector<Expression>& seeds, std::size_t index) {
+void Evolution::init_island(Island& island, const std::vector<Expression>& seeds,
+                            std::size_t index) {
   const std::size_t size = ctx_.options.population;
   std::vector<Expression> start;
   // This island's share of the seeds, each also with a fitted linear scaling and with its
@@ -168,7 +177,8 @@ void Evolution::init_island(Island& island, const std::vector<Expression>& seeds
     if (island.population.size() >= size) break;
     add(std::move(e));
   }
-  for (std::size_t attempts = 0; island.population.size() < size && attempts < 20 * size; ++attempts)
+  for (std::size_t attempts = 0; island.population.size() < size && attempts < 20 * size;
+       ++attempts)
     add(random_formula(island.rng, limits_, 1 + static_cast<int>(uniform_index(island.rng, 4))));
 }
 
@@ -193,9 +203,10 @@ void Evolution::generation(Island& island, const Snapshot& front) {
     if ((attempts & 15) == 15 && out_of_time()) break;
     const bool local = attempts % 4 == 3;
     const Individual& a = local ? island.population[best] : tournament(island, rank, crowd);
-    Expression child = !local && bernoulli(island.rng, 0.5)
-                           ? crossover(island.rng, a.expr, tournament(island, rank, crowd).expr, limits_)
-                           : mutate(island.rng, a.expr, limits_);
+    Expression child =
+        !local && bernoulli(island.rng, 0.5)
+            ? crossover(island.rng, a.expr, tournament(island, rank, crowd).expr, limits_)
+            : mutate(island.rng, a.expr, limits_);
     if (child.empty()) continue;
     if (bernoulli(island.rng, 0.3) && !child.empty()) child = mutate(island.rng, child, limits_);
     if (child.empty()) continue;
@@ -216,6 +227,30 @@ void Evolution::generation(Island& island, const Snapshot& front) {
   island.population = std::move(next);
 }
 
+void Evolution::polish_front() {
+  std::vector<Expression> todo;
+  for (const FrontMember& m : ctx_.front.members())
+    if (!m.expression.parameters.empty()) todo.push_back(m.expression);
+  std::vector<Candidate> done(todo.size());
+  parallel_for(
+      todo.size(), 1,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) {
+          FitOptions fo;
+          fo.max_iterations = kPolishIterations;
+          Expression x = todo[i];
+          FitProblem fp{&x, ctx_.columns, ctx_.problem.target, ctx_.problem.weights};
+          FitSummary fs;
+          fit_parameters(fo, fp, &fs);
+          x.parameter_values = fs.parameters;
+          done[i].metrics = ctx_.score(x);
+          done[i].expr = std::move(x);
+        }
+      },
+      ctx_.threads);
+  for (Candidate& c : done) ctx_.offer(std::move(c.expr), c.metrics, "evolution");
+}
+
 void Evolution::migrate() {
   const std::size_t n = islands_.size();
   if (n < 2) return;
@@ -226,7 +261,8 @@ void Evolution::migrate() {
     std::sort(best.begin(), best.end(), [](const Individual* a, const Individual* b) {
       return a->loss < b->loss || (a->loss == b->loss && a->hash < b->hash);
     });
-    for (std::size_t k = 0; k < std::min(kMigrants, best.size()); ++k) emigrants[i].push_back(*best[k]);
+    for (std::size_t k = 0; k < std::min(kMigrants, best.size()); ++k)
+      emigrants[i].push_back(*best[k]);
   }
   for (std::size_t i = 0; i < n; ++i) {
     Island& to = islands_[(i + 1) % n];
@@ -234,7 +270,8 @@ void Evolution::migrate() {
     std::vector<Objectives> obj;
     for (const Individual& ind : to.population) obj.push_back({ind.loss, ind.cost});
     std::vector<Individual> next;
-    for (std::size_t k : nsga2_select(obj, ctx_.options.population)) next.push_back(std::move(to.population[k]));
+    for (std::size_t k : nsga2_select(obj, ctx_.options.population))
+      next.push_back(std::move(to.population[k]));
     to.population = std::move(next);
   }
 }
@@ -243,17 +280,24 @@ void Evolution::run(const std::vector<Expression>& seeds) {
   std::vector<Expression> all = seeds;
   for (const FrontMember& m : ctx_.front.members()) all.insert(all.begin(), m.expression);
   const auto threads = static_cast<std::size_t>(ctx_.threads);
-  parallel_for(islands_.size(), 1, [&](std::size_t b, std::size_t e) {
-    for (std::size_t i = b; i < e; ++i) init_island(islands_[i], all, i);
-  }, static_cast<int>(threads));
+  parallel_for(
+      islands_.size(), 1,
+      [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) init_island(islands_[i], all, i);
+      },
+      static_cast<int>(threads));
+  bool polished = false;
   while (true) {
     std::uint64_t evaluated = 0;
     for (Island& is : islands_) {
       // Offered at this synchronisation point, in island order.
       for (Candidate& c : is.found) {
         Expression tidy = simplify(c.expr);
-        ctx_.offer(expression_cost(tidy, ctx_.options.cost) <= expression_cost(c.expr, ctx_.options.cost) ? tidy : c.expr,
-                   c.metrics, "evolution");
+        ctx_.offer(
+            expression_cost(tidy, ctx_.options.cost) <= expression_cost(c.expr, ctx_.options.cost)
+                ? tidy
+                : c.expr,
+            c.metrics, "evolution");
       }
       is.found.clear();
       evaluated += is.evaluated;
@@ -262,11 +306,18 @@ void Evolution::run(const std::vector<Expression>& seeds) {
     ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
     ctx_.maybe_progress("evolution");
     if (ctx_.should_stop()) break;
+    if (!polished && ctx_.elapsed() >= kPolishAt * ctx_.options.time_limit_s) {
+      polish_front();
+      polished = true;
+    }
     Snapshot front;
     for (const FrontMember& m : ctx_.front.members()) front.emplace_back(m.cost, m.loss);
-    parallel_for(islands_.size(), 1, [&](std::size_t b, std::size_t e) {
-      for (std::size_t i = b; i < e; ++i) generation(islands_[i], front);
-    }, static_cast<int>(threads));
+    parallel_for(
+        islands_.size(), 1,
+        [&](std::size_t b, std::size_t e) {
+          for (std::size_t i = b; i < e; ++i) generation(islands_[i], front);
+        },
+        static_cast<int>(threads));
     ++generations_;
     if (generations_ % static_cast<std::uint64_t>(ctx_.options.migration_interval) == 0) migrate();
   }

@@ -55,6 +55,7 @@ class Evolution {
   [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
                                              const std::vector<double>& crowd) const;
   void migrate();
+  void polish_front();
   [[nodiscard]] bool out_of_time() const;
 
   SearchContext& ctx_;

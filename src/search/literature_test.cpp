@@ -50,8 +50,8 @@ void expect_recovered(const Literature& l) {
   ASSERT_FALSE(s.front.empty());
   const FrontMember& best = s.front.back();
   EXPECT_LE(best.metrics.mse, exact) << l.name << ": " << best.formula;
-  std::printf("%s: %s (cost %g, mse %.3g) found after %.1f ms\n", l.name, best.formula.c_str(), best.cost,
-              best.metrics.mse, best.time_s * 1e3);
+  std::printf("%s: %s (cost %g, mse %.3g) found after %.1f ms\n", l.name, best.formula.c_str(),
+              best.cost, best.metrics.mse, best.time_s * 1e3);
 }
 
 TEST(Literature, Nguyen3) {
@@ -64,13 +64,20 @@ TEST(Literature, Nguyen3) {
 
 TEST(Literature, SchlickSmithMasking) {
   // Schlick's approximation of Smith masking (Karis 2013): G1(v) = v / (v (1 - k) + k).
-  expect_recovered({"Schlick-Smith G1", {"v", "k"}, {{0.01, 1}, {0.01, 1}}, 1000,
-                    [](const std::vector<double>& a) { return a[0] / (a[0] * (1 - a[1]) + a[1]); }});
+  expect_recovered(
+      {"Schlick-Smith G1",
+       {"v", "k"},
+       {{0.01, 1}, {0.01, 1}},
+       1000,
+       [](const std::vector<double>& a) { return a[0] / (a[0] * (1 - a[1]) + a[1]); }});
 }
 
 TEST(Literature, FeynmanThinLens) {
   // AI Feynman I.27.6 (Udrescu & Tegmark 2020): f = 1 / (1/d1 + n/d2), inputs in U[1, 5].
-  expect_recovered({"Feynman I.27.6", {"d1", "d2", "n"}, {{1, 5}, {1, 5}, {1, 5}}, 1000,
+  expect_recovered({"Feynman I.27.6",
+                    {"d1", "d2", "n"},
+                    {{1, 5}, {1, 5}, {1, 5}},
+                    1000,
                     [](const std::vector<double>& a) { return 1 / (1 / a[0] + a[2] / a[1]); }});
 }
 

@@ -79,7 +79,8 @@ double loss_value(LossKind kind, const LossMetrics& m) {
 
 double loss_of(LossKind kind, std::span<const double> prediction, std::span<const double> target,
                std::span<const double> weights) {
-  if (kind == LossKind::Relative || kind == LossKind::Log) return loss_value(kind, loss_metrics(prediction, target, weights));
+  if (kind == LossKind::Relative || kind == LossKind::Log)
+    return loss_value(kind, loss_metrics(prediction, target, weights));
   double sw = 0, se = 0, mx = 0;
   for (std::size_t i = 0; i < target.size(); ++i) {
     const double w = weights.empty() ? 1.0 : weights[i];

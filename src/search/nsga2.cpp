@@ -28,8 +28,10 @@ void rank_and_crowding(const std::vector<Objectives>& p, std::vector<int>* rank_
   for (std::size_t i = 0; i < n; ++i) {
     for (std::size_t j = 0; j < n; ++j) {
       if (i == j) continue;
-      if (dominates(p[i], p[j])) dominated[i].push_back(j);
-      else if (dominates(p[j], p[i])) ++count[i];
+      if (dominates(p[i], p[j]))
+        dominated[i].push_back(j);
+      else if (dominates(p[j], p[i]))
+        ++count[i];
     }
     if (count[i] == 0) front.push_back(i);
   }
@@ -39,11 +41,14 @@ void rank_and_crowding(const std::vector<Objectives>& p, std::vector<int>* rank_
     for (int obj = 0; obj < 2; ++obj) {
       auto key = [&](std::size_t i) { return obj == 0 ? p[i].loss : p[i].cost; };
       std::vector<std::size_t> f = front;
-      std::sort(f.begin(), f.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b) || (key(a) == key(b) && a < b); });
+      std::sort(f.begin(), f.end(), [&](std::size_t a, std::size_t b) {
+        return key(a) < key(b) || (key(a) == key(b) && a < b);
+      });
       const double range = key(f.back()) - key(f.front());
       crowd[f.front()] = crowd[f.back()] = std::numeric_limits<double>::infinity();
       if (!(range > 0)) continue;
-      for (std::size_t k = 1; k + 1 < f.size(); ++k) crowd[f[k]] += (key(f[k + 1]) - key(f[k - 1])) / range;
+      for (std::size_t k = 1; k + 1 < f.size(); ++k)
+        crowd[f[k]] += (key(f[k + 1]) - key(f[k - 1])) / range;
     }
     std::vector<std::size_t> next;
     for (std::size_t i : front)

@@ -19,20 +19,30 @@ TEST(SearchOptions, InvalidValuesSayWhy) {
     EXPECT_FALSE(o.is_valid(&why));
     return why;
   };
-  EXPECT_NE(reason([](SearchOptions& o) { o.time_limit_s = 0; }).find("time budget"), std::string::npos);
-  EXPECT_NE(reason([](SearchOptions& o) { o.time_limit_s = -1; }).find("time budget"), std::string::npos);
-  EXPECT_NE(reason([](SearchOptions& o) { o.max_candidates = 0; }).find("evaluation budget"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.time_limit_s = 0; }).find("time budget"),
+            std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.time_limit_s = -1; }).find("time budget"),
+            std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.max_candidates = 0; }).find("evaluation budget"),
+            std::string::npos);
   EXPECT_NE(reason([](SearchOptions& o) { o.threads = -2; }).find("threads"), std::string::npos);
-  EXPECT_NE(reason([](SearchOptions& o) { o.operators.clear(); }).find("operators"), std::string::npos);
-  EXPECT_NE(reason([](SearchOptions& o) { o.operators = {Op::Fma}; }).find("fma"), std::string::npos);
-  EXPECT_NE(reason([](SearchOptions& o) { o.max_power = 17; }).find("max_power"), std::string::npos);
-  EXPECT_NE(reason([](SearchOptions& o) { o.screen_rows = 100; }).find("screen_rows"), std::string::npos);
-  EXPECT_NE(reason([](SearchOptions& o) { o.population = 2; }).find("population"), std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.operators.clear(); }).find("operators"),
+            std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.operators = {Op::Fma}; }).find("fma"),
+            std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.max_power = 17; }).find("max_power"),
+            std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.screen_rows = 100; }).find("screen_rows"),
+            std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.population = 2; }).find("population"),
+            std::string::npos);
 }
 
 TEST(SearchOptions, OperatorLists) {
-  EXPECT_EQ(parse_operator_list("+,-,*,/,^"), (std::vector<Op>{Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow}));
-  EXPECT_EQ(parse_operator_list("add, mul ,sqrt,exp2,pow"), (std::vector<Op>{Op::Add, Op::Mul, Op::Sqrt, Op::Exp2, Op::Pow}));
+  EXPECT_EQ(parse_operator_list("+,-,*,/,^"),
+            (std::vector<Op>{Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow}));
+  EXPECT_EQ(parse_operator_list("add, mul ,sqrt,exp2,pow"),
+            (std::vector<Op>{Op::Add, Op::Mul, Op::Sqrt, Op::Exp2, Op::Pow}));
   EXPECT_EQ(operator_list_name({Op::Add, Op::IPow, Op::Sqrt}), "+,^,sqrt");
   try {
     parse_operator_list("+,frobnicate");
@@ -117,8 +127,10 @@ namespace shaderfit {
 namespace {
 
 TEST(Loss, LossOfAgreesWithTheMetrics) {
-  const std::vector<double> p = {1.0, 2.5, 4.0, 0.5}, t = {1.5, 1.0, 2.0, 0.25}, w = {1.0, 0.0, 2.0, 1.0};
-  for (LossKind k : {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
+  const std::vector<double> p = {1.0, 2.5, 4.0, 0.5}, t = {1.5, 1.0, 2.0, 0.25},
+                            w = {1.0, 0.0, 2.0, 1.0};
+  for (LossKind k :
+       {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
     EXPECT_DOUBLE_EQ(loss_of(k, p, t), loss_value(k, loss_metrics(p, t))) << loss_name(k);
     EXPECT_DOUBLE_EQ(loss_of(k, p, t, w), loss_value(k, loss_metrics(p, t, w))) << loss_name(k);
   }

@@ -12,9 +12,10 @@ namespace shaderfit {
 
 namespace {
 
-constexpr Op kSearchable[] = {Op::Add,  Op::Sub,  Op::Mul,      Op::Div, Op::IPow, Op::Sqrt, Op::Rsqrt,
-                              Op::Rcp,  Op::Exp2, Op::Log2,     Op::Exp, Op::Log,  Op::Abs,  Op::Saturate,
-                              Op::Sin,  Op::Cos,  Op::Min,      Op::Max, Op::Pow};
+constexpr Op kSearchable[] = {Op::Add,  Op::Sub,   Op::Mul, Op::Div,      Op::IPow,
+                              Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2,     Op::Log2,
+                              Op::Exp,  Op::Log,   Op::Abs, Op::Saturate, Op::Sin,
+                              Op::Cos,  Op::Min,   Op::Max, Op::Pow};
 
 std::string_view list_name(Op op) {
   switch (op) {
@@ -36,28 +37,34 @@ std::string known_operators() {
 
 void SearchProblem::validate() const {
   const SourceLocation where{"data"};
-  if (inputs.empty() || input_names.empty()) throw Error("the search needs at least one input", where);
+  if (inputs.empty() || input_names.empty())
+    throw Error("the search needs at least one input", where);
   if (inputs.size() != input_names.size())
     throw Error("got " + std::to_string(input_names.size()) + " input names but " +
-                std::to_string(inputs.size()) + " input columns", where);
+                    std::to_string(inputs.size()) + " input columns",
+                where);
   std::set<std::string> seen;
   for (const auto& n : input_names)
     if (!seen.insert(n).second) throw Error("input '" + n + "' is given twice", where);
   const std::size_t rows = target.size();
   if (rows < 2)
     throw Error("the data has " + std::to_string(rows) + " row" + (rows == 1 ? "" : "s") +
-                "; a search needs at least 2", where);
+                    "; a search needs at least 2",
+                where);
   for (std::size_t i = 0; i < inputs.size(); ++i) {
     if (inputs[i].size() != rows)
       throw Error("input '" + input_names[i] + "' has " + std::to_string(inputs[i].size()) +
-                  " rows but the target has " + std::to_string(rows), where);
+                      " rows but the target has " + std::to_string(rows),
+                  where);
     for (double v : inputs[i])
-      if (!std::isfinite(v)) throw Error("input '" + input_names[i] + "' holds a NaN or infinite value", where);
+      if (!std::isfinite(v))
+        throw Error("input '" + input_names[i] + "' holds a NaN or infinite value", where);
   }
   for (double v : target)
     if (!std::isfinite(v)) throw Error("the target holds a NaN or infinite value", where);
   if (!weights.empty()) {
-    if (weights.size() != rows) throw Error("the weights have a different number of rows than the target", where);
+    if (weights.size() != rows)
+      throw Error("the weights have a different number of rows than the target", where);
     double sum = 0;
     for (double w : weights) {
       if (!(w >= 0) || !std::isfinite(w)) throw Error("weights must be finite and >= 0", where);
@@ -87,11 +94,13 @@ bool SearchOptions::is_valid(std::string* why) const {
   if (literals.size() > 100) return fail("at most 100 literal constants");
   for (double v : literals)
     if (!std::isfinite(v)) return fail("literal constants must be finite");
-  if (screen_rows < 16 || screen_rows % 8 != 0) return fail("screen_rows must be a multiple of 8, at least 16");
+  if (screen_rows < 16 || screen_rows % 8 != 0)
+    return fail("screen_rows must be a multiple of 8, at least 16");
   if (max_classes < 1024) return fail("max_classes must be at least 1024");
   if (!(max_enumeration_share >= 0 && max_enumeration_share <= 1))
     return fail("max_enumeration_share must be in [0, 1]");
-  if (max_enumeration_cost < 0 || max_enumeration_cost > 60) return fail("max_enumeration_cost must be in [0, 60]");
+  if (max_enumeration_cost < 0 || max_enumeration_cost > 60)
+    return fail("max_enumeration_cost must be in [0, 60]");
   if (max_nodes < 1) return fail("max_nodes must be at least 1");
   if (population < 4) return fail("population must be at least 4");
   if (islands < 1) return fail("islands must be at least 1");
@@ -114,14 +123,21 @@ std::vector<Op> parse_operator_list(std::string_view list, const SourceLocation&
     pos = end + 1;
     if (name.empty()) continue;
     Op op = Op::Count_;
-    if (name == "^" || name == "ipow") op = Op::IPow;
-    else if (name == "add") op = Op::Add;
-    else if (name == "sub") op = Op::Sub;
-    else if (name == "mul") op = Op::Mul;
-    else if (name == "div") op = Op::Div;
-    else op = op_from_name(name);
+    if (name == "^" || name == "ipow")
+      op = Op::IPow;
+    else if (name == "add")
+      op = Op::Add;
+    else if (name == "sub")
+      op = Op::Sub;
+    else if (name == "mul")
+      op = Op::Mul;
+    else if (name == "div")
+      op = Op::Div;
+    else
+      op = op_from_name(name);
     if (std::find(std::begin(kSearchable), std::end(kSearchable), op) == std::end(kSearchable)) {
-      throw Error("unknown operator '" + std::string(name) + "' (known: " + known_operators() + ")", where);
+      throw Error("unknown operator '" + std::string(name) + "' (known: " + known_operators() + ")",
+                  where);
     }
     if (std::find(ops.begin(), ops.end(), op) == ops.end()) ops.push_back(op);
   }
@@ -138,7 +154,8 @@ std::string operator_list_name(const std::vector<Op>& ops) {
   return s;
 }
 
-void run_search(const SearchOptions& options, const SearchProblem& problem, SearchSummary* summary) {
+void run_search(const SearchOptions& options, const SearchProblem& problem,
+                SearchSummary* summary) {
   problem.validate();
   std::string why;
   if (!options.is_valid(&why)) throw Error(why, {"options"});

@@ -15,8 +15,9 @@ SearchContext::SearchContext(const SearchOptions& opts, const SearchProblem& pro
       start_(std::chrono::steady_clock::now()) {
   for (const auto& c : problem.inputs) columns.push_back(c.data());
   rows = problem.target.size();
-  threads = options.threads > 0 ? options.threads
-                                : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  threads = options.threads > 0
+                ? options.threads
+                : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
 double SearchContext::elapsed() const {
@@ -40,9 +41,8 @@ bool SearchContext::should_stop() {
     stop("interrupted");
   } else if (elapsed() >= options.time_limit_s) {
     stop("time limit");
-  } else if (options.max_candidates &&
-             candidates.load(std::memory_order_relaxed) >=
-                 static_cast<std::uint64_t>(*options.max_candidates)) {
+  } else if (options.max_candidates && candidates.load(std::memory_order_relaxed) >=
+                                           static_cast<std::uint64_t>(*options.max_candidates)) {
     stop("candidate limit");
   }
   return stopped();

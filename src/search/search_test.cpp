@@ -57,8 +57,8 @@ TEST(Search, EnumerationReachesTheSeedFormula) {
   ASSERT_NE(m, nullptr);
   EXPECT_LE(m->metrics.mse, target_mse * (1 + 1e-9)) << m->formula;
   EXPECT_EQ(s.termination, "target reached");
-  std::printf("seed target: %s (mse %.4g, cost %g) after %.1f ms\n", m->formula.c_str(), m->metrics.mse,
-              m->cost, m->time_s * 1e3);
+  std::printf("seed target: %s (mse %.4g, cost %g) after %.1f ms\n", m->formula.c_str(),
+              m->metrics.mse, m->cost, m->time_s * 1e3);
   // Schlick's formula (cost 5) is dominated: a member no worse in both error and cost.
   const double schlick = mse_of("r0 + (1 - r0) * x^5", p);
   EXPECT_LT(m->metrics.mse, schlick);
@@ -67,10 +67,10 @@ TEST(Search, EnumerationReachesTheSeedFormula) {
 SearchOptions small_budget(int threads) {
   SearchOptions o;
   o.threads = threads;
-  o.time_limit_s = 600;          // counts stop it, never the clock
-  o.max_enumeration_cost = 2;    // the enumeration ends by its level cap
+  o.time_limit_s = 600;        // counts stop it, never the clock
+  o.max_enumeration_cost = 2;  // the enumeration ends by its level cap
   o.max_enumeration_share = 1.0;
-  o.max_candidates = 8000;       // the evolution by the candidate budget
+  o.max_candidates = 8000;  // the evolution by the candidate budget
   o.population = 32;
   o.seed = 7;
   return o;
@@ -147,7 +147,8 @@ TEST(Search, InterruptReturnsTheFrontSoFar) {
 
 TEST(Search, EveryLossRuns) {
   const SearchProblem p = seed_problem();
-  for (LossKind k : {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
+  for (LossKind k :
+       {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
     SearchOptions o;
     o.loss = k;
     o.evolve = false;

@@ -52,9 +52,14 @@ Nodes fold_parameter_subtrees(const Nodes& in) {
     }
     double value = n.value;
     if (constant && a > 0) {
-      if (a == 1) value = n.op == Op::Neg ? -kids[0].value : (n.op == Op::IPow ? apply_ipow(kids[0].value, n.index) : apply_unary(n.op, kids[0].value));
-      else if (a == 2) value = apply_binary(n.op, kids[0].value, kids[1].value);
-      else value = apply_fma(kids[0].value, kids[1].value, kids[2].value);
+      if (a == 1)
+        value = n.op == Op::Neg ? -kids[0].value
+                                : (n.op == Op::IPow ? apply_ipow(kids[0].value, n.index)
+                                                    : apply_unary(n.op, kids[0].value));
+      else if (a == 2)
+        value = apply_binary(n.op, kids[0].value, kids[1].value);
+      else
+        value = apply_fma(kids[0].value, kids[1].value, kids[2].value);
     }
     if (constant && has_param && a > 0 && std::isfinite(value)) {
       out.resize(start);
@@ -98,11 +103,13 @@ Nodes splice(const Nodes& n, std::size_t i, const Nodes& with) {
 }
 
 Nodes subtree_of(const Nodes& n, std::size_t i) {
-  return Nodes(n.begin() + static_cast<std::ptrdiff_t>(subtree_start(n, i)), n.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+  return Nodes(n.begin() + static_cast<std::ptrdiff_t>(subtree_start(n, i)),
+               n.begin() + static_cast<std::ptrdiff_t>(i) + 1);
 }
 
 int count_params(const Nodes& n) {
-  return static_cast<int>(std::count_if(n.begin(), n.end(), [](const Node& x) { return x.op == Op::Param; }));
+  return static_cast<int>(
+      std::count_if(n.begin(), n.end(), [](const Node& x) { return x.op == Op::Param; }));
 }
 
 Node random_leaf(Rng& rng, const VariationLimits& l, bool allow_param) {
@@ -119,7 +126,9 @@ Node random_op(Rng& rng, const VariationLimits& l, int want_arity = -1) {
     if (want_arity < 0 || arity(op) == want_arity) pool.push_back(op);
   if (pool.empty()) return Node::op_node(Op::Count_);
   const Op op = pool[uniform_index(rng, pool.size())];
-  if (op == Op::IPow) return Node::ipow(2 + static_cast<int>(uniform_index(rng, static_cast<std::uint64_t>(l.max_power - 1))));
+  if (op == Op::IPow)
+    return Node::ipow(
+        2 + static_cast<int>(uniform_index(rng, static_cast<std::uint64_t>(l.max_power - 1))));
   return Node::op_node(op);
 }
 
@@ -216,8 +225,10 @@ Expression mutate(Rng& rng, const Expression& e, const VariationLimits& l) {
       Nodes t = subtree_of(n, i);
       if (arity(op.op) == 2) {
         Nodes leaf{random_leaf(rng, l, room_for_param)};
-        if (bernoulli(rng, 0.5)) t.insert(t.end(), leaf.begin(), leaf.end());
-        else t.insert(t.begin(), leaf.begin(), leaf.end());
+        if (bernoulli(rng, 0.5))
+          t.insert(t.end(), leaf.begin(), leaf.end());
+        else
+          t.insert(t.begin(), leaf.begin(), leaf.end());
       } else if (arity(op.op) == 3) {
         break;
       }

@@ -30,7 +30,8 @@ Expression random_formula(Rng& rng, const VariationLimits& limits, int depth);
 Expression mutate(Rng& rng, const Expression& e, const VariationLimits& limits);
 
 // Subtree crossover: a random subtree of `a` replaced by a random subtree of `b`.
-Expression crossover(Rng& rng, const Expression& a, const Expression& b, const VariationLimits& limits);
+Expression crossover(Rng& rng, const Expression& a, const Expression& b,
+                     const VariationLimits& limits);
 
 // The formula with its Param nodes renumbered in order of appearance and unused parameters
 // dropped; empty when there are more than limits.max_parameters or more than max_nodes nodes.

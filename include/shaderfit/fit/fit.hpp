@@ -24,11 +24,13 @@
 namespace shaderfit {
 
 struct FitOptions {
-  int max_iterations = 50;            // Levenberg-Marquardt iterations
-  double function_tolerance = 1e-10;  // stop when a step lowers the cost by less than this, relatively
-  double parameter_tolerance = 1e-10; // stop when a step moves the parameters by less than this, relatively
-  double initial_lambda = 1e-3;       // damping, relative to the diagonal of J^T J
-  bool use_linear_solver = true;      // solve formulas linear in their parameters directly
+  int max_iterations = 50;  // Levenberg-Marquardt iterations
+  double function_tolerance =
+      1e-10;  // stop when a step lowers the cost by less than this, relatively
+  double parameter_tolerance =
+      1e-10;  // stop when a step moves the parameters by less than this, relatively
+  double initial_lambda = 1e-3;   // damping, relative to the diagonal of J^T J
+  bool use_linear_solver = true;  // solve formulas linear in their parameters directly
 
   // False, with the reason in *why, for max_iterations < 1 or a tolerance or lambda <= 0.
   bool is_valid(std::string* why) const;
@@ -46,8 +48,8 @@ struct FitSummary {
   double initial_cost = 0;         // weighted mean squared error at the start
   double final_cost = 0;           // and at `parameters`
   int iterations = 0;
-  bool linear = false;             // solved by linear least squares
-  std::string termination;         // "linear", "function tolerance", "parameter tolerance", ...
+  bool linear = false;      // solved by linear least squares
+  std::string termination;  // "linear", "function tolerance", "parameter tolerance", ...
 
   [[nodiscard]] std::string brief_report() const;
 };

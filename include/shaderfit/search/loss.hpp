@@ -41,7 +41,8 @@ LossMetrics loss_metrics(std::span<const double> prediction, std::span<const dou
 // The metric that `kind` minimises.
 double loss_value(LossKind kind, const LossMetrics& m);
 
-// That metric alone, computed directly: loss_of(k, p, t, w) == loss_value(k, loss_metrics(p, t, w)).
+// That metric alone, computed directly: loss_of(k, p, t, w) == loss_value(k, loss_metrics(p, t,
+// w)).
 double loss_of(LossKind kind, std::span<const double> prediction, std::span<const double> target,
                std::span<const double> weights = {});
 

@@ -14,9 +14,9 @@ namespace shaderfit {
 
 // What the JSON says about the data, besides what the options and summary hold.
 struct SearchDataInfo {
-  std::string source;        // "data.csv" or "fresnel-seed (seed 1)"
-  std::string target;        // the target column's name
-  double load_time_s = 0;    // reading or generating the data, before the search's clock
+  std::string source;      // "data.csv" or "fresnel-seed (seed 1)"
+  std::string target;      // the target column's name
+  double load_time_s = 0;  // reading or generating the data, before the search's clock
   std::size_t rows = 0;
   std::vector<std::string> inputs;
 };

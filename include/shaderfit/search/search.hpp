@@ -98,20 +98,21 @@ struct SearchOptions {
   // Enumeration. `screen_rows` random rows are cached per distinct candidate (float32) and used
   // to deduplicate and to screen; candidates that pass are scored on every row.
   bool enumerate = true;
-  std::size_t screen_rows = 64;        // multiple of 8, >= 16; stratified by the target
-  std::size_t max_classes = 1'500'000; // distinct candidates kept (memory: screen_rows * 4 bytes each)
+  std::size_t screen_rows = 64;  // multiple of 8, >= 16; stratified by the target
+  std::size_t max_classes =
+      1'500'000;  // distinct candidates kept (memory: screen_rows * 4 bytes each)
   double max_enumeration_share = 0.1;  // fraction of the time limit the enumeration may use
   int max_enumeration_cost = 12;       // highest cost level enumerated
 
   // Evolution (island-model NSGA-II).
   bool evolve = true;
-  std::size_t max_nodes = 25;       // largest formula, in nodes
-  std::size_t population = 128;     // per island
-  int islands = 4;                  // sub-populations; fixed, so results do not depend on threads
-  int migration_interval = 10;      // generations between migrations (ring topology)
-  int max_parameters = 4;           // free constants per formula
-  std::size_t fit_rows = 256;       // rows used to fit constants and rank individuals
-  bool linear_scaling = true;       // also try a * f + b for each formula (closed form)
+  std::size_t max_nodes = 25;    // largest formula, in nodes
+  std::size_t population = 128;  // per island
+  int islands = 4;               // sub-populations; fixed, so results do not depend on threads
+  int migration_interval = 10;   // generations between migrations (ring topology)
+  int max_parameters = 5;        // free constants per formula
+  std::size_t fit_rows = 256;    // rows used to fit constants and rank individuals
+  bool linear_scaling = true;    // also try a * f + b for each formula (closed form)
 
   // Called on the thread that found it, one call at a time, for each new front member.
   std::function<void(const FrontMember&)> on_new_member;
@@ -123,9 +124,9 @@ struct SearchOptions {
   const std::atomic<bool>* interrupt = nullptr;
 
   // False, with the reason in *why, for: a time limit <= 0 or not finite, max_candidates <= 0,
-  // threads < 0, no operators, a leaf or unsupported operator (in either list), max_power outside [2, 16], a
-  // non-finite literal, screen_rows not a multiple of 8 or < 16, max_nodes < 1, population < 4,
-  // islands < 0, migration_interval < 1, max_parameters < 0, fit_rows < 8.
+  // threads < 0, no operators, a leaf or unsupported operator (in either list), max_power outside
+  // [2, 16], a non-finite literal, screen_rows not a multiple of 8 or < 16, max_nodes < 1,
+  // population < 4, islands < 0, migration_interval < 1, max_parameters < 0, fit_rows < 8.
   bool is_valid(std::string* why) const;
 };
 
@@ -134,12 +135,13 @@ struct SearchSummary {
   double total_time_s = 0;
   double enumeration_time_s = 0;
   double evolution_time_s = 0;
-  std::uint64_t candidates = 0;        // formulas evaluated (screened or fully)
-  std::uint64_t node_evaluations = 0;  // operator applications times rows
+  std::uint64_t candidates = 0;           // formulas evaluated (screened or fully)
+  std::uint64_t node_evaluations = 0;     // operator applications times rows
   std::uint64_t distinct_candidates = 0;  // enumeration classes kept
-  int enumeration_cost_completed = -1;     // every formula up to this cost was enumerated
+  int enumeration_cost_completed = -1;    // every formula up to this cost was enumerated
   std::uint64_t generations = 0;
-  std::string termination;  // "time limit", "candidate limit", "target reached", "interrupted", "done"
+  std::string
+      termination;  // "time limit", "candidate limit", "target reached", "interrupted", "done"
   bool interrupted = false;
 
   // A few lines: termination, times, counts, and the front as a table.
