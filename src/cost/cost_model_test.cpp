@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/expr/parse.hpp"
 
 namespace shaderfit {
@@ -45,7 +46,7 @@ TEST(CostModel, FusionNegationAndSharing) {
   EXPECT_EQ(instructions("1 - r0 * x"), 1);
   EXPECT_EQ(instructions("-(r0 * x)"), 1);
   EXPECT_EQ(instructions("1 - r0"), 1);
-  EXPECT_EQ(instructions("-r0"), 0);
+  EXPECT_EQ(instructions("-r0"), 1);  // a negated input alone still needs an instruction
   EXPECT_EQ(instructions("r0 * x + x * r0"), 2);  // shared product: FMA reusing it, or mul + add
   EXPECT_EQ(instructions("r0 * x + r0 * r0 + x"), 3);  // no reassociation: fma + mul + add
   EXPECT_EQ(instructions("(x + r0) * (x + r0)"), 2);
@@ -67,6 +68,19 @@ TEST(CostModel, DivisionAndTranscendentals) {
   EXPECT_EQ(instructions("min(x, r0) + max(x, r0)"), 3);
   EXPECT_EQ(instructions("fma(x, r0, 1)"), 1);
   EXPECT_EQ(instructions("p * x + q"), 1);  // parameters are free operands
+  EXPECT_EQ(instructions("sin(x)"), 2);      // range reduction (FMUL) + MUFU.SIN
+}
+
+TEST(CostModel, InstructionsIsTheSassCount) {
+  ParseOptions opts;
+  opts.variables = {"r0", "x"};
+  for (const char* f : {"r0 + (x - r0) * x^4", "x / (r0 + 1)", "pow(x, r0) * exp(x) - log2(r0)",
+                        "min(x, sqrt(r0)) + cos(x) * x^3"}) {
+    const Expression e = parse_formula(f, opts);
+    EXPECT_EQ(expression_cost(e, CostTarget::Instructions),
+              instruction_count(e, InstructionTarget::Sass))
+        << f;
+  }
 }
 
 TEST(CostModel, NodesIsTheSizeOfThePostfixArray) {

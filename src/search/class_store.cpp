@@ -110,6 +110,27 @@ std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats,
   return id;
 }
 
+void ClassStore::improve(std::uint32_t id, const float* column, const ColumnStats& stats,
+                         ClassRecord record) {
+  record.scale = stats.scale;
+  record.flags &= static_cast<std::uint8_t>(~ClassRecord::kCanonicalNeg);
+  if (stats.canonical_neg) record.flags |= ClassRecord::kCanonicalNeg;
+  const bool sign_changed =
+      records_[id].has(ClassRecord::kCanonicalNeg) != record.has(ClassRecord::kCanonicalNeg);
+  records_[id] = record;
+  columns_[id] = column;
+  if (!sign_changed) return;
+  // The slot records the stored column's canonical sign: flip it.
+  std::vector<std::uint64_t>& table = id >= committed_ ? pending_table_ : committed_table_;
+  const std::size_t mask = table.size() - 1;
+  for (std::size_t i = hashes_[id] & mask;; i = (i + 1) & mask) {
+    if ((table[i] & 0xffffffffu) == std::uint64_t{id} + 1) {
+      table[i] ^= std::uint64_t{1} << 32;
+      return;
+    }
+  }
+}
+
 std::uint32_t ClassStore::insert_copy(const float* column, const ColumnStats& stats,
                                       ClassRecord record) {
   float* kept = allocate_block(1);

@@ -66,6 +66,11 @@ class ClassStore {
   // `column` must be in a block from allocate_block (insert_copy copies it into one).
   std::uint32_t insert(const float* column, const ColumnStats& stats, ClassRecord record);
   std::uint32_t insert_copy(const float* column, const ColumnStats& stats, ClassRecord record);
+  // Gives class `id` a cheaper recipe `record` whose column (`column`, in an arena block) is
+  // equivalent to its own up to sign. A pending class: merging thread, during the batch; a
+  // committed one: only between batches (workers read committed records and columns).
+  void improve(std::uint32_t id, const float* column, const ColumnStats& stats,
+               ClassRecord record);
   // Room for `columns` columns in the arena, or null when it is spent. Thread-safe.
   float* allocate_block(std::size_t columns);
   // Ends a batch: the pending classes become committed. No batch may be running.

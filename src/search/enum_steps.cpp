@@ -106,6 +106,8 @@ void Enumerator::make_literal_groups() {
 std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   const Costs& c = *costs_;
   std::vector<Step> steps;
+  Step proto;
+  proto.level = level;
   const auto at = [&](int cost) -> std::span<const std::uint32_t> {
     if (cost < 0 || cost >= level) return {};
     return level_ids_[static_cast<std::size_t>(cost)];
@@ -113,7 +115,7 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   for (int o = 0; o < kOpCount; ++o) {
     const int d = c.unary[static_cast<std::size_t>(o)];
     if (d < 0 || at(level - d).empty()) continue;
-    Step s;
+    Step s = proto;
     s.kind = EKind::Unary;
     s.op = static_cast<Op>(o);
     s.a = at(level - d);
@@ -128,7 +130,7 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   }
   for (const auto& [k, d] : c.powers) {
     if (at(level - d).empty()) continue;
-    Step s;
+    Step s = proto;
     s.kind = EKind::IPow;
     s.k = k;
     s.a = at(level - d);
@@ -145,7 +147,7 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
     for (int i = 0; 2 * i <= total; ++i) {
       const int j = total - i;
       if (at(i).empty() || at(j).empty()) continue;
-      Step s;
+      Step s = proto;
       s.kind = kind;
       s.a = at(i);
       s.b = at(j);
@@ -157,7 +159,7 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   }
   for (const LiteralGroup& g : c.literal_groups) {
     if (at(level - g.increment).empty()) continue;
-    Step s;
+    Step s = proto;
     s.kind = g.kind;
     s.a = at(level - g.increment);
     s.b = g.ids;
@@ -171,7 +173,7 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
     for (int m = 1; m < level; ++m) {
       std::span<const std::uint32_t> products = fusable_ids_[static_cast<std::size_t>(m)];
       if (products.empty()) continue;
-      Step s;
+      Step s = proto;
       s.kind = EKind::FusedAdd;
       s.a = products;
       s.variant_count = pair_variants(EKind::FusedAdd, s.variants);
@@ -200,7 +202,8 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   return steps;
 }
 
-std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& steps) const {
+std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& steps, int level,
+                                                     std::size_t* head) const {
   std::vector<Tile> tiles;
   for (std::size_t si = 0; si < steps.size(); ++si) {
     const Step& s = steps[si];
@@ -210,21 +213,20 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
       for (std::size_t a0 = 0; a0 < na; a0 += kUnaryTile)
         tiles.push_back({id, static_cast<std::uint32_t>(a0),
                          static_cast<std::uint32_t>(std::min(na, a0 + kUnaryTile)), 0, 1});
-    } else if (s.triangular) {
-      for (std::size_t a0 = 0; a0 < na; a0 += kTriangleBlock) {
-        for (std::size_t b0 = a0; b0 < nb; b0 += kTriangleBlock) {
-          tiles.push_back({id, static_cast<std::uint32_t>(a0),
-                           static_cast<std::uint32_t>(std::min(na, a0 + kTriangleBlock)),
-                           static_cast<std::uint32_t>(b0),
-                           static_cast<std::uint32_t>(std::min(nb, b0 + kTriangleBlock))});
-        }
-      }
     } else {
-      const std::size_t bb = std::min<std::size_t>(nb, 256);
-      const std::size_t ba = std::max<std::size_t>(
-          1, kPairsPerTile / (bb * static_cast<std::size_t>(s.variant_count)));
-      for (std::size_t a0 = 0; a0 < na; a0 += ba) {
-        for (std::size_t b0 = 0; b0 < nb; b0 += bb) {
+      // Blocks of about kPairsPerTile candidates, in diagonal order (by the sum of the block's
+      // indices along a and b): the pairs of both lists' earliest classes come first.
+      const std::size_t bb = std::min<std::size_t>(nb, s.triangular ? kTriangleBlock : 64);
+      const std::size_t ba =
+          s.triangular ? bb
+                       : std::max<std::size_t>(
+                             1, kPairsPerTile / (bb * static_cast<std::size_t>(s.variant_count)));
+      const std::size_t blocks_a = (na + ba - 1) / ba, blocks_b = (nb + bb - 1) / bb;
+      for (std::size_t d = 0; d + 1 < blocks_a + blocks_b; ++d) {
+        for (std::size_t i = d >= blocks_b ? d - blocks_b + 1 : 0; i <= d && i < blocks_a; ++i) {
+          const std::size_t j = d - i;
+          const std::size_t a0 = i * ba, b0 = j * bb;
+          if (s.triangular && b0 + bb <= a0) continue;  // below the diagonal: no pair i < j
           tiles.push_back({id, static_cast<std::uint32_t>(a0),
                            static_cast<std::uint32_t>(std::min(na, a0 + ba)),
                            static_cast<std::uint32_t>(b0),
@@ -233,10 +235,35 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
       }
     }
   }
-  return tiles;
+  // Round robin over the steps: the k-th tiles of all steps before any (k+1)-th. Each step's
+  // first tiles combine its operands' earliest (simplest) classes, where good formulas are most
+  // often found, so no large step delays the first tiles of the steps after it. The next
+  // level's steps take part with their first kHeadTiles tiles only; their other tiles come
+  // after this level is complete.
+  constexpr std::uint32_t kHeadTiles = 4;
+  std::vector<std::uint32_t> rank(tiles.size());
+  std::vector<bool> tail(tiles.size());
+  {
+    std::vector<std::uint32_t> seen(steps.size(), 0);
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+      rank[i] = seen[tiles[i].step]++;
+      tail[i] = steps[tiles[i].step].level > level && rank[i] >= kHeadTiles;
+    }
+  }
+  std::vector<std::size_t> order(tiles.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return tail[x] != tail[y] ? tail[y] : rank[x] < rank[y];
+  });
+  *head = static_cast<std::size_t>(std::count(tail.begin(), tail.end(), false));
+  std::vector<Tile> sorted;
+  sorted.reserve(tiles.size());
+  for (const std::size_t i : order) sorted.push_back(tiles[i]);
+  return sorted;
 }
 
-void Enumerator::process_tile(int level, const Step& s, const Tile& t, TileOutput& out) const {
+void Enumerator::process_tile(const Step& s, const Tile& t, TileOutput& out) const {
+  const int level = s.level;
   const bool screen_sums = costs_->eager_fusion() && s.kind != EKind::FusedAdd;
   const bool skip_fusable_sums = costs_->fused >= 0 && s.kind == EKind::AddSub;
   auto after_emit = [&](int idx) {
@@ -293,7 +320,13 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
   ++out.evaluated;
   ColumnStats st;
   column_key(dst, &st);
-  if (store_->find_committed(dst, st) >= 0) return -1;
+  std::int64_t improves = -1;
+  if (const std::int64_t hit = store_->find_committed(dst, st); hit >= 0) {
+    // A committed class of a higher cost (made by the previous batch's steps of the next level,
+    // see run()) gets this cheaper recipe; otherwise the candidate is a duplicate.
+    if (store_->record(static_cast<std::uint32_t>(hit)).cost <= rec_in.cost) return -1;
+    improves = hit;
+  }
   const std::size_t mask = out.table.size() - 1;
   const std::uint64_t fp = st.hash >> 32;
   std::size_t slot = st.hash & mask;
@@ -314,6 +347,7 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
   if (fusable(rec)) rec.flags |= ClassRecord::kFusable;
   out.records.push_back(rec);
   out.stats.push_back(st);
+  out.improves.push_back(improves);
   out.keep_column();
   if (2 * out.records.size() > out.table.size()) {  // keep the local table at most half full
     std::vector<std::uint64_t> bigger(2 * out.table.size(), 0);

@@ -15,6 +15,8 @@ struct Enumerator::TileOutput {
   std::vector<ClassRecord> records;
   std::vector<ColumnStats> stats;
   std::vector<FusedBest> fused;  // the best fused sum m +- c of each product survivor
+  // Per survivor: the committed class (of a higher cost) it is a cheaper recipe for, or -1.
+  std::vector<std::int64_t> improves;
   // Screen columns: survivor i's at cols[i], in blocks of kBlockColumns columns from the
   // store's arena (the merge records those of new classes where they are); then room for the
   // next candidate's column. A spent arena leaves `full` set and the tile unfinished.
@@ -33,6 +35,7 @@ struct Enumerator::TileOutput {
     records.clear();
     stats.clear();
     fused.clear();
+    improves.clear();
     cols.clear();
     full = false;
     rows = screen_rows;

@@ -169,22 +169,26 @@ void Enumerator::run() {
   const bool deferred_fusion = costs_->eager_fusion();
   for (int level = cost_completed_ + 1; level <= max_cost; ++level) {
     if (enumeration_should_stop()) break;
-    // Steps whose operands all come from below level - 1 need none of level - 1's fused sums:
-    // they run before those are materialised. (Steps hold spans into the level lists, so the
-    // late ones are made after the materialisation has grown them.)
-    const auto early_of = [&](const Step& s) { return s.order < level - 1; };
+    if (deferred_fusion && level >= 2) materialize_fused(level - 1);
+    if (enumeration_should_stop()) break;
+    // One batch: the steps that complete this level (an operand of level - 1) together with
+    // the next level's steps whose operands are all below level (same prerequisites). So a
+    // cheap formula of the next level is not held up by the largest steps of this one, which
+    // is where the seed formula is: (x - r0) * x^4 is a product of levels 1 and 2 at level 4,
+    // while level 3 spends most of its work on operands of level 2. A candidate of this level
+    // equivalent to a class just made at the next one gives that class its cheaper recipe
+    // (merge and finish_improvements), so every class keeps the cheapest recipe found.
     std::vector<Step> steps = make_steps(level);
-    steps.erase(std::partition_point(steps.begin(), steps.end(), early_of), steps.end());
-    run_batch(level, steps, false);
-    if (deferred_fusion && level >= 2 && !enumeration_should_stop()) materialize_fused(level - 1);
-    if (!enumeration_should_stop()) {
-      steps = make_steps(level);
-      steps.erase(steps.begin(), std::partition_point(steps.begin(), steps.end(), early_of));
-      run_batch(level, steps, false);
+    std::erase_if(steps, [&](const Step& s) { return s.order < level - 1; });
+    if (level + 1 <= max_cost) {
+      std::vector<Step> next = make_steps(level + 1);
+      for (Step& s : next)
+        if (s.order <= level - 1) steps.push_back(s);
     }
+    const bool complete = run_batch(steps, level, false);
     prune_elite(level);
+    if (complete) cost_completed_ = level;
     if (ctx_.stopped() || exhausted_.load(std::memory_order_relaxed)) break;
-    cost_completed_ = level;
   }
 }
 
@@ -200,13 +204,15 @@ void Enumerator::materialize_fused(int level) {
   s.variants[1] = {false, false, true};
   s.variant_count = 2;
   s.order = level;
-  run_batch(level, {s}, true);
+  s.level = level;
+  run_batch({s}, level, true);
 }
 
-void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool materialize) {
-  const std::vector<Tile> tiles = make_tiles(steps);
+bool Enumerator::run_batch(const std::vector<Step>& steps, int level, bool materialize) {
+  std::size_t head = 0;
+  const std::vector<Tile> tiles = make_tiles(steps, level, &head);
   const std::size_t n = tiles.size();
-  if (n == 0) return;
+  if (n == 0) return true;
   const auto threads = static_cast<std::size_t>(ctx_.threads);
   std::vector<std::unique_ptr<TileOutput>> outputs(n);
   std::unique_ptr<std::atomic<bool>[]> ready(new std::atomic<bool>[n]);
@@ -222,7 +228,7 @@ void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool mater
     std::size_t m = merged.load(std::memory_order_relaxed);
     while (m < n && ready[m].load(std::memory_order_acquire) &&
            !exhausted_.load(std::memory_order_relaxed)) {
-      merge(level, *outputs[m], materialize);
+      merge(*outputs[m], materialize);
       {
         std::lock_guard pl(pool_mutex);
         pool.push_back(std::move(outputs[m]));
@@ -259,7 +265,7 @@ void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool mater
       }
       out->clear(screen_rows_);
       const Tile& t = tiles[i];
-      process_tile(level, steps[t.step], t, *out);
+      process_tile(steps[t.step], t, *out);
       ctx_.candidates.fetch_add(out->evaluated, std::memory_order_relaxed);
       ctx_.node_evaluations.fetch_add(out->evaluated * screen_rows_, std::memory_order_relaxed);
       outputs[i] = std::move(out);
@@ -267,20 +273,39 @@ void Enumerator::run_batch(int level, const std::vector<Step>& steps, bool mater
     }
   };
   parallel_for(threads, 1, worker, static_cast<int>(threads));
+  finish_improvements(materialize);
   store_->commit();
+  return merged.load() >= head;
 }
 
-void Enumerator::merge(int level, TileOutput& out, bool materialize) {
-  const auto L = static_cast<std::size_t>(level);
+void Enumerator::merge(TileOutput& out, bool materialize) {
   for (std::size_t i = 0; i < out.records.size(); ++i) {
     const float* col = out.column(i);
     const ColumnStats& st = out.stats[i];
-    if (store_->find_pending(col, st) >= 0) continue;  // workers checked the committed classes
+    const ClassRecord& rec = out.records[i];
+    const int level = rec.cost;
+    const auto L = static_cast<std::size_t>(level);
+    if (out.improves[i] >= 0) {  // a cheaper recipe for a committed class: applied after the batch
+      const auto id = static_cast<std::uint32_t>(out.improves[i]);
+      if (!improved_.insert(id).second) continue;  // the first in merge order wins
+      deferred_.push_back({id, col, st, rec, out.fused[i]});
+      continue;
+    }
+    if (const std::int64_t p = store_->find_pending(col, st); p >= 0) {
+      const auto id = static_cast<std::uint32_t>(p);
+      const int old = store_->record(id).cost;
+      if (old <= level) continue;  // workers checked the committed classes
+      store_->improve(id, col, st, rec);  // a class of the next level, made earlier this batch
+      moved_.emplace_back(id, old);
+      if (materialize) continue;
+      consider_for_front(id, st, level);
+      if (out.fused[i].leaf >= 0) consider_fused_for_front(id, out.fused[i], level);
+      continue;
+    }
     if (store_->full()) {
       exhausted_.store(true, std::memory_order_relaxed);
       break;
     }
-    const ClassRecord& rec = out.records[i];
     const std::uint32_t id = store_->insert(col, st, rec);
     level_ids_[L].push_back(id);
     if (rec.has(ClassRecord::kFusable)) fusable_ids_[L].push_back(id);
@@ -293,6 +318,49 @@ void Enumerator::merge(int level, TileOutput& out, bool materialize) {
     if (out.fused[i].leaf >= 0) consider_fused_for_front(id, out.fused[i], level);
   }
   if (out.full) exhausted_.store(true, std::memory_order_relaxed);
+}
+
+void Enumerator::finish_improvements(bool materialize) {
+  for (const Improvement& d : deferred_) {
+    moved_.emplace_back(d.id, store_->record(d.id).cost);
+    store_->improve(d.id, d.column, d.stats, d.record);
+  }
+  if (!moved_.empty()) {
+    // Move each improved class to its new level's lists. A product whose new level's fused sums
+    // are already classes keeps its place among the fusable classes of its former level, so that
+    // its own sums are still made (one level late) when that level is materialised.
+    std::vector<std::uint32_t> ids;
+    for (const auto& [id, old] : moved_) ids.push_back(id);
+    std::sort(ids.begin(), ids.end());
+    const auto was_moved = [&](std::uint32_t id) {
+      return std::binary_search(ids.begin(), ids.end(), id);
+    };
+    std::vector<int> olds;
+    for (const auto& [id, old] : moved_) olds.push_back(old);
+    std::sort(olds.begin(), olds.end());
+    olds.erase(std::unique(olds.begin(), olds.end()), olds.end());
+    for (const int old : olds) {
+      const auto O = static_cast<std::size_t>(old);
+      std::erase_if(level_ids_[O], was_moved);
+      std::erase_if(fusable_ids_[O], [&](std::uint32_t id) {
+        return was_moved(id) && !materialized_[store_->record(id).cost];
+      });
+    }
+    for (const auto& [id, old] : moved_) {
+      const ClassRecord& r = store_->record(id);
+      level_ids_[r.cost].push_back(id);
+      if (r.has(ClassRecord::kFusable) && !materialized_[r.cost]) fusable_ids_[r.cost].push_back(id);
+    }
+  }
+  if (!materialize) {
+    for (const Improvement& d : deferred_) {
+      consider_for_front(d.id, d.stats, d.record.cost);
+      if (d.fused.leaf >= 0) consider_fused_for_front(d.id, d.fused, d.record.cost);
+    }
+  }
+  deferred_.clear();
+  moved_.clear();
+  improved_.clear();
 }
 
 }  // namespace shaderfit::search_detail

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <unordered_set>
 #include <vector>
 
 #include "search/class_store.hpp"
@@ -51,6 +52,7 @@ class Enumerator {
     Variant variants[4];
     int variant_count = 1;
     int order = 0;  // the costliest operand's level; steps run by increasing order
+    int level = 0;  // the cost of the step's candidates
   };
   struct Tile {
     std::uint32_t step;
@@ -64,16 +66,23 @@ class Enumerator {
   void add_leaves();
   void make_literal_groups();
   std::vector<Step> make_steps(int level) const;
-  std::vector<Tile> make_tiles(const std::vector<Step>& steps) const;
-  // Runs the steps as one batch whose results have cost `level`; `materialize` marks the batch
+  // The tiles of the steps in the order they are merged. Steps of a level above `level` (the
+  // next level's, see run()) have only their first tiles among the others; the rest follow
+  // once the tiles before, `*head` of them, complete `level`.
+  std::vector<Tile> make_tiles(const std::vector<Step>& steps, int level, std::size_t* head) const;
+  // Runs the steps (of `level` and maybe the next) as one batch; `materialize` marks the batch
   // that turns a level's screened fused sums into classes (already offered to the front).
-  void run_batch(int level, const std::vector<Step>& steps, bool materialize);
+  // Returns whether every candidate of `level` was merged.
+  bool run_batch(const std::vector<Step>& steps, int level, bool materialize);
   void materialize_fused(int level);
-  void process_tile(int level, const Step& step, const Tile& tile, TileOutput& out) const;
+  void process_tile(const Step& step, const Tile& tile, TileOutput& out) const;
   int emit(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,
            TileOutput& out) const;
   FusedBest screen_fused_sums(const float* m, TileOutput& out) const;
-  void merge(int level, TileOutput& out, bool materialize);
+  void merge(TileOutput& out, bool materialize);
+  // After a batch: applies the cheaper recipes found for committed classes, moves improved
+  // classes to their new level lists, and offers them to the front.
+  void finish_improvements(bool materialize);
   void setup_full_rows();
   const float* full_column(std::uint32_t id);
   const float* full_eval(std::uint32_t id);
@@ -117,6 +126,17 @@ class Enumerator {
   };
   std::vector<std::vector<Elite>> elite_levels_;          // best classes per level, for seeds()
   std::vector<std::unique_ptr<TileOutput>> output_pool_;  // reused across batches
+  // Cheaper recipes found during a batch (see run()): for committed classes, applied after it.
+  struct Improvement {
+    std::uint32_t id;
+    const float* column;
+    ColumnStats stats;
+    ClassRecord record;
+    FusedBest fused;
+  };
+  std::vector<Improvement> deferred_;
+  std::vector<std::pair<std::uint32_t, int>> moved_;  // (class, its former level)
+  std::unordered_set<std::uint32_t> improved_;        // committed classes improved this batch
   int cost_completed_ = -1;
   std::atomic<bool> exhausted_{false};  // store full or time share spent
   double time_share_s_ = 0;
