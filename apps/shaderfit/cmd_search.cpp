@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <fstream>
 #include <memory>
@@ -30,6 +31,7 @@ struct SearchArgs {
   bool evals_given = false;
   std::uint64_t seed = 1;
   int threads = 0;
+  std::string device = "auto";
   std::string loss = "mse";
   std::string cost = "instructions";
   std::string ops = "+,-,*,/,^";
@@ -37,15 +39,21 @@ struct SearchArgs {
   std::string literals = "0.5,1,2";
   int max_power = 5;
   std::size_t max_nodes = 25;
+  std::size_t population = 128;
+  std::size_t max_classes = 1'500'000;
   std::string strategy = "both";
   std::string json_path;
   bool quiet = false;
   double stop_loss = -1, stop_cost = -1;
+  std::string checkpoint_path;
+  double checkpoint_every_s = 60;
+  std::string resume_path;
 };
 
-// SIGINT sets this; the search polls it and returns the front found so far.
+// SIGINT and SIGTERM set this; the search polls it, writes its checkpoint (with --checkpoint)
+// and returns the front found so far.
 std::atomic<bool> g_interrupted{false};
-extern "C" void on_sigint(int) { g_interrupted.store(true); }
+extern "C" void on_stop_signal(int) { g_interrupted.store(true); }
 
 std::vector<std::string> split_names(const std::string& list) {
   std::vector<std::string> out;
@@ -102,6 +110,10 @@ SearchOptions make_options(const SearchArgs& a) {
   if (a.evals_given) o.max_candidates = a.evals;
   o.seed = a.seed;
   o.threads = a.threads;
+  const auto device = device_from_name(a.device);
+  if (!device)
+    throw Error("unknown device '" + a.device + "' (known: auto, cpu, cuda)", {"--device"});
+  o.device = resolve_device(*device, {"--device"});  // --device cuda without a GPU stops here
   const auto loss = loss_from_name(a.loss);
   if (!loss)
     throw Error("unknown loss '" + a.loss + "' (known: mse, rmse, max_abs, rel, log)", {"--loss"});
@@ -116,6 +128,8 @@ SearchOptions make_options(const SearchArgs& a) {
   o.literals = parse_literals(a.literals);
   o.max_power = a.max_power;
   o.max_nodes = a.max_nodes;
+  o.population = a.population;
+  o.max_classes = a.max_classes;
   if (a.strategy == "enumerate")
     o.evolve = false;
   else if (a.strategy == "evolve")
@@ -123,6 +137,12 @@ SearchOptions make_options(const SearchArgs& a) {
   else if (a.strategy != "both")
     throw Error("unknown strategy '" + a.strategy + "' (known: both, enumerate, evolve)",
                 {"--strategy"});
+  if (!(a.checkpoint_every_s >= 0) || !std::isfinite(a.checkpoint_every_s))
+    throw Error("the checkpoint interval must be a number of seconds >= 0", {"--checkpoint-every"});
+  o.resume_path = a.resume_path;
+  // A resumed run keeps its checkpoint current unless told to write another.
+  o.checkpoint_path = a.checkpoint_path.empty() ? a.resume_path : a.checkpoint_path;
+  o.checkpoint_interval_s = a.checkpoint_every_s;
   if (a.stop_loss >= 0 || a.stop_cost >= 0) {
     o.stop_at = SearchTarget{a.stop_loss >= 0 ? a.stop_loss : 1e300,
                              a.stop_cost >= 0 ? a.stop_cost : 1e300};
@@ -151,10 +171,12 @@ void run(const SearchArgs& a, Context& ctx) {
   const bool json_stdout = a.json_path == "-";
   std::ostream& human = json_stdout ? ctx.err : ctx.out;
   human << fmt::format(
-      "shaderfit search: {}, {} rows, inputs {}, target {}, loss {}, cost {} "
+      "shaderfit search: {}, {} rows, inputs {}, target {}, loss {}, cost {}, device {} "
       "(data ready in {:.1f} ms)\n",
       a.data.describe(), d.rows(), a.inputs, a.target, loss_name(options.loss),
-      cost_target_name(options.cost), load_s * 1e3);
+      cost_target_name(options.cost),
+      options.device == ComputeDevice::Cuda ? "cuda (" + cuda_device_name() + ")" : "cpu",
+      load_s * 1e3);
   bool progress_shown = false;
   if (!a.quiet) {
     options.on_new_member = [&](const FrontMember& m) {
@@ -171,21 +193,38 @@ void run(const SearchArgs& a, Context& ctx) {
       progress_shown = true;
     };
   }
+  if (!options.resume_path.empty()) {
+    const CheckpointInfo c = read_checkpoint_info(options.resume_path);
+    human << fmt::format(
+        "resuming from {}: {} after {:.3g} s, {} generations, {} candidates, front of {}{}\n",
+        options.resume_path, c.phase, c.elapsed_s, c.generations, c.candidates, c.front_size,
+        c.phase == "enumeration" ? " (the enumeration runs again)" : "");
+  }
   g_interrupted.store(false);
   options.interrupt = &g_interrupted;
-  auto previous = std::signal(SIGINT, on_sigint);
+  auto previous_int = std::signal(SIGINT, on_stop_signal);
+  auto previous_term = std::signal(SIGTERM, on_stop_signal);
+  auto restore_signals = [&] {
+    std::signal(SIGINT, previous_int);
+    std::signal(SIGTERM, previous_term);
+  };
   SearchSummary summary;
   try {
     run_search(options, problem, &summary);
   } catch (...) {
-    std::signal(SIGINT, previous);
+    restore_signals();
     throw;
   }
-  std::signal(SIGINT, previous);
+  restore_signals();
   if (progress_shown) ctx.err << "\r\033[K" << std::flush;
 
   human << summary.brief_report();
-  if (summary.interrupted) ctx.err << "shaderfit: interrupted; the front found so far is above\n";
+  if (summary.interrupted)
+    ctx.err << "shaderfit: interrupted; the front found so far is above"
+            << (options.checkpoint_path.empty()
+                    ? std::string()
+                    : "; resume with --resume " + options.checkpoint_path)
+            << '\n';
   if (!a.json_path.empty()) {
     SearchDataInfo info{a.data.describe(), a.target, load_s, d.rows(), problem.input_names};
     const std::string text = search_json(summary, options, info);
@@ -215,6 +254,9 @@ void register_search_command(CLI::App& app, Context& ctx) {
       ->each([a = args.get()](const std::string&) { a->evals_given = true; });
   cmd->add_option("--seed", args->seed, "seed of the search (default 1)");
   cmd->add_option("--threads", args->threads, "threads, 0 for all cores (default 0)");
+  cmd->add_option("--device", args->device,
+                  "cpu, cuda or auto: where the evolution scores its children (default auto: the "
+                  "GPU when this build has CUDA and one is present)");
   cmd->add_option("--loss", args->loss, "mse, rmse, max_abs, rel or log (default mse)");
   cmd->add_option("--cost", args->cost, "instructions or nodes (default instructions)");
   cmd->add_option("--ops", args->ops,
@@ -227,6 +269,11 @@ void register_search_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--max-power", args->max_power, "largest integer power x^k (default 5)");
   cmd->add_option("--max-nodes", args->max_nodes,
                   "largest formula of the evolution, in nodes (default 25)");
+  cmd->add_option("--population", args->population,
+                  "formulas per island of the evolution (default 128)");
+  cmd->add_option("--max-classes", args->max_classes,
+                  "distinct formulas the enumeration keeps; bounds the memory, about 500 bytes "
+                  "each (default 1500000)");
   cmd->add_option("--strategy", args->strategy, "both, enumerate or evolve (default both)");
   cmd->add_option("--stop-loss", args->stop_loss,
                   "stop once a formula has at most this loss (and --stop-cost)");
@@ -235,6 +282,14 @@ void register_search_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--json", args->json_path,
                   "write the result as JSON to this file ('-' for stdout)");
   cmd->add_flag("--quiet", args->quiet, "do not print front members as they are found");
+  cmd->add_option("--checkpoint", args->checkpoint_path,
+                  "write the search's state to this file (atomically) every --checkpoint-every "
+                  "seconds and when it stops (Ctrl-C, SIGTERM, a budget)");
+  cmd->add_option("--checkpoint-every", args->checkpoint_every_s,
+                  "seconds between checkpoints (default 60; 0: every generation)");
+  cmd->add_option("--resume", args->resume_path,
+                  "continue the search a checkpoint recorded (same data and options; the budgets "
+                  "may differ); it keeps that file current unless --checkpoint names another");
   cmd->callback([args, &ctx] { run(*args, ctx); });
 }
 

@@ -1,9 +1,21 @@
 // shaderfit search through run_cli, in-process: the seed task, JSON output, and bad input.
+#include <fcntl.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <csignal>
+#include <filesystem>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "cli_test_util.hpp"
+#include "shaderfit/data/fresnel_seed.hpp"
+
+extern char** environ;
 
 namespace shaderfit::cli {
 namespace {
@@ -85,6 +97,146 @@ TEST(CmdSearch, OtherBadOptions) {
                    "unknown cost 'watts'");
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--literals", "1,two"},
                    "not a number: 'two'");
+}
+
+// Seed 001's Fresnel data, every 16th row (256), as CSV: a short search for the tests below.
+std::string small_fresnel_csv() {
+  Rng rng(1);
+  const Dataset d = make_fresnel_seed_dataset(rng);
+  const auto& r0 = d.numeric("r0").values;
+  const auto& x = d.numeric("x").values;
+  const auto& y = d.numeric("R").values;
+  std::string csv = "r0,x,R\n";
+  for (std::size_t i = 0; i < y.size(); i += 16)
+    csv += fmt::format("{},{},{}\n", r0[i], x[i], y[i]);
+  return scratch_file("search_small_fresnel.csv", csv);
+}
+
+// One thread, no stop by the clock: the same options give the same search.
+std::vector<std::string> evolution_args(const std::string& csv) {
+  return {"search", "--data",       csv,  "--inputs",  "r0,x", "--target", "R",    "--strategy",
+          "evolve", "--population", "16", "--threads", "1",    "--time",   "1000", "--quiet"};
+}
+
+std::string checkpoint_path(const std::string& name) {
+  std::string path = scratch_file(name, "");
+  std::filesystem::remove(path);
+  return path;
+}
+
+nlohmann::json checkpoint_body(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  for (int i = 0; i < 4; ++i) std::getline(in, line);  // the header
+  return nlohmann::json::parse(in);
+}
+
+void expect_same_search(const nlohmann::json& a, const nlohmann::json& b) {
+  for (const char* k : {"candidates", "node_evaluations", "generations", "termination"})
+    EXPECT_EQ(a["summary"][k], b["summary"][k]) << k;
+  ASSERT_EQ(a["front"].size(), b["front"].size());
+  for (std::size_t i = 0; i < a["front"].size(); ++i) {
+    const auto& x = a["front"][i];
+    const auto& y = b["front"][i];
+    // Everything but when it was found (time_s).
+    for (const char* k : {"formula", "cost", "nodes", "loss", "mse", "max_abs", "origin",
+                          "float32_max_abs_diff", "float32_stable"})
+      EXPECT_EQ(x[k], y[k]) << k << " of member " << i;
+  }
+}
+
+TEST(CmdSearch, KilledBySigtermThenResumedEndsAsTheUninterruptedRun) {
+  const std::string csv = small_fresnel_csv();
+  const std::string ckpt = checkpoint_path("search_sigterm.ckpt");
+  // B: the real binary, with no budget it could reach, checkpointing at every generation;
+  // SIGTERM once it has run some generations.
+  std::vector<std::string> args = evolution_args(csv);
+  args.insert(args.begin(), SHADERFIT_CLI_PATH);
+  for (const char* a : {"--evals", "1000000000", "--checkpoint-every", "0", "--checkpoint"})
+    args.emplace_back(a);
+  args.push_back(ckpt);
+  std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
+  for (std::string& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t quiet;
+  posix_spawn_file_actions_init(&quiet);
+  posix_spawn_file_actions_addopen(&quiet, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  posix_spawn_file_actions_addopen(&quiet, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+  pid_t child = 0;
+  ASSERT_EQ(posix_spawn(&child, argv[0], &quiet, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&quiet);
+  using std::chrono::steady_clock;
+  auto wait_for = [&](auto done, double seconds) {  // done() is called until true, not after
+    const auto until = steady_clock::now() + std::chrono::duration<double>(seconds);
+    while (steady_clock::now() < until) {
+      if (done()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return false;
+  };
+  const bool started = wait_for([&] { return std::filesystem::exists(ckpt); }, 60);
+  if (started) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  kill(child, SIGTERM);
+  int status = 0;
+  const bool ended = wait_for([&] { return waitpid(child, &status, WNOHANG) == child; }, 60);
+  if (!ended) {
+    kill(child, SIGKILL);
+    waitpid(child, &status, 0);
+  }
+  ASSERT_TRUE(started);
+  ASSERT_TRUE(ended) << "SIGTERM did not stop the search";
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 0);
+
+  // A budget a few generations past the checkpoint; A runs it uninterrupted, B resumes to it.
+  const nlohmann::json body = checkpoint_body(ckpt);
+  ASSERT_EQ(body["phase"], "evolution");
+  const auto budget = std::to_string(body["clock"]["candidates"].get<std::uint64_t>() + 300);
+  const std::string a_json = checkpoint_path("search_sigterm_a.json");
+  const std::string b_json = checkpoint_path("search_sigterm_b.json");
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> v = evolution_args(csv);
+    v.insert(v.end(), extra.begin(), extra.end());
+    return v;
+  };
+  const auto a = run(with({"--evals", budget, "--json", a_json}));
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto b = run(with({"--evals", budget, "--json", b_json, "--resume", ckpt}));
+  ASSERT_EQ(b.status, 0) << b.err;
+  EXPECT_NE(b.out.find("resuming from"), std::string::npos) << b.out;
+  std::ifstream fa(a_json), fb(b_json);
+  expect_same_search(nlohmann::json::parse(fa), nlohmann::json::parse(fb));
+}
+
+TEST(CmdSearch, DamagedOrForeignCheckpointIsRefused) {
+  const std::string csv = small_fresnel_csv();
+  const std::string ckpt = checkpoint_path("search_damaged.ckpt");
+  std::vector<std::string> args = evolution_args(csv);
+  for (const char* a : {"--evals", "100", "--checkpoint"}) args.emplace_back(a);
+  args.push_back(ckpt);
+  ASSERT_EQ(run(args).status, 0);
+  std::string text;
+  {
+    std::ifstream in(ckpt, std::ios::binary);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(text.size(), 200u);
+  std::string damaged = text;
+  damaged[damaged.size() / 2] ^= 0x04;
+  const std::string bad = scratch_file("search_damaged_copy.ckpt", damaged);
+  std::vector<std::string> resume = evolution_args(csv);
+  for (const char* a : {"--evals", "200", "--resume"}) resume.emplace_back(a);
+  resume.push_back(bad);
+  expect_bad_input(resume, "damaged checkpoint");
+  resume.back() = scratch_file("search_not_a.ckpt", "r0,x,R\n1,2,3\n");
+  expect_bad_input(resume, "not a shaderfit checkpoint");
+  resume.back() = scratch_file("search_cut.ckpt", text.substr(0, text.size() / 3));
+  expect_bad_input(resume, "damaged checkpoint");
+  // A sound checkpoint, resumed with another seed.
+  resume.back() = ckpt;
+  resume.insert(resume.end(), {"--seed", "9"});
+  expect_bad_input(resume, "seed = 1; this search has seed = 9");
 }
 
 }  // namespace

@@ -28,6 +28,8 @@
 #include "shaderfit/fit/fixed_form.hpp"
 #include "shaderfit/fit/linear.hpp"
 #include "shaderfit/fit/sampling.hpp"
+#include "shaderfit/gpu/device.hpp"
+#include "shaderfit/gpu/evaluator.hpp"
 #include "shaderfit/image/dds.hpp"
 #include "shaderfit/image/exr.hpp"
 #include "shaderfit/image/half.hpp"

@@ -1,6 +1,7 @@
 #include "shaderfit/codegen/front.hpp"
 
 #include <fstream>
+#include <sstream>
 #include <nlohmann/json.hpp>
 
 #include "shaderfit/core/error.hpp"
@@ -9,11 +10,19 @@
 namespace shaderfit {
 
 std::vector<FrontFormula> read_front(const std::string& path, const FrontReadOptions& options) {
-  std::ifstream file(path);
+  std::ifstream file(path, std::ios::binary);
   if (!file) throw Error("cannot open the front file", SourceLocation{path});
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw Error("cannot read the front file", SourceLocation{path});
+  return parse_front(text.str(), path, options);
+}
+
+std::vector<FrontFormula> parse_front(std::string_view json, const std::string& path,
+                                      const FrontReadOptions& options) {
   nlohmann::json doc;
   try {
-    doc = nlohmann::json::parse(file);
+    doc = nlohmann::json::parse(json.begin(), json.end());
   } catch (const nlohmann::json::exception& e) {
     throw Error(std::string("not valid JSON: ") + e.what(), SourceLocation{path});
   }

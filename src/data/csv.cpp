@@ -145,9 +145,12 @@ void add_cell(Pending& col, const Cell& cell, const std::string& source) {
   col.cells.push_back(cell.text);
 }
 
+// A cell that starts with the UTF-8 byte-order mark is quoted too: first in the file, the reader
+// would drop the mark as the file's own.
 std::string quoted_if_needed(const std::string& s) {
   bool needs = s.empty() || s.front() == ' ' || s.front() == '\t' || s.back() == ' ' ||
-               s.back() == '\t' || s.find_first_of(",\"\r\n") != std::string::npos;
+               s.back() == '\t' || s.find_first_of(",\"\r\n") != std::string::npos ||
+               s.starts_with("\xEF\xBB\xBF");
   if (!needs) return s;
   std::string out = "\"";
   for (char c : s) {

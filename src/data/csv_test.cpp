@@ -188,6 +188,17 @@ TEST(DataCsv, RoundTripIsExact) {
   EXPECT_EQ(back.column("label").labels, d.columns[1].labels);
 }
 
+// Found by fuzzing (fuzz/regressions/csv/header_starting_with_bom): a first column name that
+// starts with the byte-order mark was written bare, and read back as a BOM and an empty name.
+TEST(DataCsv, NameStartingWithByteOrderMarkRoundTrips) {
+  Dataset d;
+  d.add_numeric("\xEF\xBB\xBFx", {1.0});
+  d.add_text("y", {"\xEF\xBB\xBF"});
+  const Dataset back = parse_csv(to_csv(d), "t.csv");
+  EXPECT_EQ(back.names(), d.names());
+  EXPECT_EQ(back.column("y").labels, d.columns[1].labels);
+}
+
 TEST(DataCsv, ShortestNumberText) {
   Dataset d;
   d.add_numeric("a", {0.1, 1.0, -0.0, 1e21, 2.5e-7});

@@ -134,7 +134,25 @@ class Parser {
   }
 
   // --- grammar -----------------------------------------------------------------------------
-  void emit(Node n) { expr_.nodes.push_back(n); }
+  // Appends a node, tracking the depth of the subtree it closes (kMaxFormulaDepth).
+  void emit(Node n) {
+    std::size_t depth = 1;
+    for (int i = 0; i < n.arity; ++i) {
+      depth = std::max(depth, depths_.back() + 1);
+      depths_.pop_back();
+    }
+    if (depth > static_cast<std::size_t>(kMaxFormulaDepth)) {
+      fail("formula too deep: more than " + std::to_string(kMaxFormulaDepth) +
+               " operations applied one to another",
+           tok_.column);
+    }
+    depths_.push_back(depth);
+    expr_.nodes.push_back(n);
+  }
+  void drop_last_leaf() {
+    depths_.pop_back();
+    expr_.nodes.pop_back();
+  }
 
   // sum := product (('+' | '-') product)*
   void parse_sum() {
@@ -161,6 +179,17 @@ class Parser {
   // unary := '-' unary | '+' unary | power; '-' right before a number literal that is not the
   // base of '^' makes a negative constant.
   void parse_unary() {
+    // Every nested operand passes through here: parentheses, call arguments and signs.
+    if (nesting_ >= kMaxFormulaNesting) {
+      fail("formula nested more than " + std::to_string(kMaxFormulaNesting) +
+               " levels deep (parentheses, calls and signs)",
+           tok_.column);
+    }
+    ++nesting_;
+    struct Leave {
+      int& n;
+      ~Leave() { --n; }
+    } leave{nesting_};
     if (is_symbol('-')) {
       advance();
       if (tok_.kind == Token::Number && !next_is_caret()) {
@@ -325,7 +354,7 @@ class Parser {
         is_integer_literal(text_.substr(second_text_begin, close - second_text_begin))) {
       const double k = expr_.nodes.back().value;
       if (k >= kMinIntegerPower && k <= kMaxIntegerPower && k != 0 && k != 1) {
-        expr_.nodes.pop_back();
+        drop_last_leaf();
         emit(Node::ipow(static_cast<int>(k)));
         return;
       }
@@ -345,6 +374,8 @@ class Parser {
   std::size_t pos_ = 0;
   Token tok_;
   Expression expr_;
+  std::vector<std::size_t> depths_;  // per subtree on the postfix stack: its depth
+  int nesting_ = 0;                  // parse_unary calls in progress
 };
 
 }  // namespace

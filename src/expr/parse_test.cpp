@@ -134,6 +134,36 @@ TEST(Parse, PrintThenParseRoundTripsRandomExpressions) {
   EXPECT_GE(checked, 10000);
 }
 
+// Limits that keep recursive consumers within the stack (fuzz/regressions/formula has the inputs
+// that overflowed it before).
+TEST(Parse, SizeLimitsAreErrorsWithAColumn) {
+  auto nested = [](int levels) {
+    return std::string(static_cast<std::size_t>(levels) - 1, '(') + "x" +
+           std::string(static_cast<std::size_t>(levels) - 1, ')');
+  };
+  EXPECT_NO_THROW(parse_formula(nested(kMaxFormulaNesting), vars({"x"})));
+  try {
+    parse_formula(nested(kMaxFormulaNesting + 1), vars({"x"}));
+    FAIL() << "nesting beyond the limit parsed";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("nested more than 256 levels"), std::string::npos) << e.what();
+    EXPECT_EQ(e.where().column, kMaxFormulaNesting + 1);
+  }
+  EXPECT_THROW(parse_formula(std::string(300, '-') + "x", vars({"x"})), Error);
+  auto sum = [](int terms) {
+    std::string s = "x";
+    for (int i = 1; i < terms; ++i) s += "+x";
+    return s;
+  };
+  EXPECT_NO_THROW(parse_formula(sum(kMaxFormulaDepth), vars({"x"})));
+  try {
+    parse_formula(sum(kMaxFormulaDepth + 1), vars({"x"}));
+    FAIL() << "a tree deeper than the limit parsed";
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("formula too deep"), std::string::npos) << e.what();
+  }
+}
+
 TEST(Print, Latex) {
   Expression e = parse_formula("r0 + (x - r0) * x^4", vars({"r0", "x"}));
   EXPECT_EQ(to_latex(e), "r_{0} + \\left(x - r_{0}\\right) \\cdot x^{4}");

@@ -1,7 +1,9 @@
 #include "shaderfit/rational/condition.hpp"
 
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <system_error>
 
 #include "rational/jet.hpp"
 #include "rational/jet_eval.hpp"
@@ -182,6 +184,10 @@ Condition parse_condition(std::string_view text, const std::vector<std::string>&
     // Derivative order: primes, or ^(k) / ^k.
     cur.skip_space();
     while (cur.pos < text.size() && text[cur.pos] == '\'') {
+      if (c.order == kMaxDerivativeOrder)
+        cur.fail("more primes than the highest supported derivative order, " +
+                     std::to_string(kMaxDerivativeOrder),
+                 cur.pos);
       ++c.order;
       ++cur.pos;
     }
@@ -195,7 +201,13 @@ Condition parse_condition(std::string_view text, const std::vector<std::string>&
       const std::string digits(text.substr(k_at, cur.pos - k_at));
       if (digits.empty() || digits == "-" || digits == "+")
         cur.fail("expected the derivative order, an integer", k_at);
-      const long k = std::stol(digits);
+      // Parsed as a long only up to the limit: "f^99999999999999999999(0)" is too high, not a
+      // number the library cannot hold.
+      long k = 0;
+      const char* first = digits.data() + (digits[0] == '+' ? 1 : 0);
+      const auto parsed = std::from_chars(first, digits.data() + digits.size(), k);
+      if (parsed.ec == std::errc::result_out_of_range)
+        k = digits[0] == '-' ? -1 : kMaxDerivativeOrder + 1;
       if (k < 0) cur.fail("the derivative order must be 0 or more, not " + digits, k_at);
       if (k > kMaxDerivativeOrder)
         cur.fail("derivative order " + digits + " is above the highest supported, " +

@@ -43,6 +43,10 @@ TEST(RationalCondition, ErrorsNameTheColumn) {
       {"f(0 = 1", 8, "expected ')'"},      {"f(0) 1", 6, "expected '='"},
       {"f(0) = ", 8, "expected a value"},  {"int(1, 0) = 1", 5, "lower bound"},
       {"(0) = 1", 1, "expected f("},       {"f(0) = 1 +", 11, ""},
+      // Found by fuzzing (fuzz/regressions/options): orders beyond a long, and beyond 24 in primes.
+      {"f^99999999999999999999(0) = 1", 3, "highest supported"},
+      {"f^(-99999999999999999999)(0) = 1", 4, "0 or more"},
+      {"f'''''''''''''''''''''''''(0) = 1", 26, "more primes"},
   };
   for (const Case& c : cases) {
     try {

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cctype>
+#include <charconv>
 #include <cmath>
+#include <system_error>
 
 #include "rational/jet.hpp"
 #include "rational/jet_eval.hpp"
@@ -141,8 +143,10 @@ RationalForm parse_form(std::string_view text, const std::string& source) {
     if (i < text.size() && text[i] == '-') fail("a degree must be 0 or more", i);
     while (i < text.size() && std::isdigit(static_cast<unsigned char>(text[i]))) ++i;
     if (i == start) fail("expected a degree", start);
-    const int d = std::stoi(std::string(text.substr(start, i - start)));
-    if (d > kMaxIntegerPower) fail("a degree above " + std::to_string(kMaxIntegerPower), start);
+    int d = 0;
+    const auto parsed = std::from_chars(text.data() + start, text.data() + i, d);
+    if (parsed.ec == std::errc::result_out_of_range || d > kMaxIntegerPower)
+      fail("a degree above " + std::to_string(kMaxIntegerPower), start);
     while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i]))) ++i;
     return d;
   };

@@ -202,17 +202,19 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   return steps;
 }
 
-std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& steps, int level,
-                                                     std::size_t* head) const {
+std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& steps) const {
   std::vector<Tile> tiles;
+  std::vector<std::uint32_t> rank;  // the tile's place in its step's order
+  std::vector<Tile> own;
   for (std::size_t si = 0; si < steps.size(); ++si) {
     const Step& s = steps[si];
     const auto id = static_cast<std::uint32_t>(si);
     const std::size_t na = s.a.size(), nb = s.b.size();
+    own.clear();
     if (nb == 0) {
       for (std::size_t a0 = 0; a0 < na; a0 += kUnaryTile)
-        tiles.push_back({id, static_cast<std::uint32_t>(a0),
-                         static_cast<std::uint32_t>(std::min(na, a0 + kUnaryTile)), 0, 1});
+        own.push_back({id, static_cast<std::uint32_t>(a0),
+                       static_cast<std::uint32_t>(std::min(na, a0 + kUnaryTile)), 0, 1});
     } else {
       // Blocks of about kPairsPerTile candidates, in diagonal order (by the sum of the block's
       // indices along a and b): the pairs of both lists' earliest classes come first.
@@ -227,35 +229,31 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
           const std::size_t j = d - i;
           const std::size_t a0 = i * ba, b0 = j * bb;
           if (s.triangular && b0 + bb <= a0) continue;  // below the diagonal: no pair i < j
-          tiles.push_back({id, static_cast<std::uint32_t>(a0),
-                           static_cast<std::uint32_t>(std::min(na, a0 + ba)),
-                           static_cast<std::uint32_t>(b0),
-                           static_cast<std::uint32_t>(std::min(nb, b0 + bb))});
+          own.push_back({id, static_cast<std::uint32_t>(a0),
+                         static_cast<std::uint32_t>(std::min(na, a0 + ba)),
+                         static_cast<std::uint32_t>(b0),
+                         static_cast<std::uint32_t>(std::min(nb, b0 + bb))});
         }
       }
+    }
+    std::size_t from = 0, to = own.size();
+    if (s.part == Step::Part::Head) to = std::min(to, kHeadTiles);
+    if (s.part == Step::Part::Tail) from = std::min(to, kHeadTiles);
+    // The next level's first tiles lead: they are few, and the cheapest formulas of the next
+    // level are likely the best new ones.
+    const std::uint32_t first = s.part == Step::Part::Head ? 0 : kHeadTiles;
+    for (std::size_t k = from; k < to; ++k) {
+      tiles.push_back(own[k]);
+      rank.push_back(static_cast<std::uint32_t>(first + k - from));
     }
   }
   // Round robin over the steps: the k-th tiles of all steps before any (k+1)-th. Each step's
   // first tiles combine its operands' earliest (simplest) classes, where good formulas are most
-  // often found, so no large step delays the first tiles of the steps after it. The next
-  // level's steps take part with their first kHeadTiles tiles only; their other tiles come
-  // after this level is complete.
-  constexpr std::uint32_t kHeadTiles = 4;
-  std::vector<std::uint32_t> rank(tiles.size());
-  std::vector<bool> tail(tiles.size());
-  {
-    std::vector<std::uint32_t> seen(steps.size(), 0);
-    for (std::size_t i = 0; i < tiles.size(); ++i) {
-      rank[i] = seen[tiles[i].step]++;
-      tail[i] = steps[tiles[i].step].level > level && rank[i] >= kHeadTiles;
-    }
-  }
+  // often found, so no large step delays the first tiles of the steps after it.
   std::vector<std::size_t> order(tiles.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
-    return tail[x] != tail[y] ? tail[y] : rank[x] < rank[y];
-  });
-  *head = static_cast<std::size_t>(std::count(tail.begin(), tail.end(), false));
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t x, std::size_t y) { return rank[x] < rank[y]; });
   std::vector<Tile> sorted;
   sorted.reserve(tiles.size());
   for (const std::size_t i : order) sorted.push_back(tiles[i]);

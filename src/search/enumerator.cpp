@@ -167,25 +167,33 @@ bool Enumerator::enumeration_should_stop() {
 void Enumerator::run() {
   const int max_cost = ctx_.options.max_enumeration_cost;
   const bool deferred_fusion = costs_->eager_fusion();
+  std::vector<Step> carried;  // the rest of the previous batch's next-level steps
   for (int level = cost_completed_ + 1; level <= max_cost; ++level) {
     if (enumeration_should_stop()) break;
     if (deferred_fusion && level >= 2) materialize_fused(level - 1);
     if (enumeration_should_stop()) break;
-    // One batch: the steps that complete this level (an operand of level - 1) together with
-    // the next level's steps whose operands are all below level (same prerequisites). So a
-    // cheap formula of the next level is not held up by the largest steps of this one, which
-    // is where the seed formula is: (x - r0) * x^4 is a product of levels 1 and 2 at level 4,
-    // while level 3 spends most of its work on operands of level 2. A candidate of this level
-    // equivalent to a class just made at the next one gives that class its cheaper recipe
-    // (merge and finish_improvements), so every class keeps the cheapest recipe found.
+    // The batch that completes a level also runs the first tiles of the next level's steps
+    // whose operands all lie below the level (they need nothing more); their other tiles run
+    // in the next batch, among those that complete that level. So a cheap formula of the next
+    // level is not held up by the largest steps of this one. On the seed task that is where
+    // the target is: (x - r0) * x^4 is a product of levels 1 and 2 at level 4, while level 3
+    // spends most of its work on operands of level 2. A candidate equivalent to a class made
+    // earlier at a higher cost gives that class its cheaper recipe (merge and
+    // finish_improvements), so every class keeps the cheapest recipe found.
     std::vector<Step> steps = make_steps(level);
     std::erase_if(steps, [&](const Step& s) { return s.order < level - 1; });
+    steps.insert(steps.end(), carried.begin(), carried.end());
+    carried.clear();
     if (level + 1 <= max_cost) {
-      std::vector<Step> next = make_steps(level + 1);
-      for (Step& s : next)
-        if (s.order <= level - 1) steps.push_back(s);
+      for (Step& s : make_steps(level + 1)) {
+        if (s.order > level - 1) continue;
+        s.part = Step::Part::Head;
+        steps.push_back(s);
+        s.part = Step::Part::Tail;
+        carried.push_back(s);
+      }
     }
-    const bool complete = run_batch(steps, level, false);
+    const bool complete = run_batch(steps, false);
     prune_elite(level);
     if (complete) cost_completed_ = level;
     if (ctx_.stopped() || exhausted_.load(std::memory_order_relaxed)) break;
@@ -205,12 +213,11 @@ void Enumerator::materialize_fused(int level) {
   s.variant_count = 2;
   s.order = level;
   s.level = level;
-  run_batch({s}, level, true);
+  run_batch({s}, true);
 }
 
-bool Enumerator::run_batch(const std::vector<Step>& steps, int level, bool materialize) {
-  std::size_t head = 0;
-  const std::vector<Tile> tiles = make_tiles(steps, level, &head);
+bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
+  const std::vector<Tile> tiles = make_tiles(steps);
   const std::size_t n = tiles.size();
   if (n == 0) return true;
   const auto threads = static_cast<std::size_t>(ctx_.threads);
@@ -275,7 +282,7 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, int level, bool mater
   parallel_for(threads, 1, worker, static_cast<int>(threads));
   finish_improvements(materialize);
   store_->commit();
-  return merged.load() >= head;
+  return merged.load() >= n;
 }
 
 void Enumerator::merge(TileOutput& out, bool materialize) {

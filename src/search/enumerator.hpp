@@ -53,7 +53,11 @@ class Enumerator {
     int variant_count = 1;
     int order = 0;  // the costliest operand's level; steps run by increasing order
     int level = 0;  // the cost of the step's candidates
+    // Which of its tiles run: all, the first kHeadTiles (a next level's step in the batch that
+    // completes the level below), or the others (the same step in the next batch).
+    enum class Part : std::uint8_t { All, Head, Tail } part = Part::All;
   };
+  static constexpr std::size_t kHeadTiles = 4;
   struct Tile {
     std::uint32_t step;
     std::uint32_t a0, a1, b0, b1;
@@ -66,14 +70,12 @@ class Enumerator {
   void add_leaves();
   void make_literal_groups();
   std::vector<Step> make_steps(int level) const;
-  // The tiles of the steps in the order they are merged. Steps of a level above `level` (the
-  // next level's, see run()) have only their first tiles among the others; the rest follow
-  // once the tiles before, `*head` of them, complete `level`.
-  std::vector<Tile> make_tiles(const std::vector<Step>& steps, int level, std::size_t* head) const;
-  // Runs the steps (of `level` and maybe the next) as one batch; `materialize` marks the batch
-  // that turns a level's screened fused sums into classes (already offered to the front).
-  // Returns whether every candidate of `level` was merged.
-  bool run_batch(const std::vector<Step>& steps, int level, bool materialize);
+  // The tiles of the steps in the order they are merged.
+  std::vector<Tile> make_tiles(const std::vector<Step>& steps) const;
+  // Runs the steps as one batch; `materialize` marks the batch that turns a level's screened
+  // fused sums into classes (already offered to the front). Returns whether every tile was
+  // merged (false when the enumeration stopped during the batch).
+  bool run_batch(const std::vector<Step>& steps, bool materialize);
   void materialize_fused(int level);
   void process_tile(const Step& step, const Tile& tile, TileOutput& out) const;
   int emit(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,

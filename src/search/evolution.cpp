@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <locale>
 #include <set>
+#include <sstream>
 
 #include "search/nsga2.hpp"
 #include "shaderfit/core/parallel.hpp"
@@ -78,6 +80,8 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
 
   const int count = o.islands > 0 ? o.islands : 4;
   for (int i = 0; i < count; ++i) islands_.push_back(Island{Rng(rng()), {}, {}, 0});
+  if (ctx.device == ComputeDevice::Cuda)
+    gpu_ = std::make_unique<GpuEvaluator>(fit_pointers_, fit_target_, fit_weights_);
 }
 
 bool Evolution::out_of_time() const {
@@ -86,28 +90,40 @@ bool Evolution::out_of_time() const {
           ctx_.options.interrupt->load(std::memory_order_relaxed));
 }
 
+void Evolution::fit_constants(Individual& ind) const {
+  Expression& e = ind.expr;
+  if (e.parameters.empty()) return;
+  FitOptions fo;
+  fo.max_iterations = kFitIterations;
+  FitProblem fp{&e, fit_pointers_, fit_target_, fit_weights_};
+  FitSummary fs;
+  fit_parameters(fo, fp, &fs);
+  e.parameter_values = fs.parameters;
+  ctx_.node_evaluations.fetch_add(static_cast<std::uint64_t>(fs.iterations + 1) * e.size() *
+                                      fit_target_.size() * (1 + e.parameters.size()),
+                                  std::memory_order_relaxed);
+}
+
+void Evolution::evaluate_batch(std::vector<Individual>& batch, Island& island,
+                               std::vector<double>& values) const {
+  if (gpu_ != nullptr) return evaluate_on_gpu(batch, island);
+  for (Individual& ind : batch) evaluate(ind, island, values);
+}
+
 bool Evolution::evaluate(Individual& ind, Island& island, std::vector<double>& values) const {
   ++island.evaluated;
   Expression& e = ind.expr;
   values.resize(fit_target_.size());
-  if (!e.parameters.empty()) {
-    FitOptions fo;
-    fo.max_iterations = kFitIterations;
-    FitProblem fp{&e, fit_pointers_, fit_target_, fit_weights_};
-    FitSummary fs;
-    fit_parameters(fo, fp, &fs);
-    e.parameter_values = fs.parameters;
-    ctx_.node_evaluations.fetch_add(static_cast<std::uint64_t>(fs.iterations + 1) * e.size() *
-                                        fit_target_.size() * (1 + e.parameters.size()),
-                                    std::memory_order_relaxed);
-  }
+  fit_constants(ind);
   shaderfit::evaluate(e, fit_pointers_, values, {.threads = 1});
   ctx_.node_evaluations.fetch_add(e.size() * fit_target_.size(), std::memory_order_relaxed);
   ind.raw_loss = ind.loss = loss_of(ctx_.options.loss, values, fit_target_, fit_weights_);
   ind.raw_cost = ind.cost = expression_cost(e, ctx_.options.cost);
   ind.hash = structural_hash(e);
   ind.scaled = false;
-  if (ctx_.options.linear_scaling && std::isfinite(ind.loss)) {
+  // The scaled form p0 * e + p1 has 4 more nodes; it must still fit in max_nodes.
+  if (ctx_.options.linear_scaling && std::isfinite(ind.loss) &&
+      e.size() + 4 <= static_cast<std::size_t>(limits_.max_nodes)) {
     const LinearScaling ls = fit_linear_scaling(values, fit_target_, fit_weights_);
     if (std::isfinite(ls.mse) && ls.a != 0.0) {
       for (double& v : values) v = ls.a * v + ls.b;
@@ -182,7 +198,7 @@ void Evolution::init_island(Island& island, const std::vector<Expression>& seeds
     add(random_formula(island.rng, limits_, 1 + static_cast<int>(uniform_index(island.rng, 4))));
 }
 
-void Evolution::generation(Island& island, const Snapshot& front) {
+bool Evolution::generation(Island& island, const Snapshot& front) {
   const std::size_t size = ctx_.options.population;
   std::vector<Objectives> obj;
   for (const Individual& ind : island.population) obj.push_back({ind.loss, ind.cost});
@@ -199,8 +215,26 @@ void Evolution::generation(Island& island, const Snapshot& front) {
     if (island.population[i].loss < island.population[best].loss) best = i;
   std::vector<Individual> offspring;
   std::vector<double> values;
-  for (std::size_t attempts = 0; offspring.size() < size && attempts < 4 * size; ++attempts) {
-    if ((attempts & 15) == 15 && out_of_time()) break;
+  // Children are scored in batches: on the CPU one at a time, as soon as each is made; on the GPU
+  // as many as are still missing, in one launch. The children made are the same either way.
+  const std::size_t batch_limit = gpu_ != nullptr ? size : 1;
+  std::vector<Individual> batch;
+  const auto score_batch = [&] {
+    evaluate_batch(batch, island, values);
+    for (Individual& ind : batch) {
+      if (!std::isfinite(ind.loss) || !seen.insert(ind.hash).second) continue;
+      consider(ind, island, front);
+      offspring.push_back(std::move(ind));
+    }
+    batch.clear();
+  };
+  bool complete = true;
+  for (std::size_t attempts = 0; offspring.size() + batch.size() < size && attempts < 4 * size;
+       ++attempts) {
+    if ((attempts & 15) == 15 && out_of_time()) {
+      complete = false;
+      break;
+    }
     const bool local = attempts % 4 == 3;
     const Individual& a = local ? island.population[best] : tournament(island, rank, crowd);
     Expression child =
@@ -212,19 +246,20 @@ void Evolution::generation(Island& island, const Snapshot& front) {
     if (child.empty()) continue;
     child = normalize_parameters(simplify(child), limits_);
     if (child.empty()) continue;
-    Individual ind{std::move(child), 0, 0, 0};
-    if (seen.count(structural_hash(ind.expr)) != 0) continue;
-    if (!evaluate(ind, island, values)) continue;
-    if (!seen.insert(ind.hash).second) continue;
-    consider(ind, island, front);
-    offspring.push_back(std::move(ind));
+    const std::uint64_t hash = structural_hash(child);
+    const auto same = [&](const Individual& b) { return b.hash == hash; };
+    if (seen.count(hash) != 0 || std::any_of(batch.begin(), batch.end(), same)) continue;
+    batch.push_back(Individual{std::move(child), 0, 0, hash});
+    if (batch.size() >= batch_limit || offspring.size() + batch.size() >= size) score_batch();
   }
+  score_batch();  // what a stop left in the batch (GPU only)
   for (Individual& ind : offspring) island.population.push_back(std::move(ind));
   obj.clear();
   for (const Individual& ind : island.population) obj.push_back({ind.loss, ind.cost});
   std::vector<Individual> next;
   for (std::size_t i : nsga2_select(obj, size)) next.push_back(std::move(island.population[i]));
   island.population = std::move(next);
+  return complete;
 }
 
 void Evolution::polish_front() {
@@ -248,7 +283,8 @@ void Evolution::polish_front() {
         }
       },
       ctx_.threads);
-  for (Candidate& c : done) ctx_.offer(std::move(c.expr), c.metrics, "evolution");
+  for (Candidate& c : done)
+    ctx_.offer(std::move(c.expr), loss_value(ctx_.options.loss, c.metrics), "evolution");
 }
 
 void Evolution::migrate() {
@@ -279,14 +315,58 @@ void Evolution::migrate() {
 void Evolution::run(const std::vector<Expression>& seeds) {
   std::vector<Expression> all = seeds;
   for (const FrontMember& m : ctx_.front.members()) all.insert(all.begin(), m.expression);
-  const auto threads = static_cast<std::size_t>(ctx_.threads);
   parallel_for(
       islands_.size(), 1,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) init_island(islands_[i], all, i);
       },
-      static_cast<int>(threads));
-  bool polished = false;
+      ctx_.threads);
+  evolve();
+}
+
+EvolutionState Evolution::state() const {
+  EvolutionState s;
+  s.generations = generations_;
+  s.polished = polished_;
+  for (const Island& is : islands_) {
+    SavedIsland out;
+    std::ostringstream rng;
+    rng.imbue(std::locale::classic());
+    rng << is.rng;
+    out.rng = rng.str();
+    for (const Individual& ind : is.population)
+      out.population.push_back({ind.expr, ind.loss, ind.cost, ind.raw_loss, ind.raw_cost, ind.hash,
+                                ind.scaled, ind.a, ind.b});
+    s.islands.push_back(std::move(out));
+  }
+  return s;
+}
+
+void Evolution::resume(const EvolutionState& state) {
+  if (state.islands.size() != islands_.size())
+    throw Error("the checkpoint has " + std::to_string(state.islands.size()) +
+                    " islands; this search has " + std::to_string(islands_.size()),
+                {"--resume"});
+  for (std::size_t i = 0; i < islands_.size(); ++i) {
+    Island& is = islands_[i];
+    std::istringstream rng(state.islands[i].rng);
+    rng.imbue(std::locale::classic());
+    rng >> is.rng;
+    is.population.clear();
+    for (const SavedIndividual& s : state.islands[i].population) {
+      Individual ind{s.expr, s.loss, s.cost, s.hash, s.raw_loss, s.raw_cost, s.scaled, s.a, s.b};
+      is.population.push_back(std::move(ind));
+    }
+  }
+  generations_ = state.generations;
+  polished_ = state.polished;
+  evolve();
+}
+
+void Evolution::evolve() {
+  const auto threads = static_cast<std::size_t>(ctx_.threads);
+  Checkpointer* checkpoints = ctx_.checkpointer;
+  bool cut = false;  // the last generation stopped early: its islands are not a boundary state
   while (true) {
     std::uint64_t evaluated = 0;
     for (Island& is : islands_) {
@@ -297,7 +377,7 @@ void Evolution::run(const std::vector<Expression>& seeds) {
             expression_cost(tidy, ctx_.options.cost) <= expression_cost(c.expr, ctx_.options.cost)
                 ? tidy
                 : c.expr,
-            c.metrics, "evolution");
+            loss_value(ctx_.options.loss, c.metrics), "evolution");
       }
       is.found.clear();
       evaluated += is.evaluated;
@@ -306,21 +386,26 @@ void Evolution::run(const std::vector<Expression>& seeds) {
     ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
     ctx_.maybe_progress("evolution");
     if (ctx_.should_stop()) break;
-    if (!polished && ctx_.elapsed() >= kPolishAt * ctx_.options.time_limit_s) {
+    if (!polished_ && ctx_.elapsed() >= kPolishAt * ctx_.options.time_limit_s) {
       polish_front();
-      polished = true;
+      polished_ = true;
     }
+    // A generation boundary: what a checkpoint records, and where a resumed run starts.
+    if (checkpoints != nullptr) checkpoints->at_boundary(state());
     Snapshot front;
     for (const FrontMember& m : ctx_.front.members()) front.emplace_back(m.cost, m.loss);
+    std::vector<char> complete(islands_.size(), 1);
     parallel_for(
         islands_.size(), 1,
         [&](std::size_t b, std::size_t e) {
-          for (std::size_t i = b; i < e; ++i) generation(islands_[i], front);
+          for (std::size_t i = b; i < e; ++i) complete[i] = generation(islands_[i], front) ? 1 : 0;
         },
         static_cast<int>(threads));
+    cut = std::find(complete.begin(), complete.end(), 0) != complete.end();
     ++generations_;
     if (generations_ % static_cast<std::uint64_t>(ctx_.options.migration_interval) == 0) migrate();
   }
+  if (checkpoints != nullptr) checkpoints->at_end(cut, state());
 }
 
 }  // namespace shaderfit::search_detail

@@ -9,19 +9,29 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "search/checkpoint.hpp"
 #include "search/search_context.hpp"
 #include "search/variation.hpp"
 #include "shaderfit/core/random.hpp"
+#include "shaderfit/gpu/evaluator.hpp"
 
 namespace shaderfit::search_detail {
 
 class Evolution {
  public:
   Evolution(SearchContext& ctx, Rng& rng);
+  // Fills the islands from the seeds (and the front), then evolves until the search stops.
   void run(const std::vector<Expression>& seeds);
+  // Continues from a checkpoint's state (the caller restored the front and the counters, and
+  // constructed this from the generator the checkpoint recorded), exactly as the run that
+  // wrote it would have gone on from that generation boundary.
+  void resume(const EvolutionState& state);
   [[nodiscard]] std::uint64_t generations() const { return generations_; }
+  // The state at a generation boundary, for checkpoints.
+  [[nodiscard]] EvolutionState state() const;
 
  private:
   struct Individual {
@@ -48,8 +58,17 @@ class Evolution {
   using Snapshot = std::vector<std::pair<double, double>>;  // (cost, loss) of the front
 
   void init_island(Island& island, const std::vector<Expression>& seeds, std::size_t index);
-  void generation(Island& island, const Snapshot& front);
+  void evolve();  // the generation loop
+  // False when it stopped early (time or interrupt) with fewer children than usual.
+  bool generation(Island& island, const Snapshot& front);
   bool evaluate(Individual& ind, Island& island, std::vector<double>& values) const;
+  // Fits ind's free constants on the fit rows (a few warm-started steps), counting the work.
+  void fit_constants(Individual& ind) const;
+  // evaluate() for a batch of children, their losses non-finite where evaluate() is false: on
+  // the CPU one by one, on the GPU in two launches (src/search/evolution_gpu.cpp).
+  void evaluate_batch(std::vector<Individual>& batch, Island& island,
+                      std::vector<double>& values) const;
+  void evaluate_on_gpu(std::vector<Individual>& batch, Island& island) const;
   void consider(const Individual& ind, Island& island, const Snapshot& front) const;
   Candidate score_on_all_rows(Expression e) const;
   [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
@@ -66,6 +85,8 @@ class Evolution {
   std::vector<double> fit_target_, fit_weights_;
   std::vector<Island> islands_;
   std::uint64_t generations_ = 0;
+  bool polished_ = false;
+  std::unique_ptr<GpuEvaluator> gpu_;  // the fit rows on the GPU, when ctx.device is Cuda
 };
 
 }  // namespace shaderfit::search_detail

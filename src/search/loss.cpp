@@ -50,7 +50,7 @@ LossMetrics loss_metrics(std::span<const double> prediction, std::span<const dou
       rel_ok = false;
     }
     if (t > 0) {
-      const double l = std::log(std::max(p, kLogFloor)) - std::log(t);
+      const double l = std::log(std::max(p, kLogFloor) / t);  // one log a row, not two
       slog += w * l * l;
     } else {
       log_ok = false;

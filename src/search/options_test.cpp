@@ -36,6 +36,8 @@ TEST(SearchOptions, InvalidValuesSayWhy) {
             std::string::npos);
   EXPECT_NE(reason([](SearchOptions& o) { o.population = 2; }).find("population"),
             std::string::npos);
+  EXPECT_NE(reason([](SearchOptions& o) { o.checkpoint_interval_s = -1; }).find("checkpoint"),
+            std::string::npos);
 }
 
 TEST(SearchOptions, OperatorLists) {

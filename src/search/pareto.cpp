@@ -1,12 +1,13 @@
 #include "search/pareto.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace shaderfit::search_detail {
 
 bool ParetoFront::dominated_locked(double cost, double loss) const {
-  if (!(loss == loss)) return true;  // NaN never enters
+  if (!std::isfinite(loss) || !std::isfinite(cost)) return true;  // NaN or inf never enters
   for (const FrontMember& m : members_) {
     if (m.cost > cost) break;
     if (m.loss <= loss) return true;

@@ -9,8 +9,8 @@
 
 namespace shaderfit::search_detail {
 
-// Thread-safe. A member enters when no member has cost <= its cost and loss <= its loss; it
-// evicts the members it dominates. Kept sorted by cost, so losses strictly decrease along it.
+// Thread-safe. A member enters when its cost and loss are finite and no member has cost <= its
+// cost and loss <= its loss; it evicts the members it dominates. Kept sorted by cost, so losses strictly decrease along it.
 class ParetoFront {
  public:
   // Called under the front's lock for each member that enters, so calls never overlap.

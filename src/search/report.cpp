@@ -54,10 +54,18 @@ std::string front_table(const SearchSummary& s, LossKind loss) {
   std::string out = fmt::format("{:>6} {:>5} {:>10} {:>10} {:>10} {:>10}  {}\n", "cost", "nodes",
                                 loss == LossKind::Mse ? "mse" : std::string(loss_name(loss)), "mse",
                                 "max_abs", "found", "formula");
+  bool unstable = false;
   for (const FrontMember& m : s.front) {
-    out += fmt::format("{:>6g} {:>5} {:>10.4g} {:>10.4g} {:>10.4g} {:>10}  {}\n", m.cost, m.nodes,
-                       m.loss, m.metrics.mse, m.metrics.max_abs, when(m.time_s), m.formula);
+    // "!" before the formula: float32 evaluation departs from float64 beyond the bound.
+    out += fmt::format("{:>6g} {:>5} {:>10.4g} {:>10.4g} {:>10.4g} {:>10} {}{}\n", m.cost, m.nodes,
+                       m.loss, m.metrics.mse, m.metrics.max_abs, when(m.time_s),
+                       m.float32_stable ? " " : "!", m.formula);
+    unstable = unstable || !m.float32_stable;
   }
+  if (unstable)
+    out +=
+        "! not stable in float32: float32 and float64 differ by more than 1e-4 of the "
+        "target's scale and 1% of the formula's max_abs error (docs/reliability.md)\n";
   return out;
 }
 
@@ -79,6 +87,8 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
          {"rel", number_or_null(m.metrics.rel)},
          {"log", number_or_null(m.metrics.log)},
          {"time_s", m.time_s},
+         {"float32_max_abs_diff", number_or_null(m.float32_max_abs_diff)},
+         {"float32_stable", m.float32_stable},
          {"origin", m.origin},
          {"formula_parametric", to_infix(m.expression)},
          {"fitted_parameters", params},
@@ -102,6 +112,7 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"literals", literals},
                 {"seed", o.seed},
                 {"threads", o.threads},
+                {"device", device_name(o.device)},
                 {"time_limit_s", o.time_limit_s},
                 {"max_candidates", o.max_candidates ? json(*o.max_candidates) : json()},
                 {"max_nodes", o.max_nodes}}},

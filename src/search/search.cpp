@@ -2,10 +2,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <locale>
+#include <memory>
+#include <optional>
 #include <set>
+#include <sstream>
 
+#include "search/checkpoint.hpp"
 #include "search/enumerator.hpp"
 #include "search/evolution.hpp"
+#include "search/float32_check.hpp"
 #include "search/search_context.hpp"
 
 namespace shaderfit {
@@ -108,7 +114,20 @@ bool SearchOptions::is_valid(std::string* why) const {
   if (max_parameters < 0 || max_parameters > 8) return fail("max_parameters must be in [0, 8]");
   if (fit_rows < 8) return fail("fit_rows must be at least 8");
   if (!(progress_interval_s > 0)) return fail("progress_interval_s must be positive");
+  if (!(checkpoint_interval_s >= 0) || !std::isfinite(checkpoint_interval_s))
+    return fail("the checkpoint interval must be a number of seconds >= 0");
   return true;
+}
+
+CheckpointInfo read_checkpoint_info(const std::string& path) {
+  const search_detail::Checkpoint c = search_detail::read_checkpoint(path);
+  CheckpointInfo info;
+  info.phase = c.phase;
+  info.elapsed_s = c.elapsed_s;
+  info.candidates = c.candidates;
+  info.generations = c.evolution.generations;
+  info.front_size = c.front.size();
+  return info;
 }
 
 std::vector<Op> parse_operator_list(std::string_view list, const SourceLocation& where) {
@@ -166,26 +185,71 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"--loss"});
 
+  using search_detail::Checkpoint;
+  std::optional<Checkpoint> resumed;
+  if (!options.resume_path.empty()) {
+    resumed = search_detail::read_checkpoint(options.resume_path);
+    search_detail::check_checkpoint_matches(*resumed, options, problem, options.resume_path);
+  }
+  // Before any work, so that --device cuda without a GPU fails at once.
+  const ComputeDevice device = resolve_device(options.device, {"--device"});
   search_detail::SearchContext ctx(options, problem);
+  ctx.device = device;
+  std::unique_ptr<search_detail::Checkpointer> checkpoints;
+  if (!options.checkpoint_path.empty()) {
+    checkpoints = std::make_unique<search_detail::Checkpointer>(ctx);
+    ctx.checkpointer = checkpoints.get();
+  }
   Rng rng(options.seed);
   SearchSummary s;
-  std::vector<Expression> seeds;
-  if (options.enumerate) {
-    search_detail::Enumerator enumerator(ctx, rng);
-    enumerator.run();
-    s.distinct_candidates = enumerator.classes();
-    s.enumeration_cost_completed = enumerator.cost_completed();
-    if (options.evolve) seeds = enumerator.seeds(options.population);
-  }
-  s.enumeration_time_s = ctx.elapsed();
-  if (options.evolve && !ctx.should_stop()) {
+  if (resumed && resumed->phase == "evolution") {
+    // From the generation boundary the checkpoint recorded: the enumeration is not run again.
+    ctx.resume_clock(resumed->elapsed_s);
+    ctx.candidates.store(resumed->candidates);
+    ctx.node_evaluations.store(resumed->node_evaluations);
+    for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));
+    s.distinct_candidates = resumed->distinct_candidates;
+    s.enumeration_cost_completed = resumed->enumeration_cost_completed;
+    s.enumeration_time_s = resumed->enumeration_time_s;
+    std::istringstream state(resumed->rng);
+    state.imbue(std::locale::classic());
+    state >> rng;
+    if (checkpoints)
+      checkpoints->begin_evolution(s.enumeration_time_s, s.distinct_candidates,
+                                   s.enumeration_cost_completed, rng);
     search_detail::Evolution evolution(ctx, rng);
-    evolution.run(seeds);
+    evolution.resume(resumed->evolution);
     s.generations = evolution.generations();
+  } else {
+    // Afresh, or from a checkpoint taken during the enumeration: the enumeration runs again
+    // (with count stops it finds the same classes), then the checkpoint's front joins.
+    std::vector<Expression> seeds;
+    if (options.enumerate) {
+      search_detail::Enumerator enumerator(ctx, rng);
+      enumerator.run();
+      s.distinct_candidates = enumerator.classes();
+      s.enumeration_cost_completed = enumerator.cost_completed();
+      if (options.evolve) seeds = enumerator.seeds(options.population);
+    }
+    if (resumed)
+      for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));
+    s.enumeration_time_s = ctx.elapsed();
+    if (options.evolve && !ctx.should_stop()) {
+      if (checkpoints)
+        checkpoints->begin_evolution(s.enumeration_time_s, s.distinct_candidates,
+                                     s.enumeration_cost_completed, rng);
+      search_detail::Evolution evolution(ctx, rng);
+      evolution.run(seeds);
+      s.generations = evolution.generations();
+    } else if (checkpoints) {
+      checkpoints->write_enumeration();
+    }
   }
   s.total_time_s = ctx.elapsed();
   s.evolution_time_s = s.total_time_s - s.enumeration_time_s;
   s.front = ctx.front.members();
+  const search_detail::Float32Check float32(problem);
+  for (FrontMember& m : s.front) float32.apply(m);
   s.candidates = ctx.candidates.load();
   s.node_evaluations = ctx.node_evaluations.load();
   s.termination = ctx.stop_reason();

@@ -1,8 +1,11 @@
 #include "search/search_context.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <thread>
 
+#include "search/checkpoint.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/print.hpp"
 
@@ -21,7 +24,8 @@ SearchContext::SearchContext(const SearchOptions& opts, const SearchProblem& pro
 }
 
 double SearchContext::elapsed() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  return clock_offset_s_ +
+         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
 void SearchContext::stop(std::string_view reason) {
@@ -49,6 +53,7 @@ bool SearchContext::should_stop() {
 }
 
 void SearchContext::maybe_progress(std::string_view phase) {
+  if (checkpointer != nullptr && phase == "enumeration") checkpointer->enumeration_tick();
   if (!options.on_progress) return;
   const double now = elapsed();
   if (now - last_progress_.load(std::memory_order_relaxed) < options.progress_interval_s) return;
@@ -85,13 +90,71 @@ LossMetrics SearchContext::score(const Expression& e) {
   return metrics_of(out);
 }
 
-bool SearchContext::offer(Expression e, const LossMetrics& metrics, std::string_view origin) {
+namespace {
+
+// Operators whose result can be finite while an operand is not (x / inf = 0, rcp(inf) = 0,
+// min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2): a
+// NaN or an infinity can hide below them. Through every other operator it reaches the result.
+bool absorbs_non_finite(const Node& n) {
+  switch (n.op) {
+    case Op::Div:
+    case Op::Rcp:
+    case Op::Rsqrt:
+    case Op::Min:
+    case Op::Max:
+    case Op::Saturate:
+    case Op::Exp2:
+    case Op::Exp:
+    case Op::Pow: return true;
+    case Op::IPow: return n.index < 0;
+    default: return false;
+  }
+}
+
+}  // namespace
+
+bool SearchContext::finite_everywhere(const Expression& e) {
+  for (const Node& n : e.nodes) {
+    if (n.op == Op::Const && !std::isfinite(n.value)) return false;
+  }
+  for (double v : e.parameter_values)
+    if (!std::isfinite(v)) return false;
+  // The root is the caller's prediction; below it only the operands of absorbing operators
+  // need a look (anything non-finite elsewhere would show in an operand of one, or the root).
+  std::vector<double> values;
+  std::array<std::size_t, 3> children{};
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    const Node& n = e.nodes[i];
+    if (!absorbs_non_finite(n)) continue;
+    const std::size_t k = arity(n.op);
+    e.child_indices(i, std::span<std::size_t>(children.data(), k));
+    for (std::size_t c = 0; c < k; ++c) {
+      if (arity(e.nodes[children[c]].op) == 0) continue;  // leaves were checked above
+      values.resize(rows);
+      predict(e.subtree(children[c]), values);
+      for (double v : values)
+        if (!std::isfinite(v)) return false;
+    }
+  }
+  return true;
+}
+
+bool SearchContext::offer(Expression e, double loss_estimate, std::string_view origin) {
   FrontMember m;
   m.cost = expression_cost(e, options.cost);
-  m.loss = loss_value(options.loss, metrics);
-  if (!front.would_enter(m.cost, m.loss)) return false;
+  m.loss = loss_estimate;
+  if (!std::isfinite(m.loss) || !front.would_enter(m.cost, m.loss)) return false;
+  // What the front shows is what was scored: e itself, in float64, on every row. (Only
+  // formulas that would enter get this far, so the extra evaluation is rare.)
+  std::vector<double> prediction(rows);
+  predict(e, prediction);
+  for (double v : prediction)
+    if (!std::isfinite(v)) return false;
+  m.metrics = metrics_of(prediction);
+  m.loss = loss_value(options.loss, m.metrics);
+  if (!std::isfinite(m.loss) || !front.would_enter(m.cost, m.loss)) return false;
+  if (!finite_everywhere(e)) return false;
   m.nodes = e.size();
-  m.metrics = metrics;
   m.formula = to_infix(e, {.substitute_parameters = true});
   m.expression = std::move(e);
   m.time_s = elapsed();

@@ -15,6 +15,8 @@
 
 namespace shaderfit::search_detail {
 
+class Checkpointer;
+
 class SearchContext {
  public:
   SearchContext(const SearchOptions& options, const SearchProblem& problem);
@@ -24,13 +26,21 @@ class SearchContext {
   std::vector<const double*> columns;  // the input columns, in problem order
   std::size_t rows = 0;
   int threads = 1;
+  ComputeDevice device = ComputeDevice::Cpu;  // options.device resolved (Auto decided)
   ParetoFront front;
 
   std::atomic<std::uint64_t> candidates{0};
   std::atomic<std::uint64_t> node_evaluations{0};
 
-  // Seconds since the search started.
+  // Seconds since the search started (including, when resumed, the time its checkpoint had
+  // consumed).
   [[nodiscard]] double elapsed() const;
+  // Resuming: the clock continues from `elapsed_s`.
+  void resume_clock(double elapsed_s) { clock_offset_s_ = elapsed_s; }
+
+  // Takes the checkpoints when options.checkpoint_path is set (null otherwise); maybe_progress
+  // gives it the enumeration's ticks.
+  Checkpointer* checkpointer = nullptr;
 
   // True once a budget is spent, the interrupt flag is set, or the stop target was met; the first
   // reason is kept. Cheap enough to call per batch of candidates.
@@ -48,11 +58,21 @@ class SearchContext {
   // The loss metrics of e on every row.
   LossMetrics score(const Expression& e);
   // Fills in a front member for e (which must be over the problem's inputs) and offers it.
-  // Returns whether it entered the front. `metrics` are e's full-data metrics.
-  bool offer(Expression e, const LossMetrics& metrics, std::string_view origin);
+  // Returns whether it entered the front. `loss_estimate` (the caller's full-data loss of e or
+  // of an equivalent form, e.g. before simplification) only pre-selects: a formula that may
+  // enter is scored again as it will be shown, and never enters when its loss is not finite or
+  // it is not finite_everywhere.
+  bool offer(Expression e, double loss_estimate, std::string_view origin);
+  // Whether e and every subexpression of it is finite on every row (weight-0 rows included),
+  // in float64. GLSL leaves x / 0, logs of 0 or less, square roots of negatives and whatever
+  // is computed from an infinity or a NaN unspecified (and min, max, saturate and rcp can turn
+  // those back into finite values), so a formula that passes through one would not compute
+  // what the search scored in every shader.
+  bool finite_everywhere(const Expression& e);
 
  private:
   std::chrono::steady_clock::time_point start_;
+  double clock_offset_s_ = 0;
   std::atomic<bool> stopped_{false};
   mutable std::mutex reason_mutex_;
   std::string reason_;

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "shaderfit/expr/expression.hpp"
@@ -31,5 +32,9 @@ struct FrontReadOptions {
 // that does not parse, no "front" list, a member without a "formula" string, a formula that does
 // not parse, or "parameters" that is neither a list of names nor an object of numbers.
 std::vector<FrontFormula> read_front(const std::string& path, const FrontReadOptions& options = {});
+
+// The same for JSON text already in memory; `source` names it in error locations.
+std::vector<FrontFormula> parse_front(std::string_view json, const std::string& source,
+                                      const FrontReadOptions& options = {});
 
 }  // namespace shaderfit

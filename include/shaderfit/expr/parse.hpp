@@ -10,6 +10,11 @@
 // (three), `pow(a, k)` with an integer literal k in range becomes the integer power, numbers in
 // decimal or scientific notation, the constant `pi`, and identifiers [A-Za-z_][A-Za-z0-9_]*.
 // A minus sign directly before a number literal makes a negative constant (`-0.5`).
+//
+// Size limits, far above any formula a shader would use, so that nothing that walks a parsed
+// formula recursively (the parser itself, the printers, simplify, the cost model) can run out of
+// stack on a hostile input: parentheses, calls and unary signs nest at most kMaxFormulaNesting
+// levels, and the tree is at most kMaxFormulaDepth operations deep (a sum of that many terms).
 #pragma once
 
 #include <string>
@@ -19,6 +24,9 @@
 #include "shaderfit/expr/expression.hpp"
 
 namespace shaderfit {
+
+inline constexpr int kMaxFormulaNesting = 256;
+inline constexpr int kMaxFormulaDepth = 2048;
 
 struct ParseOptions {
   // Names allowed as input variables. When empty, every identifier that is not a parameter or a
@@ -34,7 +42,8 @@ struct ParseOptions {
 };
 
 // Throws shaderfit::Error naming the source, line and column of the first problem: a syntax error,
-// an unknown function, a wrong number of arguments, an exponent out of range, an unknown variable.
+// an unknown function, a wrong number of arguments, an exponent out of range, an unknown variable,
+// a formula beyond the size limits above.
 // The result's variable table is `options.variables` (when given) or the names in order of use;
 // its parameter table is `options.parameters`.
 Expression parse_formula(std::string_view text, const ParseOptions& options = {});

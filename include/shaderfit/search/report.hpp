@@ -21,7 +21,8 @@ struct SearchDataInfo {
   std::vector<std::string> inputs;
 };
 
-// The front as a table: cost, nodes, every metric, when found, and the formula.
+// The front as a table: cost, nodes, every metric, when found, and the formula, marked "!" (with
+// a note below the table) when it is not stable in float32.
 std::string front_table(const SearchSummary& summary, LossKind loss = LossKind::Mse);
 
 // One line for a new front member, as printed while searching:
@@ -30,7 +31,8 @@ std::string front_member_line(const FrontMember& m, LossKind loss);
 
 // The whole result as JSON: {"data", "options", "summary", "inputs", "front": [...]}; every
 // front member has formula, cost, nodes, loss, mse, rmse, max_abs, rel, log, time_s, origin,
-// latex and code (GLSL and CUDA). Metrics that are not finite are null.
+// latex, code (GLSL and CUDA), float32_max_abs_diff (null when infinite) and float32_stable.
+// Metrics that are not finite are null.
 std::string search_json(const SearchSummary& summary, const SearchOptions& options,
                         const SearchDataInfo& data);
 

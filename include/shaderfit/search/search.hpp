@@ -31,6 +31,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/gpu/device.hpp"
 #include "shaderfit/search/loss.hpp"
 
 namespace shaderfit {
@@ -58,6 +59,11 @@ struct FrontMember {
   double loss = 0;        // the metric options.loss names
   double time_s = 0;      // when it was found, seconds since the search started
   std::string origin;     // "enumeration" or "evolution"
+  // Float32 against float64 on every row (docs/reliability.md): the largest absolute
+  // difference (+inf when float32 is not finite on a row), and whether it is within
+  // max(1e-4 * max |target|, 0.01 * metrics.max_abs). Filled in for the final front.
+  double float32_max_abs_diff = 0;
+  bool float32_stable = true;
 };
 
 struct SearchProgress {
@@ -82,6 +88,11 @@ struct SearchOptions {
 
   std::uint64_t seed = 1;
   int threads = 0;  // 0: all hardware threads
+  // Where the evolution scores each generation's children on the fit rows: Auto = the GPU when
+  // cuda_available(), else the CPU. Cuda without a usable GPU makes run_search throw Error
+  // (docs/gpu.md). The GPU scores in float32, so fronts may differ from CPU runs in the last
+  // digits of the fit-row losses that rank individuals; front members are scored in float64.
+  ComputeDevice device = ComputeDevice::Auto;
 
   LossKind loss = LossKind::Mse;
   CostTarget cost = CostTarget::Instructions;
@@ -99,8 +110,9 @@ struct SearchOptions {
   // to deduplicate and to screen; candidates that pass are scored on every row.
   bool enumerate = true;
   std::size_t screen_rows = 64;  // multiple of 8, >= 16; stratified by the target
-  std::size_t max_classes =
-      1'500'000;  // distinct candidates kept (memory: screen_rows * 4 bytes each)
+  // Distinct candidates kept. It bounds the search's memory, which peaks in the enumeration at
+  // about max_classes * (6 * screen_rows + 130) bytes (770 MB by default; docs/reliability.md).
+  std::size_t max_classes = 1'500'000;
   double max_enumeration_share = 0.1;  // fraction of the time limit the enumeration may use
   int max_enumeration_cost = 12;       // highest cost level enumerated
 
@@ -123,10 +135,24 @@ struct SearchOptions {
   // the front found so far.
   const std::atomic<bool>* interrupt = nullptr;
 
+  // Checkpoints (docs/reliability.md). With a path, the search writes its state there (to
+  // PATH.tmp, then renamed) at the first generation boundary after every checkpoint_interval_s
+  // seconds (0: every boundary), during the enumeration at that interval (the front so far), and
+  // when it stops for any reason (the interrupt flag included).
+  std::string checkpoint_path;
+  double checkpoint_interval_s = 60.0;
+  // With a path, the search continues from that checkpoint instead of starting afresh: from its
+  // generation boundary, or by running the enumeration again when it was taken during it. With
+  // one thread and no stop by the clock, the result is the one the checkpointed run would have
+  // reached. The data and the options other than budgets, threads and checkpoint settings must
+  // be those of the checkpointed run.
+  std::string resume_path;
+
   // False, with the reason in *why, for: a time limit <= 0 or not finite, max_candidates <= 0,
   // threads < 0, no operators, a leaf or unsupported operator (in either list), max_power outside
   // [2, 16], a non-finite literal, screen_rows not a multiple of 8 or < 16, max_nodes < 1,
-  // population < 4, islands < 0, migration_interval < 1, max_parameters < 0, fit_rows < 8.
+  // population < 4, islands < 0, migration_interval < 1, max_parameters < 0, fit_rows < 8,
+  // checkpoint_interval_s < 0 or not finite.
   bool is_valid(std::string* why) const;
 };
 
@@ -150,8 +176,21 @@ struct SearchSummary {
 
 // Runs the search. Throws shaderfit::Error when the problem is invalid (SearchProblem::validate)
 // or the options are (with the is_valid reason); for the log or rel loss, also when a target is
-// <= 0 or 0.
+// <= 0 or 0; when the checkpoint cannot be written; and when the checkpoint to resume from cannot
+// be read, is damaged, comes from another shaderfit version or was made for other data or
+// options (the message says which).
 void run_search(const SearchOptions& options, const SearchProblem& problem, SearchSummary* summary);
+
+// What a checkpoint file holds, to announce a resumed run. Throws shaderfit::Error as run_search
+// does for a file that cannot be read, is damaged or comes from another version.
+struct CheckpointInfo {
+  std::string phase;  // "enumeration" (resuming runs it again) or "evolution"
+  double elapsed_s = 0;
+  std::uint64_t candidates = 0;
+  std::uint64_t generations = 0;
+  std::size_t front_size = 0;
+};
+CheckpointInfo read_checkpoint_info(const std::string& path);
 
 // Parses a comma-separated operator list: + - * / ^ (integer powers; also "ipow"), and the
 // function names sqrt rsqrt rcp exp2 log2 exp log abs saturate sin cos min max pow. Throws

@@ -1,0 +1,58 @@
+// The fuzz targets: one entry function per user-facing reader, shared by the libFuzzer programs
+// (built with -DSHADERFIT_FUZZ=ON, see scripts/fuzz) and by fuzz_regressions_test.cpp, which runs
+// every file in fuzz/corpus/<name>/ and fuzz/regressions/<name>/ through them in the normal build.
+//
+// Contract of each entry: bad input is expected and ends in shaderfit::Error, which the entry
+// catches. Anything else that escapes (another exception type, a sanitizer report, a crash) is a
+// bug, and so is a broken round trip, which the entry reports by throwing FuzzFailure.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace shaderfit::fuzz {
+
+// A property the target checks does not hold (for example: printed formula does not read back).
+class FuzzFailure : public std::logic_error {
+ public:
+  using std::logic_error::logic_error;
+};
+
+inline std::string_view as_text(const std::uint8_t* data, std::size_t size) {
+  return {reinterpret_cast<const char*>(data), size};
+}
+
+// parse_formula, then everything `shaderfit cost` and `shaderfit codegen` do with the result.
+void formula(const std::uint8_t* data, std::size_t size);
+// parse_csv, the numeric view of each column, and the to_csv round trip.
+void csv(const std::uint8_t* data, std::size_t size);
+// The option parsers (--material, --ops, --domain, --grid, --define, --constraint, --cond,
+// --form, --transform), chosen by the first byte.
+void options(const std::uint8_t* data, std::size_t size);
+// parse_front (a search front's JSON, as `shaderfit codegen --front` reads it), then code for
+// each member.
+void front(const std::uint8_t* data, std::size_t size);
+
+struct Target {
+  const char* name;  // also the folder under fuzz/corpus and fuzz/regressions
+  void (*run)(const std::uint8_t*, std::size_t);
+};
+
+inline constexpr Target kTargets[] = {
+    {"formula", formula}, {"csv", csv}, {"options", options}, {"front", front}};
+
+}  // namespace shaderfit::fuzz
+
+// One libFuzzer entry per program: each <name>_fuzz.cpp defines it when SHADERFIT_LIBFUZZER is set.
+#ifdef SHADERFIT_LIBFUZZER
+#define SHADERFIT_FUZZ_ENTRY(fn)                                                      \
+  extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { \
+    fn(data, size);                                                                   \
+    return 0;                                                                         \
+  }
+#else
+#define SHADERFIT_FUZZ_ENTRY(fn)
+#endif

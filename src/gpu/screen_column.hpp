@@ -1,0 +1,310 @@
+// Internal: the enumeration's column step for the GPU -- one operator over operand columns gives
+// a candidate's screen column, its dedup key and its screen loss -- as scalar SF_CPU_GPU code
+// that gives the same bits as the CPU enumerator's kernels (src/search/enum_kernels.cpp:
+// compute_column, column_key, column_loss), so that a GPU enumeration deduplicates exactly as
+// the CPU one. sin and cos are the exception: they call the platform's sinf/cosf (CUDA's are
+// within 2 ulp of the CPU's).
+//
+// Bit-equality follows from mirroring the CPU kernels' arithmetic step by step: they work on
+// eight-float vectors, so their reductions have eight lanes, lane l taking rows l, l + 8, ...;
+// here ScreenLane l does the same, and the folds over the eight lanes run in lane order. On the
+// GPU, eight threads take one candidate (thread l = lane l); in the tests, a loop over l.
+// With no contraction on either side (-ffp-contract=off, nvcc --fmad=false), the float
+// operations are the same IEEE operations.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+
+#include "gpu/program.hpp"
+#include "shaderfit/search/loss.hpp"
+
+namespace shaderfit::gpu_detail {
+
+inline constexpr int kScreenLanes = 8;      // the CPU kernels' vector width
+inline constexpr int kScreenHashRows = 16;  // rows the key hashes (search_detail::kHashRows)
+
+// What a candidate computes from operand columns a and b (the enumerator's EKind without the
+// leaves; a fused sum is computed as AddSub).
+enum class ColumnOp : std::uint8_t { Unary, IPow, AddSub, Mul, Div, Min, Max, Pow };
+
+struct ColumnCandidate {
+  std::uint32_t a = 0, b = 0;  // operand columns (indices into the column store)
+  ColumnOp kind = ColumnOp::AddSub;
+  Op unary = Op::Neg;      // the operator of Unary
+  std::int8_t k = 2;       // the exponent of IPow
+  std::uint8_t flags = 0;  // kNegA | kNegB
+  static constexpr std::uint8_t kNegA = 1, kNegB = 2;
+};
+
+struct ScreenResult {
+  std::uint64_t hash = 0;
+  float scale = 0;
+  float loss_pos = 0, loss_neg = 0;
+  bool canonical_neg = false;
+  bool valid = false;
+};
+
+namespace screen_detail {
+
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
+
+SF_CPU_GPU inline float nan_value() { return bits_float(0x7fc00000u); }
+SF_CPU_GPU inline float abs_bits(float x) { return bits_float(float_bits(x) & 0x7fffffffu); }
+// Float to int32 toward zero, as the vector conversion (cvttps2dq) for in-range values.
+SF_CPU_GPU inline std::int32_t trunc_int(float x) { return static_cast<std::int32_t>(x); }
+
+}  // namespace screen_detail
+
+// Twins of the CPU kernels' screening-precision vsqrt, vexp2 and vlog2 (one lane of them).
+SF_CPU_GPU inline float screen_sqrt(float x) {
+  using namespace screen_detail;
+  const auto i = static_cast<std::int32_t>(float_bits(x));
+  float y = bits_float(static_cast<std::uint32_t>((i >> 1) + 0x1fbd1df5));
+  y = 0.5f * (y + x / y);
+  y = 0.5f * (y + x / y);
+  y = 0.5f * (y + x / y);
+  y = x == 0.0f ? 0.0f : y;
+  y = x == kInf ? kInf : y;
+  return x >= 0.0f ? y : nan_value();
+}
+
+SF_CPU_GPU inline float screen_exp2(float x) {
+  using namespace screen_detail;
+  if (!(x == x)) return nan_value();
+  const float xc = x > 128.0f ? 128.0f : (x < -126.0f ? -126.0f : x);
+  const float r = xc + 0.5f;
+  std::int32_t n = trunc_int(r);
+  n -= static_cast<float>(n) > r ? 1 : 0;  // floor
+  const float f = xc - static_cast<float>(n);
+  const float t = f * 0.69314718f;
+  float p = 1.0f / 5040;
+  p = p * t + 1.0f / 720;
+  p = p * t + 1.0f / 120;
+  p = p * t + 1.0f / 24;
+  p = p * t + 1.0f / 6;
+  p = p * t + 0.5f;
+  p = p * t + 1.0f;
+  p = p * t + 1.0f;
+  const bool big = n > 127;
+  const float scale = bits_float(static_cast<std::uint32_t>(((n - (big ? 1 : 0)) + 127) << 23));
+  float y = p * scale * (big ? 2.0f : 1.0f);
+  y = x > 128.0f ? kInf : y;
+  y = x < -126.0f ? 0.0f : y;
+  return y;
+}
+
+SF_CPU_GPU inline float screen_log2(float x) {
+  using namespace screen_detail;
+  const std::uint32_t bits = float_bits(x);
+  std::int32_t e = static_cast<std::int32_t>((bits >> 23) & 0xffu) - 127;
+  float m = bits_float((bits & 0x007fffffu) | 0x3f800000u);  // [1, 2)
+  const bool high = m > 1.41421356f;
+  m = high ? m * 0.5f : m;
+  e += high ? 1 : 0;
+  const float t = (m - 1.0f) / (m + 1.0f);
+  const float t2 = t * t;
+  float p = 1.0f / 9;
+  p = p * t2 + 1.0f / 7;
+  p = p * t2 + 1.0f / 5;
+  p = p * t2 + 1.0f / 3;
+  p = p * t2 + 1.0f;
+  float y = static_cast<float>(e) + (2.0f * 1.44269504f) * t * p;
+  y = x == kInf ? kInf : y;
+  y = x == 0.0f ? -kInf : y;
+  return x > 0.0f ? y : (x == 0.0f ? y : nan_value());
+}
+
+SF_CPU_GPU inline float screen_unary(Op op, float a) {
+  switch (op) {
+    case Op::Sqrt: return screen_sqrt(a);
+    case Op::Rsqrt: return 1.0f / screen_sqrt(a);
+    case Op::Rcp: return 1.0f / a;
+    case Op::Exp2: return screen_exp2(a);
+    case Op::Log2: return screen_log2(a);
+    case Op::Exp: return screen_exp2(a * 1.44269504f);
+    case Op::Log: return screen_log2(a) * 0.69314718f;
+    case Op::Abs: return screen_detail::abs_bits(a);
+    case Op::Saturate: return a < 0.0f ? 0.0f : (a > 1.0f ? 1.0f : a);
+    default: return apply_unary(op, a);
+  }
+}
+
+// One row of the candidate column from its operands' values on that row.
+SF_CPU_GPU inline float screen_row(const ColumnCandidate& c, float a, float b) {
+  const float sa = (c.flags & ColumnCandidate::kNegA) != 0 ? -1.0f : 1.0f;
+  const float sb = (c.flags & ColumnCandidate::kNegB) != 0 ? -1.0f : 1.0f;
+  switch (c.kind) {
+    case ColumnOp::Unary: return screen_unary(c.unary, a * sa);
+    case ColumnOp::IPow: return apply_ipow(a, int{c.k});
+    case ColumnOp::AddSub: return a + sb * b;
+    case ColumnOp::Mul: return a * b;
+    case ColumnOp::Div: return a / b;
+    case ColumnOp::Min: {
+      const float y = sb * b;
+      return y < a ? y : a;
+    }
+    case ColumnOp::Max: {
+      const float y = sb * b;
+      return y > a ? y : a;
+    }
+    case ColumnOp::Pow: return screen_exp2(sb * b * screen_log2(a));
+  }
+  return screen_detail::nan_value();
+}
+
+// The dedup key of a column from its first 16 values (the CPU's column_key).
+SF_CPU_GPU inline void screen_key(const float* v, ScreenResult* out) {
+  using screen_detail::abs_bits;
+  float maxabs = 0;
+  for (int l = 0; l < kScreenLanes; ++l) {
+    const float a0 = abs_bits(v[l]), a1 = abs_bits(v[l + kScreenLanes]);
+    const float am = a0 > a1 ? a0 : a1;
+    maxabs = am > maxabs ? am : maxabs;
+  }
+  const float tiny = 1e-6f * maxabs;
+  bool neg = false;
+  for (int i = 0; i < kScreenHashRows; ++i) {
+    if (abs_bits(v[i]) > tiny) {
+      neg = v[i] < 0;
+      break;
+    }
+  }
+  const float sign = neg ? -1.0f : 1.0f;
+  constexpr std::uint32_t m0[kScreenLanes] = {0x9e3779b1u, 0x85ebca77u, 0xc2b2ae3du, 0x27d4eb2fu,
+                                              0x165667b1u, 0xd3a2646cu, 0xfd7046c5u, 0xb55a4f09u};
+  constexpr std::uint32_t m1[kScreenLanes] = {0x7feb352du, 0x846ca68bu, 0x68e31da4u, 0xb5297a4du,
+                                              0x1b56c4e9u, 0x2c1b3c6du, 0x297a2d39u, 0x0bf58476u};
+  constexpr std::uint32_t m2[kScreenLanes] = {0x94d049bbu, 0x133111ebu, 0xbf58476du, 0x1ce4e5b9u,
+                                              0x2545f491u, 0x4f6cdd1du, 0xff51afd7u, 0xed558ccdu};
+  constexpr std::uint32_t m3[kScreenLanes] = {0xc4ceb9feu, 0x1a85ec53u, 0x62a9d9edu, 0x799f3cd3u,
+                                              0x8bc2e4f1u, 0xa24baed4u, 0x963fdb2bu, 0x5bd1e995u};
+  std::uint32_t s1 = 0, s2 = 0;
+  for (int l = 0; l < kScreenLanes; ++l) {
+    const float x0 = v[l], x1 = v[l + kScreenLanes];
+    const float c0 = abs_bits(x0) > tiny ? x0 * sign : 0.0f;
+    const float c1 = abs_bits(x1) > tiny ? x1 * sign : 0.0f;
+    // Rounded to 10 mantissa bits, then two multiply-sum hashes (sums are mod 2^32).
+    const std::uint32_t q0 = (float_bits(c0) + 0x1000u) >> 13;
+    const std::uint32_t q1 = (float_bits(c1) + 0x1000u) >> 13;
+    s1 += q0 * (m0[l] | 1u) + q1 * (m1[l] | 1u);
+    s2 += (q0 ^ (q0 >> 11)) * (m2[l] | 1u) + (q1 ^ (q1 >> 11)) * (m3[l] | 1u);
+  }
+  std::uint64_t h = (std::uint64_t{s1} << 32) | s2;
+  h ^= h >> 33;
+  h *= 0xff51afd7ed558ccdull;
+  h ^= h >> 33;
+  out->hash = h;
+  out->canonical_neg = neg;
+  out->scale = maxabs;
+}
+
+// The screen target (search_detail::ScreenTarget's arrays, n rows, a multiple of 8).
+struct ScreenTargetView {
+  const float* y = nullptr;
+  const float* w = nullptr;
+  const float* log2_y = nullptr;  // needed for the log loss only
+  double wyy = 0;
+  LossKind loss = LossKind::Mse;
+  std::size_t n = 0;
+};
+
+// One lane's accumulators of column_loss: rows lane, lane + 8, ... in order.
+struct ScreenLane {
+  float vmin = screen_detail::kInf, vmax = -screen_detail::kInf;
+  float a = 0, b = 0;  // squared losses: sum w x^2, sum w x y; otherwise the +- losses
+  float nan = 0;
+
+  SF_CPU_GPU void add(float x, std::size_t i, const ScreenTargetView& t) {
+    vmin = x < vmin ? x : vmin;
+    vmax = x > vmax ? x : vmax;
+    const float w = t.w[i];
+    switch (t.loss) {
+      case LossKind::MaxAbs: {
+        nan += x * 0.0f;
+        const float y = t.y[i];
+        const float ap = w * screen_detail::abs_bits(x - y);
+        const float an = w * screen_detail::abs_bits(x + y);
+        a = ap > a ? ap : a;
+        b = an > b ? an : b;
+        break;
+      }
+      case LossKind::Log: {
+        nan += x * 0.0f;
+        const float ly = t.log2_y[i];
+        const float fp = screen_log2(x > 1e-30f ? x : 1e-30f) - ly;
+        const float fn = screen_log2(-x > 1e-30f ? -x : 1e-30f) - ly;
+        a += w * fp * fp;
+        b += w * fn * fn;
+        break;
+      }
+      default: {
+        const float wx = w * x;
+        a += wx * x;
+        b += wx * t.y[i];
+        break;
+      }
+    }
+  }
+};
+
+// The loss part of column_loss from the eight lanes, folded in lane order.
+SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
+                                        const ScreenTargetView& t, ScreenResult* out) {
+  const LossKind loss = t.loss;
+  const bool squared = loss != LossKind::MaxAbs && loss != LossKind::Log;
+  float mn = screen_detail::kInf, mx = -screen_detail::kInf, nans = 0;
+  double p = 0, m = 0;
+  for (int l = 0; l < kScreenLanes; ++l) {
+    const ScreenLane& s = lanes[l];
+    const float lp = squared ? s.a - 2.0f * s.b : s.a;
+    const float ln = squared ? s.a + 2.0f * s.b : s.b;
+    nans += s.nan;
+    mn = s.vmin < mn ? s.vmin : mn;
+    mx = s.vmax > mx ? s.vmax : mx;
+    if (loss == LossKind::MaxAbs) {
+      p = lp > p ? lp : p;
+      m = ln > m ? ln : m;
+    } else {
+      p += lp;
+      m += ln;
+    }
+  }
+  if (loss == LossKind::Log) {
+    constexpr double kLn2Sq = 0.4804530139182014;
+    p *= kLn2Sq;
+    m *= kLn2Sq;
+  } else if (loss != LossKind::MaxAbs) {
+    p = p + t.wyy < 0.0 ? 0.0 : p + t.wyy;  // std::max(p + wyy, 0.0), NaN kept
+    m = m + t.wyy < 0.0 ? 0.0 : m + t.wyy;
+  }
+  const float amn = screen_detail::abs_bits(mn), amx = screen_detail::abs_bits(mx);
+  const float spread = amn < amx ? amx : amn;
+  const auto finite = [](double x) { return x - x == 0.0; };
+  out->valid =
+      nans == 0 && finite(p) && finite(m) && finite(mn) && finite(mx) && mx - mn > 1e-5f * spread;
+  out->loss_pos = static_cast<float>(p);
+  out->loss_neg = static_cast<float>(m);
+}
+
+// The whole step for one candidate, lane by lane as on the GPU: writes the column to out[0, n)
+// and returns its key and loss. `store` holds the operand columns, n floats each.
+SF_CPU_GPU inline ScreenResult screen_candidate(const ColumnCandidate& c, const float* store,
+                                                const ScreenTargetView& t, float* out) {
+  const float* a = store + static_cast<std::size_t>(c.a) * t.n;
+  const float* b = store + static_cast<std::size_t>(c.b) * t.n;
+  ScreenLane lanes[kScreenLanes];
+  for (int l = 0; l < kScreenLanes; ++l) {
+    for (std::size_t i = static_cast<std::size_t>(l); i < t.n; i += kScreenLanes) {
+      out[i] = screen_row(c, a[i], b[i]);
+      lanes[l].add(out[i], i, t);
+    }
+  }
+  ScreenResult r;
+  screen_key(out, &r);
+  screen_loss_fold(lanes, t, &r);
+  return r;
+}
+
+}  // namespace shaderfit::gpu_detail

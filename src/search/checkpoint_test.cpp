@@ -1,0 +1,304 @@
+// Checkpoints: the file format (round trip, damage, other versions and data), and resuming:
+// a run stopped at a generation boundary or during the enumeration, then resumed with one
+// thread, ends with the front the uninterrupted run ends with.
+#include "search/checkpoint.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <bit>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/expr/parse.hpp"
+
+namespace shaderfit::search_detail {
+namespace {
+
+// Seed 001's Fresnel data, every 8th row (512), to keep the searches below short.
+SearchProblem seed_problem() {
+  Rng rng(1);
+  const Dataset d = make_fresnel_seed_dataset(rng);
+  SearchProblem p;
+  p.input_names = {"r0", "x"};
+  p.inputs.resize(2);
+  const auto& r0 = d.numeric("r0").values;
+  const auto& x = d.numeric("x").values;
+  const auto& y = d.numeric("R").values;
+  for (std::size_t i = 0; i < y.size(); i += 8) {
+    p.inputs[0].push_back(r0[i]);
+    p.inputs[1].push_back(x[i]);
+    p.target.push_back(y[i]);
+  }
+  return p;
+}
+
+std::string scratch(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / "shaderfit_checkpoint_test";
+  std::filesystem::create_directories(dir);
+  auto path = (dir / name).string();
+  std::filesystem::remove(path);
+  return path;
+}
+
+Checkpoint sample_checkpoint() {
+  const SearchProblem p = seed_problem();
+  SearchOptions o;
+  Checkpoint c;
+  c.phase = "evolution";
+  c.shaderfit_version = std::string(checkpoint_writer_version());
+  c.data_hash = problem_hash(p);
+  c.rows = p.target.size();
+  c.input_names = p.input_names;
+  c.options = checkpoint_options(o);
+  c.elapsed_s = 12.25;
+  c.candidates = 123456789012ULL;
+  c.node_evaluations = std::numeric_limits<std::uint64_t>::max();
+  FrontMember m;
+  m.expression = parse_formula("r0 + (x - r0) * x^4", {.variables = {"r0", "x"}});
+  m.formula = "r0 + (x - r0) * x^4";
+  m.cost = 4;
+  m.nodes = m.expression.size();
+  m.loss = 0.1;
+  m.metrics = {0.1, std::sqrt(0.1), 5e-324, std::numeric_limits<double>::quiet_NaN(), -0.0};
+  m.time_s = 1.0 / 3.0;
+  m.origin = "enumeration";
+  c.front.push_back(m);
+  Rng rng(42);
+  rng.discard(1000);
+  std::ostringstream state;
+  state << rng;
+  c.rng = state.str();
+  SavedIsland island;
+  island.rng = c.rng;
+  SavedIndividual ind;
+  ind.expr = parse_formula("p0 * exp2(x * p1) + r0",
+                           {.variables = {"r0", "x"}, .parameters = {"p0", "p1"}});
+  ind.expr.parameter_values = {0.1, -std::numeric_limits<double>::infinity()};
+  ind.loss = 1e-300;
+  ind.cost = 3;
+  ind.raw_loss = std::numeric_limits<double>::infinity();
+  ind.raw_cost = 2;
+  ind.hash = 0xfedcba9876543210ULL;
+  ind.scaled = true;
+  ind.a = -1.5;
+  ind.b = 1e308;
+  island.population.push_back(ind);
+  c.evolution.islands.push_back(island);
+  c.evolution.generations = 17;
+  c.evolution.polished = true;
+  return c;
+}
+
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b) ||
+         (std::isnan(a) && std::isnan(b));
+}
+
+TEST(Checkpoint, TextRoundTripIsExact) {
+  const Checkpoint c = sample_checkpoint();
+  const Checkpoint r = parse_checkpoint(checkpoint_text(c), "mem");
+  EXPECT_EQ(r.phase, c.phase);
+  EXPECT_EQ(r.data_hash, c.data_hash);
+  EXPECT_EQ(r.options, c.options);
+  EXPECT_EQ(r.candidates, c.candidates);
+  EXPECT_EQ(r.node_evaluations, c.node_evaluations);
+  EXPECT_EQ(r.elapsed_s, c.elapsed_s);
+  ASSERT_EQ(r.front.size(), 1u);
+  EXPECT_EQ(r.front[0].expression, c.front[0].expression);
+  EXPECT_TRUE(same_bits(r.front[0].time_s, c.front[0].time_s));
+  EXPECT_TRUE(same_bits(r.front[0].metrics.max_abs, 5e-324));
+  EXPECT_TRUE(std::isnan(r.front[0].metrics.rel));
+  EXPECT_TRUE(same_bits(r.front[0].metrics.log, -0.0));
+  EXPECT_EQ(r.rng, c.rng);
+  ASSERT_EQ(r.evolution.islands.size(), 1u);
+  const SavedIndividual& a = r.evolution.islands[0].population.at(0);
+  const SavedIndividual& b = c.evolution.islands[0].population[0];
+  EXPECT_EQ(a.expr, b.expr);
+  EXPECT_TRUE(same_bits(a.expr.parameter_values[1], b.expr.parameter_values[1]));
+  EXPECT_TRUE(same_bits(a.loss, b.loss));
+  EXPECT_TRUE(same_bits(a.raw_loss, b.raw_loss));
+  EXPECT_EQ(a.hash, b.hash);
+  EXPECT_EQ(a.scaled, b.scaled);
+  EXPECT_TRUE(same_bits(a.b, b.b));
+  EXPECT_EQ(r.evolution.generations, 17u);
+  EXPECT_TRUE(r.evolution.polished);
+  // The generator continues where it was.
+  Rng x(42), y;
+  x.discard(1000);
+  std::istringstream(r.rng) >> y;
+  EXPECT_EQ(x(), y());
+}
+
+void expect_refused(const std::string& text, const std::string& why) {
+  try {
+    parse_checkpoint(text, "run.ckpt");
+    ADD_FAILURE() << "accepted; expected: " << why;
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("run.ckpt"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Checkpoint, DamagedForeignAndOtherVersionsAreRefused) {
+  Checkpoint c = sample_checkpoint();
+  const std::string good = checkpoint_text(c);
+  std::string flipped = good;
+  flipped[flipped.size() / 2] ^= 0x01;
+  expect_refused(flipped, "checksum does not match");
+  expect_refused(good.substr(0, good.size() - 10), "checksum does not match");
+  expect_refused(good.substr(0, 30), "header is cut short");
+  expect_refused("{\"phase\": \"evolution\"}\n", "not a shaderfit checkpoint");
+  expect_refused("", "not a shaderfit checkpoint");
+  std::string format2 = good;
+  format2.replace(format2.find("format 1"), 8, "format 2");
+  expect_refused(format2, "format 2 cannot be read");
+  c.shaderfit_version = "0.0.1";
+  expect_refused(checkpoint_text(c), "written by shaderfit 0.0.1");
+}
+
+TEST(Checkpoint, OtherDataOrOptionsAreRefused) {
+  const Checkpoint c = sample_checkpoint();
+  SearchProblem p = seed_problem();
+  SearchOptions o;
+  EXPECT_NO_THROW(check_checkpoint_matches(c, o, p, "run.ckpt"));
+  o.time_limit_s = 99;  // budgets and threads may change
+  o.max_candidates = 5;
+  o.threads = 3;
+  EXPECT_NO_THROW(check_checkpoint_matches(c, o, p, "run.ckpt"));
+  o.seed = 2;
+  EXPECT_THROW(check_checkpoint_matches(c, o, p, "run.ckpt"), Error);
+  try {
+    check_checkpoint_matches(c, o, p, "run.ckpt");
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("seed = 1; this search has seed = 2"), std::string::npos)
+        << e.what();
+  }
+  o.seed = 1;
+  p.target[7] += 1e-9;
+  EXPECT_THROW(check_checkpoint_matches(c, o, p, "run.ckpt"), Error);
+}
+
+TEST(Checkpoint, WriteIsAtomicAndReadBack) {
+  const std::string path = scratch("atomic.ckpt");
+  const Checkpoint c = sample_checkpoint();
+  write_checkpoint(path, c);
+  EXPECT_FALSE(std::filesystem::exists(path + ".tmp"));
+  EXPECT_EQ(read_checkpoint(path).candidates, c.candidates);
+  EXPECT_THROW(read_checkpoint(path + ".missing"), Error);
+  EXPECT_THROW(write_checkpoint("/nonexistent-dir/x.ckpt", c), Error);
+}
+
+// Small enough for a unit test; every stop is a count.
+SearchOptions small_budget(std::int64_t candidates) {
+  SearchOptions o;
+  o.threads = 1;
+  o.time_limit_s = 600;
+  o.max_enumeration_cost = 1;
+  o.max_enumeration_share = 1.0;
+  o.max_candidates = candidates;
+  o.population = 16;
+  o.fit_rows = 64;
+  o.seed = 3;
+  return o;
+}
+
+void expect_same_result(const SearchSummary& a, const SearchSummary& b) {
+  ASSERT_EQ(a.front.size(), b.front.size());
+  for (std::size_t i = 0; i < a.front.size(); ++i) {
+    EXPECT_EQ(a.front[i].formula, b.front[i].formula);
+    EXPECT_EQ(a.front[i].expression, b.front[i].expression);
+    EXPECT_EQ(a.front[i].cost, b.front[i].cost);
+    EXPECT_EQ(a.front[i].loss, b.front[i].loss);
+    EXPECT_EQ(a.front[i].metrics.max_abs, b.front[i].metrics.max_abs);
+    EXPECT_EQ(a.front[i].origin, b.front[i].origin);
+  }
+  EXPECT_EQ(a.candidates, b.candidates);
+  EXPECT_EQ(a.node_evaluations, b.node_evaluations);
+  EXPECT_EQ(a.generations, b.generations);
+  EXPECT_EQ(a.termination, b.termination);
+}
+
+TEST(Checkpoint, ResumedAtAGenerationBoundaryEndsAsTheUninterruptedRun) {
+  const SearchProblem p = seed_problem();
+  constexpr std::int64_t kBudget = 1200;
+  SearchSummary a;
+  run_search(small_budget(kBudget), p, &a);
+  ASSERT_GT(a.generations, 3u);
+
+  // The same run, interrupted at a synchronisation point part-way (the progress callback runs
+  // there), checkpointing every boundary.
+  const std::string path = scratch("boundary.ckpt");
+  std::atomic<bool> stop{false};
+  SearchOptions o = small_budget(kBudget);
+  o.checkpoint_path = path;
+  o.checkpoint_interval_s = 0;
+  o.interrupt = &stop;
+  o.progress_interval_s = 1e-9;
+  o.on_progress = [&](const SearchProgress& g) {
+    if (g.phase == "evolution" && g.candidates > kBudget / 2) stop.store(true);
+  };
+  SearchSummary b;
+  run_search(o, p, &b);
+  ASSERT_TRUE(b.interrupted);
+  const Checkpoint c = read_checkpoint(path);
+  EXPECT_EQ(c.phase, "evolution");
+  EXPECT_GT(c.evolution.generations, 0u);
+  EXPECT_LT(c.evolution.generations, a.generations);
+
+  SearchOptions r = small_budget(kBudget);
+  r.resume_path = path;
+  SearchSummary resumed;
+  run_search(r, p, &resumed);
+  expect_same_result(a, resumed);
+}
+
+TEST(Checkpoint, ResumedFromTheEnumerationEndsAsTheUninterruptedRun) {
+  const SearchProblem p = seed_problem();
+  constexpr std::int64_t kBudget = 1000;
+  SearchSummary a;
+  run_search(small_budget(kBudget), p, &a);
+  ASSERT_GT(a.generations, 0u);
+
+  const std::string path = scratch("enumeration.ckpt");
+  std::atomic<bool> stop{false};
+  SearchOptions o = small_budget(kBudget);
+  o.checkpoint_path = path;
+  o.interrupt = &stop;
+  o.on_new_member = [&](const FrontMember& m) {
+    if (m.cost >= 1) stop.store(true);  // during the enumeration
+  };
+  SearchSummary b;
+  run_search(o, p, &b);
+  ASSERT_TRUE(b.interrupted);
+  ASSERT_EQ(b.generations, 0u);
+  const Checkpoint c = read_checkpoint(path);
+  EXPECT_EQ(c.phase, "enumeration");
+  EXPECT_FALSE(c.front.empty());
+
+  SearchOptions r = small_budget(kBudget);
+  r.resume_path = path;
+  SearchSummary resumed;
+  run_search(r, p, &resumed);
+  expect_same_result(a, resumed);
+}
+
+TEST(Checkpoint, ResumeRefusesAnotherSeed) {
+  const SearchProblem p = seed_problem();
+  const std::string path = scratch("seed.ckpt");
+  SearchOptions o = small_budget(500);
+  o.checkpoint_path = path;
+  SearchSummary s;
+  run_search(o, p, &s);
+  SearchOptions r = small_budget(1000);
+  r.seed = 4;
+  r.resume_path = path;
+  EXPECT_THROW(run_search(r, p, &s), Error);
+}
+
+}  // namespace
+}  // namespace shaderfit::search_detail

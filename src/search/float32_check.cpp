@@ -1,0 +1,53 @@
+#include "search/float32_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "shaderfit/eval/evaluate.hpp"
+
+namespace shaderfit::search_detail {
+
+Float32Check::Float32Check(const SearchProblem& problem) : problem_(problem) {
+  for (const auto& c : problem.inputs) inputs32_.emplace_back(c.begin(), c.end());
+  scale_ = 0;
+  for (double t : problem.target) scale_ = std::max(scale_, std::abs(t));
+  if (!(scale_ > 0)) scale_ = 1;
+}
+
+double Float32Check::max_abs_diff(const Expression& e) const {
+  const std::size_t rows = problem_.target.size();
+  std::vector<const double*> cols64(e.variables.size(), nullptr);
+  std::vector<const float*> cols32(e.variables.size(), nullptr);
+  for (std::size_t i = 0; i < e.variables.size(); ++i) {
+    const auto& names = problem_.input_names;
+    const auto it = std::find(names.begin(), names.end(), e.variables[i]);
+    if (it == names.end()) continue;  // evaluate() reports the missing column
+    const auto k = static_cast<std::size_t>(it - names.begin());
+    cols64[i] = problem_.inputs[k].data();
+    cols32[i] = inputs32_[k].data();
+  }
+  std::vector<double> f64(rows);
+  std::vector<float> f32(rows);
+  evaluate(e, cols64, f64, {.threads = 1});
+  evaluate(e, cols32, f32, {.threads = 1});
+  double worst = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    const double d = std::abs(static_cast<double>(f32[i]) - f64[i]);
+    if (!std::isfinite(d)) return std::numeric_limits<double>::infinity();
+    worst = std::max(worst, d);
+  }
+  return worst;
+}
+
+double Float32Check::bound(const FrontMember& m) const {
+  const double own = std::isfinite(m.metrics.max_abs) ? m.metrics.max_abs : 0.0;
+  return std::max(kFloat32ScaleShare * scale_, kFloat32ErrorShare * own);
+}
+
+void Float32Check::apply(FrontMember& m) const {
+  m.float32_max_abs_diff = max_abs_diff(m.expression);
+  m.float32_stable = m.float32_max_abs_diff <= bound(m);
+}
+
+}  // namespace shaderfit::search_detail
