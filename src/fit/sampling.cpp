@@ -49,11 +49,20 @@ double number(const std::string& field, const std::string& source) {
   ParseOptions po;
   po.variables = {"__none__"};
   po.source = source;
+  double v = 0;
   try {
-    return evaluate_scalar(parse_formula(field, po), std::vector<double>{0.0});
+    v = evaluate_scalar(parse_formula(field, po), std::vector<double>{0.0});
   } catch (const Error& e) {
     fail("'" + field + "' is not a number: " + e.message(), source);
   }
+  if (!std::isfinite(v)) fail("'" + field + "' is not a finite number", source);
+  return v;
+}
+
+// lo < hi, and hi - lo a finite double, so that positions along the axis are finite too.
+void check_range(const std::string& name, double lo, double hi, const std::string& source) {
+  if (!(lo < hi)) fail("the range of '" + name + "' is empty: lo must be below hi", source);
+  if (!std::isfinite(hi - lo)) fail("the range of '" + name + "' is too wide for a double", source);
 }
 
 std::size_t count(const std::string& field, const std::string& source, const char* what) {
@@ -83,17 +92,23 @@ double GridAxis::centre(std::size_t i) const {
 
 long GridAxis::cell_of(double v) const {
   if (!(v >= lo && v <= hi)) return -1;
+  // Halves, so that a range wider than the largest double (-1e308 to 1e308) still gives t in
+  // [0, 1]; halving is exact, so ordinary ranges give the same t as (v - lo) / (hi - lo).
   const double t = sqrt_spaced ? (std::sqrt(v) - std::sqrt(lo)) / (std::sqrt(hi) - std::sqrt(lo))
-                               : (v - lo) / (hi - lo);
-  const auto c = static_cast<long>(t * static_cast<double>(cells));
-  return std::min<long>(c, static_cast<long>(cells) - 1);
+                               : (0.5 * v - 0.5 * lo) / (0.5 * hi - 0.5 * lo);
+  // Clamped as a double before the conversion: converting NaN (an infinite bound set in code) or
+  // a value out of range to long is undefined.
+  const double c = t * static_cast<double>(cells);
+  if (!(c >= 0)) return 0;
+  if (c >= static_cast<double>(cells - 1)) return static_cast<long>(cells) - 1;
+  return static_cast<long>(c);
 }
 
 SampleAxis parse_sample_axis(std::string_view text, const std::string& source) {
   const Spec s = split_spec(text, source, "name=lo:hi:count[:midpoints|endpoints]");
   SampleAxis a{s.name, number(s.fields[0], source), number(s.fields[1], source),
                count(s.fields[2], source, "sample count")};
-  if (!(a.lo < a.hi)) fail("the range of '" + a.name + "' is empty: lo must be below hi", source);
+  check_range(a.name, a.lo, a.hi, source);
   if (s.fields.size() == 4) {
     if (s.fields[3] == "endpoints")
       a.spacing = Spacing::endpoints;
@@ -107,7 +122,7 @@ GridAxis parse_grid_axis(std::string_view text, const std::string& source) {
   const Spec s = split_spec(text, source, "name=lo:hi:cells[:sqrt]");
   GridAxis g{s.name, number(s.fields[0], source), number(s.fields[1], source),
              count(s.fields[2], source, "grid size")};
-  if (!(g.lo < g.hi)) fail("the range of '" + g.name + "' is empty: lo must be below hi", source);
+  check_range(g.name, g.lo, g.hi, source);
   if (s.fields.size() == 4) {
     if (s.fields[3] != "sqrt") fail("unknown grid spacing '" + s.fields[3] + "' (sqrt)", source);
     if (g.lo < 0) fail("a sqrt-spaced axis needs lo >= 0", source);

@@ -38,6 +38,15 @@ TEST(Sampling, Errors) {
   EXPECT_THROW(parse_grid_axis("r=0:1", "--grid"), Error);
   EXPECT_THROW(parse_sample_axis("t=0:1:x", "--domain"), Error);
   EXPECT_THROW(parse_sample_axis("t=0:1:3:sideways", "--domain"), Error);
+  // Found by fuzzing (fuzz/regressions/options/grid_infinite_lo): an infinite bound made cell_of
+  // convert NaN to long. Bounds must be finite numbers, and so must their difference.
+  EXPECT_THROW(parse_grid_axis("r=-1/0:12:6", "--grid"), Error);
+  EXPECT_THROW(parse_grid_axis("r=-1e308:1e308:6", "--grid"), Error);
+  EXPECT_THROW(parse_sample_axis("t=0:0/0:3", "--domain"), Error);
+  const GridAxis wide{"w", -1e308, 1e308, 4, false};
+  EXPECT_EQ(wide.cell_of(1e308), 3);
+  EXPECT_EQ(wide.cell_of(-1e308), 0);
+  EXPECT_EQ(wide.cell_of(0.0), 2);
   try {
     parse_grid_axis("roughness=0:1:0", "--grid");
   } catch (const Error& e) {
