@@ -38,6 +38,7 @@
 #include "shaderfit/gpu/device.hpp"
 #include "shaderfit/gpu/evaluator.hpp"
 #include "shaderfit/search/search.hpp"
+#include "seed_task.hpp"
 
 namespace {
 
@@ -203,40 +204,18 @@ void BM_EnumerationStepCpu(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(count), benchmark::Counter::kIsIterationInvariantRate);
 }
 
-SearchProblem seed_problem() {
-  Rng rng(1);
-  const Dataset d = make_fresnel_seed_dataset(rng);
-  SearchProblem p;
-  p.input_names = {"r0", "x"};
-  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
-  p.target = d.numeric("R").values;
-  return p;
-}
-
 void BM_TimeToTarget(benchmark::State& state) {
   const bool gpu = state.range(0) != 0;
   if (gpu && skip_without_gpu(state)) return;
-  static const SearchProblem p = seed_problem();
-  ParseOptions po;
-  po.variables = p.input_names;
-  const Expression seed_formula = parse_formula("r0 + (x - r0) * x^4", po);
-  const std::vector<const double*> cols = {p.inputs[0].data(), p.inputs[1].data()};
-  std::vector<double> f(p.target.size());
-  evaluate(seed_formula, cols, f, {.threads = 1});
-  const double target = loss_metrics(f, p.target).mse * (1 + 1e-9);
+  static const SearchProblem p = bench::seed_problem(1);
   static std::map<bool, int> repetition;
   for (auto _ : state) {
     SearchOptions o;
     o.seed = static_cast<std::uint64_t>(repetition[gpu]++ % 10) + 1;
     o.device = gpu ? ComputeDevice::Cuda : ComputeDevice::Cpu;
-    o.stop_at = SearchTarget{target, 4};
     o.time_limit_s = 30;
     SearchSummary s;
-    run_search(o, p, &s);
-    double found = -1;
-    for (const FrontMember& m : s.front)
-      if (m.cost <= 4 && m.metrics.mse <= target)
-        found = found < 0 ? m.time_s : std::min(found, m.time_s);
+    const double found = bench::time_to_target(o, p, &s);
     if (found < 0) {
       state.SkipWithError("target not reached");
       break;

@@ -24,6 +24,7 @@
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/search/search.hpp"
+#include "seed_task.hpp"
 
 namespace {
 
@@ -31,25 +32,7 @@ using namespace shaderfit;
 
 std::string g_cli;  // the shaderfit executable, next to bench/
 
-SearchProblem seed_problem(std::uint64_t data_seed) {
-  Rng rng(data_seed);
-  const Dataset d = make_fresnel_seed_dataset(rng);
-  SearchProblem p;
-  p.input_names = {"r0", "x"};
-  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
-  p.target = d.numeric("R").values;
-  return p;
-}
-
-double seed_formula_mse(const SearchProblem& p) {
-  ParseOptions po;
-  po.variables = p.input_names;
-  const Expression e = parse_formula("r0 + (x - r0) * x^4", po);
-  std::vector<const double*> cols = {p.inputs[0].data(), p.inputs[1].data()};
-  std::vector<double> f(p.target.size());
-  evaluate(e, cols, f, {.threads = 1});
-  return loss_metrics(f, p.target).mse;
-}
+using bench::seed_problem;
 
 const SearchProblem& cached_problem(std::uint64_t data_seed) {
   static std::map<std::uint64_t, SearchProblem> cache;
@@ -66,17 +49,11 @@ void BM_TimeToTarget(benchmark::State& state) {
     const int rep = repetition[{vary_data, threads}]++;
     const std::uint64_t seed = static_cast<std::uint64_t>(rep % 10) + 1;
     const SearchProblem& p = cached_problem(vary_data ? seed : 1);
-    const double target = seed_formula_mse(p) * (1 + 1e-9);
     SearchOptions o;
     o.seed = seed;
     o.threads = threads;
-    o.stop_at = SearchTarget{target, 4};
     SearchSummary s;
-    run_search(o, p, &s);
-    double found = -1;
-    for (const FrontMember& m : s.front)
-      if (m.cost <= 4 && m.metrics.mse <= target)
-        found = found < 0 ? m.time_s : std::min(found, m.time_s);
+    const double found = bench::time_to_target(o, p, &s);
     if (found < 0) {
       state.SkipWithError("target not reached");
       break;
