@@ -202,9 +202,11 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   return steps;
 }
 
-std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& steps) const {
+std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& steps,
+                                                     std::size_t* complete) const {
   std::vector<Tile> tiles;
   std::vector<std::uint32_t> rank;  // the tile's place in its step's order
+  std::vector<std::uint8_t> phase;  // 0: a next level's first tiles, 1: the level's, 2: the rest
   std::vector<Tile> own;
   for (std::size_t si = 0; si < steps.size(); ++si) {
     const Step& s = steps[si];
@@ -236,15 +238,12 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
         }
       }
     }
-    std::size_t from = 0, to = own.size();
-    if (s.part == Step::Part::Head) to = std::min(to, kHeadTiles);
-    if (s.part == Step::Part::Tail) from = std::min(to, kHeadTiles);
-    // The next level's first tiles lead: they are few, and the cheapest formulas of the next
-    // level are likely the best new ones.
-    const std::uint32_t first = s.part == Step::Part::Head ? 0 : kHeadTiles;
-    for (std::size_t k = from; k < to; ++k) {
+    // The next level's first tiles lead (they are few, and the next level's cheapest formulas
+    // are likely the best new ones); its other tiles wait until this level is complete.
+    for (std::size_t k = 0; k < own.size(); ++k) {
       tiles.push_back(own[k]);
-      rank.push_back(static_cast<std::uint32_t>(first + k - from));
+      rank.push_back(static_cast<std::uint32_t>(k));
+      phase.push_back(!s.next_level ? 1 : k < kHeadTiles ? 0 : 2);
     }
   }
   // Round robin over the steps: the k-th tiles of all steps before any (k+1)-th. Each step's
@@ -252,8 +251,14 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
   // often found, so no large step delays the first tiles of the steps after it.
   std::vector<std::size_t> order(tiles.size());
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t x, std::size_t y) { return rank[x] < rank[y]; });
+  // The trailing tiles go step by step, smallest step first (make_steps' order), so that small
+  // steps complete early.
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    if (phase[x] != phase[y]) return phase[x] < phase[y];
+    return phase[x] == 2 ? tiles[x].step < tiles[y].step : rank[x] < rank[y];
+  });
+  *complete = static_cast<std::size_t>(std::count_if(phase.begin(), phase.end(),
+                                                     [](std::uint8_t p) { return p < 2; }));
   std::vector<Tile> sorted;
   sorted.reserve(tiles.size());
   for (const std::size_t i : order) sorted.push_back(tiles[i]);

@@ -167,30 +167,25 @@ bool Enumerator::enumeration_should_stop() {
 void Enumerator::run() {
   const int max_cost = ctx_.options.max_enumeration_cost;
   const bool deferred_fusion = costs_->eager_fusion();
-  std::vector<Step> carried;  // the rest of the previous batch's next-level steps
   for (int level = cost_completed_ + 1; level <= max_cost; ++level) {
     if (enumeration_should_stop()) break;
     if (deferred_fusion && level >= 2) materialize_fused(level - 1);
     if (enumeration_should_stop()) break;
-    // The batch that completes a level also runs the first tiles of the next level's steps
-    // whose operands all lie below the level (they need nothing more); their other tiles run
-    // in the next batch, among those that complete that level. So a cheap formula of the next
-    // level is not held up by the largest steps of this one. On the seed task that is where
-    // the target is: (x - r0) * x^4 is a product of levels 1 and 2 at level 4, while level 3
-    // spends most of its work on operands of level 2. A candidate equivalent to a class made
-    // earlier at a higher cost gives that class its cheaper recipe (merge and
-    // finish_improvements), so every class keeps the cheapest recipe found.
+    // The batch that completes a level also runs the next level's steps whose operands all lie
+    // below the level (they need nothing more): their first tiles ahead of the level's own,
+    // their others after. So a cheap formula of the next level is not held up by the largest
+    // steps of this one. On the seed task that is where the target is: (x - r0) * x^4 is a
+    // product of levels 1 and 2 at level 4, while level 3 spends most of its work on operands
+    // of level 2. A candidate equivalent to a class made earlier at a higher cost gives that
+    // class its cheaper recipe (merge and finish_improvements), so every class keeps the
+    // cheapest recipe found.
     std::vector<Step> steps = make_steps(level);
     std::erase_if(steps, [&](const Step& s) { return s.order < level - 1; });
-    steps.insert(steps.end(), carried.begin(), carried.end());
-    carried.clear();
     if (level + 1 <= max_cost) {
       for (Step& s : make_steps(level + 1)) {
         if (s.order > level - 1) continue;
-        s.part = Step::Part::Head;
+        s.next_level = true;
         steps.push_back(s);
-        s.part = Step::Part::Tail;
-        carried.push_back(s);
       }
     }
     const bool complete = run_batch(steps, false);
@@ -217,7 +212,8 @@ void Enumerator::materialize_fused(int level) {
 }
 
 bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
-  const std::vector<Tile> tiles = make_tiles(steps);
+  std::size_t complete = 0;
+  const std::vector<Tile> tiles = make_tiles(steps, &complete);
   const std::size_t n = tiles.size();
   if (n == 0) return true;
   const auto threads = static_cast<std::size_t>(ctx_.threads);
@@ -282,7 +278,7 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
   parallel_for(threads, 1, worker, static_cast<int>(threads));
   finish_improvements(materialize);
   store_->commit();
-  return merged.load() >= n;
+  return merged.load() >= complete;
 }
 
 void Enumerator::merge(TileOutput& out, bool materialize) {

@@ -53,9 +53,9 @@ class Enumerator {
     int variant_count = 1;
     int order = 0;  // the costliest operand's level; steps run by increasing order
     int level = 0;  // the cost of the step's candidates
-    // Which of its tiles run: all, the first kHeadTiles (a next level's step in the batch that
-    // completes the level below), or the others (the same step in the next batch).
-    enum class Part : std::uint8_t { All, Head, Tail } part = Part::All;
+    // A next level's step in the batch that completes the level below: its first kHeadTiles
+    // tiles lead the batch, its others come last.
+    bool next_level = false;
   };
   static constexpr std::size_t kHeadTiles = 4;
   struct Tile {
@@ -70,11 +70,12 @@ class Enumerator {
   void add_leaves();
   void make_literal_groups();
   std::vector<Step> make_steps(int level) const;
-  // The tiles of the steps in the order they are merged.
-  std::vector<Tile> make_tiles(const std::vector<Step>& steps) const;
+  // The tiles of the steps in the order they are merged; the first `*complete` of them hold
+  // every candidate of the steps that are not next_level.
+  std::vector<Tile> make_tiles(const std::vector<Step>& steps, std::size_t* complete) const;
   // Runs the steps as one batch; `materialize` marks the batch that turns a level's screened
-  // fused sums into classes (already offered to the front). Returns whether every tile was
-  // merged (false when the enumeration stopped during the batch).
+  // fused sums into classes (already offered to the front). Returns whether the batch's own
+  // level is complete (false when the enumeration stopped before).
   bool run_batch(const std::vector<Step>& steps, bool materialize);
   void materialize_fused(int level);
   void process_tile(const Step& step, const Tile& tile, TileOutput& out) const;
