@@ -67,4 +67,4 @@ void csv(const std::uint8_t* data, std::size_t size) {
 
 }  // namespace shaderfit::fuzz
 
-SHADERFIT_FUZZ_ENTRY(shaderfit::fuzz::csv)
+SHADERFIT_FUZZ_ENTRY(csv)

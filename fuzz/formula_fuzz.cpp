@@ -87,4 +87,4 @@ void formula(const std::uint8_t* data, std::size_t size) {
 
 }  // namespace shaderfit::fuzz
 
-SHADERFIT_FUZZ_ENTRY(shaderfit::fuzz::formula)
+SHADERFIT_FUZZ_ENTRY(formula)

@@ -39,4 +39,4 @@ void front(const std::uint8_t* data, std::size_t size) {
 
 }  // namespace shaderfit::fuzz
 
-SHADERFIT_FUZZ_ENTRY(shaderfit::fuzz::front)
+SHADERFIT_FUZZ_ENTRY(front)

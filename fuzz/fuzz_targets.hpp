@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace shaderfit::fuzz {
 
@@ -25,15 +26,16 @@ inline std::string_view as_text(const std::uint8_t* data, std::size_t size) {
   return {reinterpret_cast<const char*>(data), size};
 }
 
-// parse_formula, then everything `shaderfit cost` and `shaderfit codegen` do with the result.
+// The entry functions, one per <name>_fuzz.cpp:
+// formula: parse_formula, then everything `shaderfit cost` and `shaderfit codegen` do with it.
+// csv: parse_csv, the numeric view of each column, and the to_csv round trip.
+// options: the option parsers (--material, --ops, --domain, --grid, --define, --constraint,
+//   --cond, --form, --transform), chosen by the first byte.
+// front: parse_front (a search front's JSON, as `shaderfit codegen --front` reads it), then code
+//   for each member.
 void formula(const std::uint8_t* data, std::size_t size);
-// parse_csv, the numeric view of each column, and the to_csv round trip.
 void csv(const std::uint8_t* data, std::size_t size);
-// The option parsers (--material, --ops, --domain, --grid, --define, --constraint, --cond,
-// --form, --transform), chosen by the first byte.
 void options(const std::uint8_t* data, std::size_t size);
-// parse_front (a search front's JSON, as `shaderfit codegen --front` reads it), then code for
-// each member.
 void front(const std::uint8_t* data, std::size_t size);
 
 struct Target {
@@ -41,18 +43,29 @@ struct Target {
   void (*run)(const std::uint8_t*, std::size_t);
 };
 
-inline constexpr Target kTargets[] = {
-    {"formula", formula}, {"csv", csv}, {"options", options}, {"front", front}};
+// The targets compiled into this program, each added by its file at static initialisation (so a
+// test program may hold only some of them: the sanitizer part of scripts/test does).
+inline std::vector<Target>& registered_targets() {
+  static std::vector<Target> targets;
+  return targets;
+}
+struct Registration {
+  Registration(const char* name, void (*run)(const std::uint8_t*, std::size_t)) {
+    registered_targets().push_back({name, run});
+  }
+};
 
 }  // namespace shaderfit::fuzz
 
-// One libFuzzer entry per program: each <name>_fuzz.cpp defines it when SHADERFIT_LIBFUZZER is set.
+// In a libFuzzer program (SHADERFIT_LIBFUZZER) the file's function is the fuzzer's entry;
+// elsewhere it registers itself for fuzz_regressions_test.cpp.
 #ifdef SHADERFIT_LIBFUZZER
-#define SHADERFIT_FUZZ_ENTRY(fn)                                                      \
+#define SHADERFIT_FUZZ_ENTRY(name)                                                    \
   extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) { \
-    fn(data, size);                                                                   \
+    shaderfit::fuzz::name(data, size);                                                \
     return 0;                                                                         \
   }
 #else
-#define SHADERFIT_FUZZ_ENTRY(fn)
+#define SHADERFIT_FUZZ_ENTRY(name) \
+  static const shaderfit::fuzz::Registration name##_registration(#name, shaderfit::fuzz::name);
 #endif

@@ -130,4 +130,4 @@ void options(const std::uint8_t* data, std::size_t size) {
 
 }  // namespace shaderfit::fuzz
 
-SHADERFIT_FUZZ_ENTRY(shaderfit::fuzz::options)
+SHADERFIT_FUZZ_ENTRY(options)

@@ -240,8 +240,11 @@ HWY_INLINE void SinCos(D d, const T* a, T* o, size_t count) {
   const auto limit = hn::Set(d, T(kSinCosLimit));
   for (size_t i = 0; i < count; i += N) {
     const auto x = hn::LoadU(d, a + i);
-    const auto r = SinOrCos<kSin>(d, x);
-    if (HWY_LIKELY(hn::AllTrue(d, hn::Le(hn::Abs(x), limit)))) {
+    const auto in_range = hn::Le(hn::Abs(x), limit);  // false for NaN
+    // Lanes out of range go to Highway as 0 (and are redone below): Highway's scalar target
+    // converts its argument to int, which is undefined behaviour for NaN.
+    const auto r = SinOrCos<kSin>(d, hn::IfThenElseZero(in_range, x));
+    if (HWY_LIKELY(hn::AllTrue(d, in_range))) {
       hn::StoreU(r, d, o + i);
       continue;
     }

@@ -164,7 +164,7 @@ inline bool read_png(const std::string& path, std::size_t* w, std::size_t* h,
       *h = be32(&b[pos + 12]);
       if (b[pos + 16] != 8 || b[pos + 17] != 2) return *why = "not 8-bit RGB", false;
     }
-    if (type == "IDAT") z.insert(z.end(), &b[pos + 8], &b[pos + 8 + len]);
+    if (type == "IDAT") z.insert(z.end(), b.data() + pos + 8, b.data() + pos + 8 + len);
     pos += 12 + len;
   }
   if (z.size() < 6 || (z[0] & 0x0f) != 8 || ((z[0] << 8) | z[1]) % 31 != 0)
@@ -175,7 +175,7 @@ inline bool read_png(const std::string& path, std::size_t* w, std::size_t* h,
     last = z[pos] & 1;
     if ((z[pos] >> 1) != 0) return *why = "not a stored block", false;
     const std::size_t len = z[pos + 1] | (z[pos + 2] << 8);
-    raw.insert(raw.end(), &z[pos + 5], &z[pos + 5 + len]);
+    raw.insert(raw.end(), z.data() + pos + 5, z.data() + pos + 5 + len);
     pos += 5 + len;
   }
   std::uint32_t a = 1, s = 0;
@@ -185,7 +185,8 @@ inline bool read_png(const std::string& path, std::size_t* w, std::size_t* h,
   rgb->clear();
   for (std::size_t y = 0; y < *h; ++y) {
     if (raw[y * (1 + 3 * *w)] != 0) return *why = "unexpected filter", false;
-    rgb->insert(rgb->end(), &raw[y * (1 + 3 * *w) + 1], &raw[(y + 1) * (1 + 3 * *w)]);
+    // Pointers, not &raw[i]: the last row ends at raw.size(), which operator[] may not index.
+    rgb->insert(rgb->end(), raw.data() + y * (1 + 3 * *w) + 1, raw.data() + (y + 1) * (1 + 3 * *w));
   }
   return true;
 }
