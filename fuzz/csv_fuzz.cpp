@@ -1,7 +1,8 @@
 // Fuzz target: a CSV data file (shaderfit eval/search/fit/plot --data). parse_csv must read it or
 // throw shaderfit::Error; a data set it read must write back with to_csv and read again to the same
 // column names, rows and numbers (csv.hpp's round-trip contract).
-#include <cstring>
+#include <bit>
+#include <cstdint>
 
 #include "fuzz_targets.hpp"
 #include "shaderfit/core/error.hpp"
@@ -11,7 +12,9 @@ namespace shaderfit::fuzz {
 
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
 
 void check_same(const Dataset& a, const Dataset& b, const std::string& written) {
   if (a.columns.size() != b.columns.size() || a.rows() != b.rows())
