@@ -37,6 +37,9 @@ void formula(const std::uint8_t* data, std::size_t size);
 void csv(const std::uint8_t* data, std::size_t size);
 void options(const std::uint8_t* data, std::size_t size);
 void front(const std::uint8_t* data, std::size_t size);
+// checkpoint: parse_checkpoint (`shaderfit search --resume FILE`), its write-back round trip and
+//   the check against a search's data and options.
+void checkpoint(const std::uint8_t* data, std::size_t size);
 
 struct Target {
   const char* name;  // also the folder under fuzz/corpus and fuzz/regressions

@@ -15,18 +15,23 @@ Expression parse(const std::string& f, std::vector<std::string> params = {}) {
 }
 int sass(const std::string& f) { return instruction_count(parse(f), InstructionTarget::Sass); }
 int ptx(const std::string& f) { return instruction_count(parse(f), InstructionTarget::Ptx); }
-int generic(const std::string& f) { return instruction_count(parse(f), InstructionTarget::Generic); }
+int generic(const std::string& f) {
+  return instruction_count(parse(f), InstructionTarget::Generic);
+}
 
 TEST(InstructionModel, SeedListingsCountSixFiveSix) {
   // Seed 001's SASS listings, with cos_theta and r0 (and the shape parameter s) as inputs.
   EXPECT_EQ(sass("r0 + (1 - r0) * (1 - cos_theta)^5"), 6);
   EXPECT_EQ(sass("r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"), 5);
   EXPECT_EQ(sass("r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4"), 6);
-  EXPECT_EQ(instruction_count(parse("r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", {"s"}), InstructionTarget::Sass), 6);
+  EXPECT_EQ(instruction_count(parse("r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", {"s"}),
+                              InstructionTarget::Sass),
+            6);
 }
 
 TEST(InstructionModel, SchlickListingMatchesTheSeed) {
-  const InstructionCost c = instruction_cost(parse("r0 + (1 - r0) * (1 - cos_theta)^5"), InstructionTarget::Sass);
+  const InstructionCost c =
+      instruction_cost(parse("r0 + (1 - r0) * (1 - cos_theta)^5"), InstructionTarget::Sass);
   ASSERT_EQ(c.listing.size(), 6u);
   EXPECT_EQ(c.listing[0].instruction, "FADD.FTZ R2, -R0, 1");
   EXPECT_EQ(c.listing[0].comment, "1 - r0");
@@ -63,9 +68,24 @@ TEST(InstructionModel, SharedSubexpressionsAndPowers) {
   EXPECT_EQ(sass("x^5"), 3);
   EXPECT_EQ(sass("x^8"), 3);
   EXPECT_EQ(sass("x^-2"), 2);
-  EXPECT_EQ(sass("x^2 + x^4"), 2);       // x^4 = x^2 * x^2 + x^2 as one FFMA
+  EXPECT_EQ(sass("x^2 + x^4"), 2);          // x^4 = x^2 * x^2 + x^2 as one FFMA
   EXPECT_EQ(sass("(a + b) * (b + a)"), 2);  // commutative operands are one value
   EXPECT_EQ(sass("sqrt(a) + sqrt(a)"), 2);
+}
+
+// Powers of powers multiply their exponents; the listing's comments name x^k while k fits, and
+// beyond 2^30 print the product (fuzz/regressions/formula/integer_powers_nested_beyond_int).
+TEST(InstructionModel, NestedPowersBeyondIntPrintAsProducts) {
+  EXPECT_EQ(sass("(x^16)^16"), 8);
+  const InstructionCost c = instruction_cost(parse("((x^16)^16)^16"), InstructionTarget::Sass);
+  EXPECT_EQ(c.listing.back().comment, "x^4096");
+  const InstructionCost deep = instruction_cost(
+      parse("((((((((x^16)^16)^16)^16)^16)^16)^16)^16)^16"), InstructionTarget::Sass);
+  EXPECT_EQ(deep.instructions, 36);
+  for (const ListingLine& line : deep.listing)
+    EXPECT_EQ(line.comment.find("^-"), std::string::npos) << line.comment;
+  EXPECT_EQ(deep.listing[29].comment, "x^1073741824");  // 2^30
+  EXPECT_EQ(deep.listing.back().comment, "(x^1073741824 * x^1073741824)^32");
 }
 
 TEST(InstructionModel, MufuOperations) {
@@ -76,12 +96,12 @@ TEST(InstructionModel, MufuOperations) {
   EXPECT_EQ(sass("a / 4"), 1);        // a * 0.25
   EXPECT_EQ(sass("exp(a)"), 2);
   EXPECT_EQ(sass("log(a)"), 2);
-  EXPECT_EQ(sass("log(a) + b"), 2);   // ln 2 scale fused into an FFMA
-  EXPECT_EQ(sass("sin(a)"), 2);       // FMUL.RZ + MUFU.SIN
+  EXPECT_EQ(sass("log(a) + b"), 2);       // ln 2 scale fused into an FFMA
+  EXPECT_EQ(sass("sin(a)"), 2);           // FMUL.RZ + MUFU.SIN
   EXPECT_EQ(sass("sin(a) + cos(a)"), 4);  // the FMUL.RZ is shared
   EXPECT_EQ(sass("pow(a, b)"), 3);
-  EXPECT_EQ(sass("exp2(-a)"), 2);     // MUFU takes no negated operand
-  EXPECT_EQ(sass("abs(a) * b"), 1);   // |a| is an operand modifier
+  EXPECT_EQ(sass("exp2(-a)"), 2);    // MUFU takes no negated operand
+  EXPECT_EQ(sass("abs(a) * b"), 1);  // |a| is an operand modifier
   EXPECT_EQ(sass("sqrt(abs(a))"), 2);
   EXPECT_EQ(sass("saturate(a * b)"), 1);  // FMUL.SAT
   EXPECT_EQ(sass("saturate(a + b)"), 2);

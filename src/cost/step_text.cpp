@@ -1,5 +1,7 @@
 #include "cost/step_text.hpp"
 
+#include <cstdint>
+
 #include "cost/float_text.hpp"
 
 namespace shaderfit::lowering {
@@ -7,7 +9,8 @@ namespace shaderfit::lowering {
 namespace {
 
 bool same(const Operand& a, const Operand& b) {
-  return a.kind == b.kind && a.index == b.index && (a.kind != Operand::Kind::Const || a.value == b.value);
+  return a.kind == b.kind && a.index == b.index &&
+         (a.kind != Operand::Kind::Const || a.value == b.value);
 }
 
 // Precedence: 1 sums, 2 products, 3 unary minus, 4 atoms and calls.
@@ -50,14 +53,19 @@ StepText::StepText(const Dag& dag, const Program& program) : dag_(dag), p_(progr
     powers_[i] = {Operand{Operand::Kind::Step, static_cast<int>(i), 0.0f}, 1};
     if (st.op != StepOp::Mul) continue;
     auto pw = [&](const Operand& o) {
-      return o.kind == Operand::Kind::Step ? powers_[static_cast<std::size_t>(o.index)] : Power{o, 1};
+      return o.kind == Operand::Kind::Step ? powers_[static_cast<std::size_t>(o.index)]
+                                           : Power{o, 1};
     };
     const Power a = pw(st.args[0]), b = pw(st.args[1]);
-    if (same(a.base, b.base) && a.base.kind != Operand::Kind::Const) powers_[i] = {a.base, a.k + b.k};
+    // Nested powers multiply their exponents ((x^16)^16 ... is x^(16^n)), so the sum is taken
+    // in 64 bits and a chain beyond 2^30 prints as the product it is.
+    const std::int64_t k = std::int64_t{a.k} + b.k;
+    if (same(a.base, b.base) && a.base.kind != Operand::Kind::Const && k <= (std::int64_t{1} << 30))
+      powers_[i] = {a.base, static_cast<int>(k)};
   }
 }
 
-std::string StepText::operand(const Operand& o, int min_level) const {
+std::string StepText::operand(const Operand& o, int min_level, std::size_t limit) const {
   switch (o.kind) {
     case Operand::Kind::Const: {
       const std::string t = float_text(o.value);
@@ -65,30 +73,42 @@ std::string StepText::operand(const Operand& o, int min_level) const {
     }
     case Operand::Kind::Var: return dag_.variables[static_cast<std::size_t>(o.index)];
     case Operand::Kind::Param: return dag_.parameters[static_cast<std::size_t>(o.index)];
-    case Operand::Kind::Step: return step(o.index, min_level);
+    case Operand::Kind::Step: return step(o.index, min_level, limit);
     default: return "?";
   }
 }
 
-std::string StepText::step(int i, int min_level) const {
+std::string StepText::pair(const Operand& a, int level_a, std::string_view op, const Operand& b,
+                           int level_b, std::size_t limit) const {
+  std::string t = operand(a, level_a, limit);
+  if (t.size() > limit) return t;
+  t += op;
+  if (t.size() > limit) return t;
+  return t + operand(b, level_b, limit - t.size());
+}
+
+std::string StepText::step(int i, int min_level, std::size_t limit) const {
   const Step& st = p_.steps[static_cast<std::size_t>(i)];
   const Power& pw = powers_[static_cast<std::size_t>(i)];
   std::string t;
   int lv = level(st.op);
   if (pw.k > 1) {
-    t = operand(pw.base, 4) + "^" + std::to_string(pw.k);
+    t = operand(pw.base, 4, limit) + "^" + std::to_string(pw.k);
     lv = 4;
   } else {
     switch (st.op) {
-      case StepOp::Add: t = operand(st.args[0], 1) + " + " + operand(st.args[1], 2); break;
-      case StepOp::Sub: t = operand(st.args[0], 1) + " - " + operand(st.args[1], 2); break;
-      case StepOp::Mul: t = operand(st.args[0], 2) + " * " + operand(st.args[1], 3); break;
-      case StepOp::Div: t = operand(st.args[0], 2) + " / " + operand(st.args[1], 3); break;
-      case StepOp::Neg: t = "-" + operand(st.args[0], 4); break;
+      case StepOp::Add: t = pair(st.args[0], 1, " + ", st.args[1], 2, limit); break;
+      case StepOp::Sub: t = pair(st.args[0], 1, " - ", st.args[1], 2, limit); break;
+      case StepOp::Mul: t = pair(st.args[0], 2, " * ", st.args[1], 3, limit); break;
+      case StepOp::Div: t = pair(st.args[0], 2, " / ", st.args[1], 3, limit); break;
+      case StepOp::Neg: t = "-" + operand(st.args[0], 4, limit); break;
       default:
         t = std::string(call_name(st.op)) + "(";
-        if (st.neg_arg) t += "-" + operand(st.args[0], 4);
-        for (int k = st.neg_arg ? 1 : 0; k < st.arity; ++k) t += (k ? ", " : "") + operand(st.args[k], 0);
+        if (st.neg_arg) t += "-" + operand(st.args[0], 4, limit);
+        for (int k = st.neg_arg ? 1 : 0; k < st.arity && t.size() <= limit; ++k) {
+          if (k) t += ", ";
+          t += operand(st.args[k], 0, t.size() < limit ? limit - t.size() : 0);
+        }
         t += ")";
         break;
     }
@@ -97,7 +117,7 @@ std::string StepText::step(int i, int min_level) const {
 }
 
 std::string StepText::of(int i, std::size_t max_chars) const {
-  std::string t = step(i, 0);
+  std::string t = step(i, 0, max_chars);
   if (t.size() > max_chars) t = t.substr(0, max_chars - 3) + "...";
   return t;
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cost/program.hpp"
@@ -20,8 +21,13 @@ class StepText {
     Operand base;
     int k = 1;
   };
-  [[nodiscard]] std::string operand(const Operand& o, int min_level) const;
-  [[nodiscard]] std::string step(int i, int min_level) const;
+  // The infix text, or when it is longer than `limit`, a text longer than `limit` whose first
+  // `limit` characters are the infix's: a listing line needs only its first characters, and the
+  // whole text of every step would cost the square of the formula's size.
+  [[nodiscard]] std::string operand(const Operand& o, int min_level, std::size_t limit) const;
+  [[nodiscard]] std::string step(int i, int min_level, std::size_t limit) const;
+  [[nodiscard]] std::string pair(const Operand& a, int level_a, std::string_view op,
+                                 const Operand& b, int level_b, std::size_t limit) const;
 
   const Dag& dag_;
   const Program& p_;

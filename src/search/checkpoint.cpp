@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 // The build defines it for this file from the CMake project version (CMakeLists.txt).
 #ifndef SHADERFIT_VERSION
@@ -50,6 +51,21 @@ double get_num(const json& j) {
   throw BadBody("a number was expected");
 }
 
+// An integer that fits T exactly. nlohmann's get<T> converts a fraction or an out-of-range value
+// without a word (and a float beyond T's range is undefined behaviour), so a field that must be a
+// count or an index is checked here.
+template <class T>
+T get_integer(const json& j) {
+  if (j.is_number_unsigned()) {
+    const auto v = j.get<std::uint64_t>();
+    if (std::in_range<T>(v)) return static_cast<T>(v);
+  } else if (j.is_number_integer()) {
+    const auto v = j.get<std::int64_t>();
+    if (std::in_range<T>(v)) return static_cast<T>(v);
+  }
+  throw BadBody("an integer in range was expected");
+}
+
 json expression_json(const Expression& e) {
   json nodes = json::array();
   for (const Node& n : e.nodes) nodes.push_back({static_cast<int>(n.op), n.index, num(n.value)});
@@ -69,8 +85,8 @@ Expression expression_from(const json& j) {
   if (e.parameter_values.size() != e.parameters.size())
     throw BadBody("a formula has parameters without values");
   for (const json& n : j.at("nodes")) {
-    const int op = n.at(0).get<int>();
-    const int index = n.at(1).get<int>();
+    const int op = get_integer<int>(n.at(0));
+    const int index = get_integer<std::int16_t>(n.at(1));
     if (op < 0 || op >= kOpCount) throw BadBody("an unknown operator");
     Node node = Node::op_node(static_cast<Op>(op));
     node.index = static_cast<std::int16_t>(index);
@@ -106,7 +122,7 @@ FrontMember member_from(const json& j) {
   m.expression = expression_from(j.at("expression"));
   m.formula = j.at("formula").get<std::string>();
   m.cost = get_num(j.at("cost"));
-  m.nodes = j.at("nodes").get<std::size_t>();
+  m.nodes = get_integer<std::size_t>(j.at("nodes"));
   m.loss = get_num(j.at("loss"));
   m.metrics.mse = get_num(j.at("mse"));
   m.metrics.rmse = get_num(j.at("rmse"));
@@ -137,7 +153,7 @@ SavedIndividual individual_from(const json& j) {
   s.cost = get_num(j.at("cost"));
   s.raw_loss = get_num(j.at("raw_loss"));
   s.raw_cost = get_num(j.at("raw_cost"));
-  s.hash = j.at("hash").get<std::uint64_t>();
+  s.hash = get_integer<std::uint64_t>(j.at("hash"));
   s.scaled = j.at("scaled").get<bool>();
   s.a = get_num(j.at("a"));
   s.b = get_num(j.at("b"));
@@ -186,29 +202,39 @@ Checkpoint checkpoint_from(const json& j) {
   c.phase = j.at("phase").get<std::string>();
   if (c.phase != "enumeration" && c.phase != "evolution") throw BadBody("an unknown phase");
   const json& d = j.at("data");
-  c.data_hash = d.at("hash").get<std::uint64_t>();
-  c.rows = d.at("rows").get<std::size_t>();
+  c.data_hash = get_integer<std::uint64_t>(d.at("hash"));
+  c.rows = get_integer<std::size_t>(d.at("rows"));
   c.input_names = d.at("inputs").get<std::vector<std::string>>();
   for (const json& kv : j.at("options"))
     c.options.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
   const json& clock = j.at("clock");
   c.elapsed_s = get_num(clock.at("elapsed_s"));
-  c.candidates = clock.at("candidates").get<std::uint64_t>();
-  c.node_evaluations = clock.at("node_evaluations").get<std::uint64_t>();
-  for (const json& m : j.at("front")) c.front.push_back(member_from(m));
+  c.candidates = get_integer<std::uint64_t>(clock.at("candidates"));
+  c.node_evaluations = get_integer<std::uint64_t>(clock.at("node_evaluations"));
+  // The resumed search evaluates every formula on the data's columns by variable index.
+  auto over_inputs = [&](const Expression& e) {
+    if (e.variables != c.input_names) throw BadBody("a formula over other inputs than the data's");
+  };
+  for (const json& m : j.at("front")) {
+    c.front.push_back(member_from(m));
+    over_inputs(c.front.back().expression);
+  }
   const json& en = j.at("enumeration");
   c.enumeration_time_s = get_num(en.at("time_s"));
-  c.distinct_candidates = en.at("distinct_candidates").get<std::uint64_t>();
-  c.enumeration_cost_completed = en.at("cost_completed").get<int>();
+  c.distinct_candidates = get_integer<std::uint64_t>(en.at("distinct_candidates"));
+  c.enumeration_cost_completed = get_integer<int>(en.at("cost_completed"));
   c.rng = j.at("rng").get<std::string>();
   const json& ev = j.at("evolution");
-  c.evolution.generations = ev.at("generations").get<std::uint64_t>();
+  c.evolution.generations = get_integer<std::uint64_t>(ev.at("generations"));
   c.evolution.polished = ev.at("polished").get<bool>();
   for (const json& is : ev.at("islands")) {
     SavedIsland island;
     island.rng = is.at("rng").get<std::string>();
     check_rng_text(island.rng);
-    for (const json& s : is.at("population")) island.population.push_back(individual_from(s));
+    for (const json& s : is.at("population")) {
+      island.population.push_back(individual_from(s));
+      over_inputs(island.population.back().expr);
+    }
     c.evolution.islands.push_back(std::move(island));
   }
   if (c.phase == "evolution") {

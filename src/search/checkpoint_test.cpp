@@ -3,6 +3,7 @@
 // thread, ends with the front the uninterrupted run ends with.
 #include "search/checkpoint.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -159,6 +160,32 @@ TEST(Checkpoint, DamagedForeignAndOtherVersionsAreRefused) {
   expect_refused(format2, "format 2 cannot be read");
   c.shaderfit_version = "0.0.1";
   expect_refused(checkpoint_text(c), "written by shaderfit 0.0.1");
+}
+
+// A body edited after writing, with its checksum made to match again (a hand edit, or a writer
+// bug): what it holds is checked as well.
+TEST(Checkpoint, EditedBodiesWithAMatchingChecksumAreRefused) {
+  const std::string good = checkpoint_text(sample_checkpoint());
+  const std::size_t body_at = good.find('{');
+  const std::string head = good.substr(0, good.find("fnv1a64 "));
+  auto edited = [&](const std::string& from, const std::string& to) {
+    std::string body = good.substr(body_at);
+    const std::size_t at = body.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) body.replace(at, from.size(), to);
+    return head + fmt::format("fnv1a64 {:016x}\n", fnv1a64(body, fnv1a64(head))) + body;
+  };
+  expect_refused(edited("\"generations\":17", "\"generations\":17.5"), "an integer in range");
+  expect_refused(edited("\"generations\":17", "\"generations\":-17"), "an integer in range");
+  expect_refused(edited("\"generations\":17", "\"generations\":1e300"), "an integer in range");
+  expect_refused(edited("\"cost_completed\":-1", "\"cost_completed\":9999999999"),
+                 "an integer in range");
+  expect_refused(edited("\"variables\":[\"r0\",\"x\"]", "\"variables\":[\"r0\",\"y\"]"),
+                 "other inputs than the data's");
+  expect_refused(edited("\"variables\":[\"r0\",\"x\"]", "\"variables\":[\"r0\"]"),
+                 "damaged checkpoint");
+  expect_refused(edited("\"phase\":\"evolution\"", "\"phase\":\"polish\""), "unknown phase");
+  expect_refused(edited("\"phase\":\"evolution\"", "\"phase\":7"), "damaged checkpoint");
 }
 
 TEST(Checkpoint, OtherDataOrOptionsAreRefused) {
