@@ -55,7 +55,7 @@ double get_num(const json& j) {
 // without a word (and a float beyond T's range is undefined behaviour), so a field that must be a
 // count or an index is checked here.
 template <class T>
-T get_integer(const json& j) {
+T get_integer(const json& j, std::string_view field) {
   if (j.is_number_unsigned()) {
     const auto v = j.get<std::uint64_t>();
     if (std::in_range<T>(v)) return static_cast<T>(v);
@@ -63,7 +63,7 @@ T get_integer(const json& j) {
     const auto v = j.get<std::int64_t>();
     if (std::in_range<T>(v)) return static_cast<T>(v);
   }
-  throw BadBody("an integer in range was expected");
+  throw BadBody("an integer in range was expected for '" + std::string(field) + "'");
 }
 
 json expression_json(const Expression& e) {
@@ -85,8 +85,8 @@ Expression expression_from(const json& j) {
   if (e.parameter_values.size() != e.parameters.size())
     throw BadBody("a formula has parameters without values");
   for (const json& n : j.at("nodes")) {
-    const int op = get_integer<int>(n.at(0));
-    const int index = get_integer<std::int16_t>(n.at(1));
+    const int op = get_integer<int>(n.at(0), "a node's operator");
+    const int index = get_integer<std::int16_t>(n.at(1), "a node's index");
     if (op < 0 || op >= kOpCount) throw BadBody("an unknown operator");
     Node node = Node::op_node(static_cast<Op>(op));
     node.index = static_cast<std::int16_t>(index);
@@ -122,7 +122,7 @@ FrontMember member_from(const json& j) {
   m.expression = expression_from(j.at("expression"));
   m.formula = j.at("formula").get<std::string>();
   m.cost = get_num(j.at("cost"));
-  m.nodes = get_integer<std::size_t>(j.at("nodes"));
+  m.nodes = get_integer<std::size_t>(j.at("nodes"), "nodes");
   m.loss = get_num(j.at("loss"));
   m.metrics.mse = get_num(j.at("mse"));
   m.metrics.rmse = get_num(j.at("rmse"));
@@ -153,7 +153,7 @@ SavedIndividual individual_from(const json& j) {
   s.cost = get_num(j.at("cost"));
   s.raw_loss = get_num(j.at("raw_loss"));
   s.raw_cost = get_num(j.at("raw_cost"));
-  s.hash = get_integer<std::uint64_t>(j.at("hash"));
+  s.hash = get_integer<std::uint64_t>(j.at("hash"), "hash");
   s.scaled = j.at("scaled").get<bool>();
   s.a = get_num(j.at("a"));
   s.b = get_num(j.at("b"));
@@ -202,15 +202,15 @@ Checkpoint checkpoint_from(const json& j) {
   c.phase = j.at("phase").get<std::string>();
   if (c.phase != "enumeration" && c.phase != "evolution") throw BadBody("an unknown phase");
   const json& d = j.at("data");
-  c.data_hash = get_integer<std::uint64_t>(d.at("hash"));
-  c.rows = get_integer<std::size_t>(d.at("rows"));
+  c.data_hash = get_integer<std::uint64_t>(d.at("hash"), "hash");
+  c.rows = get_integer<std::size_t>(d.at("rows"), "rows");
   c.input_names = d.at("inputs").get<std::vector<std::string>>();
   for (const json& kv : j.at("options"))
     c.options.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
   const json& clock = j.at("clock");
   c.elapsed_s = get_num(clock.at("elapsed_s"));
-  c.candidates = get_integer<std::uint64_t>(clock.at("candidates"));
-  c.node_evaluations = get_integer<std::uint64_t>(clock.at("node_evaluations"));
+  c.candidates = get_integer<std::uint64_t>(clock.at("candidates"), "candidates");
+  c.node_evaluations = get_integer<std::uint64_t>(clock.at("node_evaluations"), "node_evaluations");
   // The resumed search evaluates every formula on the data's columns by variable index.
   auto over_inputs = [&](const Expression& e) {
     if (e.variables != c.input_names) throw BadBody("a formula over other inputs than the data's");
@@ -221,11 +221,12 @@ Checkpoint checkpoint_from(const json& j) {
   }
   const json& en = j.at("enumeration");
   c.enumeration_time_s = get_num(en.at("time_s"));
-  c.distinct_candidates = get_integer<std::uint64_t>(en.at("distinct_candidates"));
-  c.enumeration_cost_completed = get_integer<int>(en.at("cost_completed"));
+  c.distinct_candidates =
+      get_integer<std::uint64_t>(en.at("distinct_candidates"), "distinct_candidates");
+  c.enumeration_cost_completed = get_integer<int>(en.at("cost_completed"), "cost_completed");
   c.rng = j.at("rng").get<std::string>();
   const json& ev = j.at("evolution");
-  c.evolution.generations = get_integer<std::uint64_t>(ev.at("generations"));
+  c.evolution.generations = get_integer<std::uint64_t>(ev.at("generations"), "generations");
   c.evolution.polished = ev.at("polished").get<bool>();
   for (const json& is : ev.at("islands")) {
     SavedIsland island;
