@@ -3,12 +3,62 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <utility>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/search/options.hpp"
 
 namespace shaderfit::cli {
 
 namespace {
+
+// Library locations and the flags that set them: every place the CLI's flags differ from what
+// the library calls a thing. Search options not listed take --<field name> (search_option_flag).
+constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
+    // shaderfit search: historical names.
+    {"SearchOptions::time_limit_s", "--time"},
+    {"SearchOptions::max_candidates", "--evals"},
+    {"SearchOptions::operators", "--ops"},
+    {"SearchOptions::evolution_operators", "--evolve-ops"},
+    {"SearchOptions::enumerate", "--strategy"},
+    {"SearchOptions::evolve", "--strategy"},
+    {"SearchOptions::stop_at", "--stop-loss"},
+    {"SearchOptions::checkpoint_path", "--checkpoint"},
+    {"SearchOptions::checkpoint_interval_s", "--checkpoint-every"},
+    {"SearchOptions::resume_path", "--resume"},
+    // Other commands.
+    {"ComputeDevice", "--device"},
+    {"CodegenOptions::name", "--name"},
+    {"Expression::variables", "--inputs"},
+    {"Expression::parameters", "--params"},
+    {"SphereScene::roughness", "--roughness"},
+    {"SphereScene::f0", "--f0"},
+    {"SphereScene::light", "--light"},
+    {"SphereScene::size", "--size"},
+    {"Material", "--material"},
+    {"fresnel_sweep::materials", "--material"},
+    {"fresnel_sweep::angles", "--angles"},
+    {"compare_with_exact", "--compare-exact"},
+    {"RationalProblem::target", "--target"},
+    {"RationalProblem::domain", "--domain"},
+    {"RationalProblem::conditions", "--cond"},
+    {"RationalProblem::parameter_names", "--param"},
+    {"RationalProblem::parameter_values", "--param"},
+    {"RationalForm", "--form"},
+    {"Transform", "--transform"},
+    {"SearchReportOptions::choose", "--choose"},
+};
+
+constexpr std::string_view kSearchOptions = "SearchOptions::";
+
+// e.what() with the library's location replaced by its flag.
+std::string error_text(const shaderfit::Error& e) {
+  const std::string flag = flag_for_location(e.where().source);
+  if (flag.empty()) return e.what();
+  SourceLocation where = e.where();
+  where.source = flag;
+  return where.to_string() + ": " + e.message();
+}
 
 void print_error(std::ostream& err, const std::string& text) {
   // One line, whatever the message holds.
@@ -19,6 +69,26 @@ void print_error(std::ostream& err, const std::string& text) {
 }
 
 }  // namespace
+
+std::string search_option_flag(std::string_view field_name) {
+  for (const auto& [location, flag] : kFlags)
+    if (location.starts_with(kSearchOptions) &&
+        location.substr(kSearchOptions.size()) == field_name)
+      return std::string(flag);
+  std::string flag = "--" + std::string(field_name);
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
+}
+
+std::string flag_for_location(std::string_view location) {
+  for (const auto& [from, flag] : kFlags)
+    if (from == location) return std::string(flag);
+  if (location.starts_with(kSearchOptions) &&
+      find_search_option(location.substr(kSearchOptions.size())) != nullptr)
+    return search_option_flag(location.substr(kSearchOptions.size()));
+  return {};
+}
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
   CLI::App app{"shaderfit: cheap formulas for expensive shading functions", "shaderfit"};
@@ -57,7 +127,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     print_error(err, e.what());
     return 2;
   } catch (const shaderfit::Error& e) {
-    print_error(err, e.what());
+    print_error(err, error_text(e));
     return 2;
   } catch (const std::exception& e) {
     print_error(err, std::string("internal: ") + e.what());

@@ -5,11 +5,15 @@
 // calls the library, and writes to ctx.out / ctx.err. Bad input surfaces as shaderfit::Error
 // (thrown from the library or the command), which run_cli prints as one line on ctx.err:
 //   shaderfit: error: <location>: <message>
-// and turns into exit status 2.
+// and turns into exit status 2. The library locates errors at its own names (a field such as
+// SearchOptions::operators, a concept such as Material); flag_for_location maps them to the
+// flags a user typed (--ops, --material), in one table in cli.cpp.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <iosfwd>
+#include <string>
+#include <string_view>
 
 namespace shaderfit::cli {
 
@@ -28,6 +32,14 @@ void register_report_command(CLI::App& app, Context& ctx);
 void register_fit_command(CLI::App& app, Context& ctx);
 void register_lut_command(CLI::App& app, Context& ctx);
 void register_rational_command(CLI::App& app, Context& ctx);
+
+// The command-line flag for a library location ("SearchOptions::max_nodes" -> "--max-nodes",
+// "SearchOptions::operators" -> "--ops"), or "" when the location is not one the CLI sets by
+// a flag (a file, "formula", "data").
+std::string flag_for_location(std::string_view location);
+// The flag of a described search option (options.hpp): --<name with '-' for '_'>, unless the
+// table renames it (historical flags such as --time, --evals, --ops).
+std::string search_option_flag(std::string_view field_name);
 
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);

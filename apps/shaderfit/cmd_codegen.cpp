@@ -7,11 +7,11 @@
 
 #include "shaderfit/cli.hpp"
 #include "shaderfit/codegen/codegen.hpp"
-#include "shaderfit/codegen/front.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit::cli {
 
@@ -48,12 +48,13 @@ void run_codegen(const CodegenArgs& a, Context& ctx) {
     ctx.out << generate_function(e, o);
     return;
   }
-  const std::vector<FrontFormula> front = read_front(a.front_path, {a.inputs, a.params});
-  for (std::size_t i = 0; i < front.size(); ++i) {
+  const FrontFile file = read_front_file(a.front_path, {a.inputs, a.params});
+  for (std::size_t i = 0; i < file.front.size(); ++i) {
+    const Expression& e = file.front[i].member.expression;
     o.name = fmt::format("{}_{}", a.name, i);
-    o.bake_parameters = front[i].parameters_have_values;
-    o.comment = describe(front[i].expression);
-    ctx.out << (i ? "\n" : "") << generate_function(front[i].expression, o);
+    o.bake_parameters = file.front[i].parameters_have_values;
+    o.comment = describe(e);
+    ctx.out << (i ? "\n" : "") << generate_function(e, o);
   }
 }
 

@@ -22,6 +22,7 @@
 #include "shaderfit/fit/fit.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit::cli {
 
@@ -217,27 +218,25 @@ struct FrontArgs {
 };
 
 void run_front(FrontArgs& a, Context& ctx) {
-  std::ifstream f(a.front_path);
-  if (!f) throw Error("cannot open '" + a.front_path + "'", SourceLocation{a.front_path});
-  nlohmann::json j;
-  try {
-    f >> j;
-  } catch (const nlohmann::json::exception& e) {
-    throw Error(std::string("not JSON: ") + e.what(), SourceLocation{a.front_path});
-  }
-  if (!j.contains("front") || !j["front"].is_array() || j["front"].empty()) {
-    throw Error("no front to plot: the file has no non-empty 'front' list", SourceLocation{a.front_path});
-  }
+  const FrontFile file = read_front_file(a.front_path);
+  if (file.front.empty())
+    throw Error("no front to plot: the file has no non-empty 'front' list",
+                SourceLocation{a.front_path});
+  // The vertical axis: "loss" or one of the metrics.
+  const std::optional<LossKind> metric = loss_from_name(a.metric);
+  if (a.metric != "loss" && (!metric || a.metric != loss_name(*metric)))
+    throw Error("front member without 'cost' or '" + a.metric + "'", SourceLocation{a.front_path});
   Series s;
   s.label = "Pareto front";
   s.style = Series::Style::LinesPoints;
   s.emphasis = true;
   std::vector<std::pair<double, double>> pts;
-  for (const auto& m : j["front"]) {
-    if (!m.contains("cost") || !m.contains(a.metric) || !m[a.metric].is_number()) {
+  for (const ReadFrontMember& read : file.front) {
+    const FrontMember& m = read.member;
+    const double e = metric ? loss_value(*metric, m.metrics) : m.loss;
+    if (std::isnan(m.cost) || std::isnan(e))
       throw Error("front member without 'cost' or '" + a.metric + "'", SourceLocation{a.front_path});
-    }
-    pts.push_back({m["cost"].get<double>(), m[a.metric].get<double>()});
+    pts.push_back({m.cost, e});
   }
   std::sort(pts.begin(), pts.end());
   for (auto [c, e] : pts) {

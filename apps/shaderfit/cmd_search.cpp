@@ -7,13 +7,18 @@
 #include <cmath>
 #include <csignal>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <ostream>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 #include "data_source.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/report/search_json.hpp"
+#include "shaderfit/search/options.hpp"
 #include "shaderfit/search/report.hpp"
 #include "shaderfit/search/search.hpp"
 
@@ -21,33 +26,22 @@ namespace shaderfit::cli {
 
 namespace {
 
+// The search's options come from their description (shaderfit/search/options.hpp): one flag per
+// described field, named by search_option_flag, with the field's help and its default. A few
+// fields are set through flags of their own: --strategy (enumerate, evolve), --stop-loss and
+// --stop-cost (stop_at).
 struct SearchArgs {
   DataSource data;
   std::string inputs = "r0,x";
   std::string target = "R";
   std::string weights;
-  double time_s = 10.0;
-  std::int64_t evals = 0;
-  bool evals_given = false;
-  std::uint64_t seed = 1;
-  int threads = 0;
-  std::string device = "auto";
-  std::string loss = "mse";
-  std::string cost = "instructions";
-  std::string ops = "+,-,*,/,^";
-  std::string evolve_ops = "pow,exp2";
-  std::string literals = "0.5,1,2";
-  int max_power = 5;
-  std::size_t max_nodes = 25;
-  std::size_t population = 128;
-  std::size_t max_classes = 1'500'000;
+  SearchOptions options;  // plain fields are bound to their flags directly
+  // The text of the other fields' flags (lists, choices, optionals), read after parsing.
+  std::map<std::string_view, std::string> texts;
   std::string strategy = "both";
   std::string json_path;
   bool quiet = false;
   double stop_loss = -1, stop_cost = -1;
-  std::string checkpoint_path;
-  double checkpoint_every_s = 60;
-  std::string resume_path;
 };
 
 // SIGINT and SIGTERM set this; the search polls it, writes its checkpoint (with --checkpoint)
@@ -67,23 +61,6 @@ std::vector<std::string> split_names(const std::string& list) {
   return out;
 }
 
-std::vector<double> parse_literals(const std::string& list) {
-  std::vector<double> out;
-  for (const std::string& s : split_names(list)) {
-    std::size_t used = 0;
-    double v = 0;
-    try {
-      v = std::stod(s, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != s.size() || !std::isfinite(v))
-      throw Error("not a number: '" + s + "'", {"--literals"});
-    out.push_back(v);
-  }
-  return out;
-}
-
 const std::vector<double>& numeric_column(const Dataset& d, const std::string& name,
                                           const char* option) {
   const Column* c = d.find(name);
@@ -97,39 +74,13 @@ const std::vector<double>& numeric_column(const Dataset& d, const std::string& n
   return d.numeric(name).values;
 }
 
-SearchOptions make_options(const SearchArgs& a) {
-  SearchOptions o;
-  if (!(a.time_s > 0))
-    throw Error("the time budget must be positive (got " + fmt::format("{:g}", a.time_s) + ")",
-                {"--time"});
-  if (a.evals_given && a.evals <= 0)
-    throw Error("the evaluation budget must be positive (got " + std::to_string(a.evals) + ")",
-                {"--evals"});
-  if (a.threads < 0) throw Error("threads must be >= 0 (0: all cores)", {"--threads"});
-  o.time_limit_s = a.time_s;
-  if (a.evals_given) o.max_candidates = a.evals;
-  o.seed = a.seed;
-  o.threads = a.threads;
-  const auto device = device_from_name(a.device);
-  if (!device)
-    throw Error("unknown device '" + a.device + "' (known: auto, cpu, cuda)", {"--device"});
-  o.device = resolve_device(*device, {"--device"});  // --device cuda without a GPU stops here
-  const auto loss = loss_from_name(a.loss);
-  if (!loss)
-    throw Error("unknown loss '" + a.loss + "' (known: mse, rmse, max_abs, rel, log)", {"--loss"});
-  o.loss = *loss;
-  const auto cost = cost_target_from_name(a.cost);
-  if (!cost) throw Error("unknown cost '" + a.cost + "' (known: instructions, nodes)", {"--cost"});
-  o.cost = *cost;
-  o.operators = parse_operator_list(a.ops, {"--ops"});
-  o.evolution_operators.clear();
-  if (!a.evolve_ops.empty() && a.evolve_ops != "none")
-    o.evolution_operators = parse_operator_list(a.evolve_ops, {"--evolve-ops"});
-  o.literals = parse_literals(a.literals);
-  o.max_power = a.max_power;
-  o.max_nodes = a.max_nodes;
-  o.population = a.population;
-  o.max_classes = a.max_classes;
+SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
+  SearchOptions o = a.options;
+  for (const SearchOptionField& f : search_option_fields()) {
+    const auto text = a.texts.find(f.name);
+    if (text != a.texts.end() && cmd.count(search_option_flag(f.name)) > 0)
+      set_search_option(o, f, text->second);
+  }
   if (a.strategy == "enumerate")
     o.evolve = false;
   else if (a.strategy == "evolve")
@@ -137,23 +88,19 @@ SearchOptions make_options(const SearchArgs& a) {
   else if (a.strategy != "both")
     throw Error("unknown strategy '" + a.strategy + "' (known: both, enumerate, evolve)",
                 {"--strategy"});
-  if (!(a.checkpoint_every_s >= 0) || !std::isfinite(a.checkpoint_every_s))
-    throw Error("the checkpoint interval must be a number of seconds >= 0", {"--checkpoint-every"});
-  o.resume_path = a.resume_path;
   // A resumed run keeps its checkpoint current unless told to write another.
-  o.checkpoint_path = a.checkpoint_path.empty() ? a.resume_path : a.checkpoint_path;
-  o.checkpoint_interval_s = a.checkpoint_every_s;
+  if (o.checkpoint_path.empty()) o.checkpoint_path = o.resume_path;
   if (a.stop_loss >= 0 || a.stop_cost >= 0) {
     o.stop_at = SearchTarget{a.stop_loss >= 0 ? a.stop_loss : 1e300,
                              a.stop_cost >= 0 ? a.stop_cost : 1e300};
   }
-  std::string why;
-  if (!o.is_valid(&why)) throw Error(why, {"search options"});
+  o.validate();
+  o.device = search_device(o);  // a device that cannot be used stops here, before any work
   return o;
 }
 
-void run(const SearchArgs& a, Context& ctx) {
-  SearchOptions options = make_options(a);
+void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
+  SearchOptions options = make_options(a, cmd);
   const auto t0 = std::chrono::steady_clock::now();
   const Dataset d = load_data(a.data);
   SearchProblem problem;
@@ -188,7 +135,8 @@ void run(const SearchArgs& a, Context& ctx) {
   if (ctx.progress) {
     options.on_progress = [&](const SearchProgress& p) {
       ctx.err << fmt::format("\r\033[K[{:.1f} s] {} {} candidates, {:.3g}/s, front {}", p.elapsed_s,
-                             p.phase, p.candidates, p.candidates_per_s, p.front_size)
+                             search_phase_name(p.phase), p.candidates, p.candidates_per_s,
+                             p.front_size)
               << std::flush;
       progress_shown = true;
     };
@@ -197,8 +145,8 @@ void run(const SearchArgs& a, Context& ctx) {
     const CheckpointInfo c = read_checkpoint_info(options.resume_path);
     human << fmt::format(
         "resuming from {}: {} after {:.3g} s, {} generations, {} candidates, front of {}{}\n",
-        options.resume_path, c.phase, c.elapsed_s, c.generations, c.candidates, c.front_size,
-        c.phase == "enumeration" ? " (the enumeration runs again)" : "");
+        options.resume_path, search_phase_name(c.phase), c.elapsed_s, c.generations, c.candidates,
+        c.front_size, c.phase == SearchPhase::Enumeration ? " (the enumeration runs again)" : "");
   }
   g_interrupted.store(false);
   options.interrupt = &g_interrupted;
@@ -237,6 +185,39 @@ void run(const SearchArgs& a, Context& ctx) {
   }
 }
 
+// Help lines the command line words differently from the library (they name flags).
+std::string_view help_for(const SearchOptionField& f) {
+  if (f.name == "checkpoint_path")
+    return "write the search's state to this file (atomically) every --checkpoint-every seconds "
+           "and when it stops (Ctrl-C, SIGTERM, a budget)";
+  if (f.name == "resume_path")
+    return "continue the search a checkpoint recorded (same data and options; the budgets may "
+           "differ); it keeps that file current unless --checkpoint names another";
+  return f.help;
+}
+
+void add_search_option(CLI::App* cmd, SearchArgs& a, const SearchOptionField& f) {
+  const std::string flag = search_option_flag(f.name);
+  const std::string shown = search_option_text(SearchOptions{}, f);
+  std::string help(help_for(f));
+  if (!shown.empty() && search_option_kind(f) != OptionKind::Bool)
+    help += " (default " + shown + std::string(f.default_note) + ")";
+  std::visit(
+      [&](auto m) {
+        using T = std::remove_reference_t<decltype(a.options.*m)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          const std::string negated = "--no-" + flag.substr(2);
+          cmd->add_flag(flag + ",!" + negated, a.options.*m,
+                        help + (a.options.*m ? " (default; " + negated + " turns it off)" : ""));
+        } else if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>) {
+          cmd->add_option(flag, a.options.*m, help);
+        } else {
+          cmd->add_option(flag, a.texts[f.name], help);
+        }
+      },
+      f.member);
+}
+
 }  // namespace
 
 void register_search_command(CLI::App& app, Context& ctx) {
@@ -249,48 +230,22 @@ void register_search_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--inputs", args->inputs, "input columns, comma-separated (default r0,x)");
   cmd->add_option("--target", args->target, "target column (default R)");
   cmd->add_option("--weights", args->weights, "column of sample weights (default: all 1)");
-  cmd->add_option("--time", args->time_s, "time budget in seconds (default 10)");
-  cmd->add_option("--evals", args->evals, "budget of candidate formulas evaluated")
-      ->each([a = args.get()](const std::string&) { a->evals_given = true; });
-  cmd->add_option("--seed", args->seed, "seed of the search (default 1)");
-  cmd->add_option("--threads", args->threads, "threads, 0 for all cores (default 0)");
-  cmd->add_option("--device", args->device,
-                  "cpu, cuda or auto: where the evolution scores its children (default auto: the "
-                  "GPU when this build has CUDA and one is present)");
-  cmd->add_option("--loss", args->loss, "mse, rmse, max_abs, rel or log (default mse)");
-  cmd->add_option("--cost", args->cost, "instructions or nodes (default instructions)");
-  cmd->add_option("--ops", args->ops,
-                  "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs "
-                  "saturate sin cos min max pow (default +,-,*,/,^)");
-  cmd->add_option("--evolve-ops", args->evolve_ops,
-                  "more operators for the evolution only, or 'none' (default pow,exp2)");
-  cmd->add_option("--literals", args->literals,
-                  "literal constants, comma-separated (default 0.5,1,2)");
-  cmd->add_option("--max-power", args->max_power, "largest integer power x^k (default 5)");
-  cmd->add_option("--max-nodes", args->max_nodes,
-                  "largest formula of the evolution, in nodes (default 25)");
-  cmd->add_option("--population", args->population,
-                  "formulas per island of the evolution (default 128)");
-  cmd->add_option("--max-classes", args->max_classes,
-                  "distinct formulas the enumeration keeps; bounds the memory, about 500 bytes "
-                  "each (default 1500000)");
-  cmd->add_option("--strategy", args->strategy, "both, enumerate or evolve (default both)");
-  cmd->add_option("--stop-loss", args->stop_loss,
-                  "stop once a formula has at most this loss (and --stop-cost)");
-  cmd->add_option("--stop-cost", args->stop_cost,
-                  "stop once a formula has at most this cost (and --stop-loss)");
-  cmd->add_option("--json", args->json_path,
-                  "write the result as JSON to this file ('-' for stdout)");
-  cmd->add_flag("--quiet", args->quiet, "do not print front members as they are found");
-  cmd->add_option("--checkpoint", args->checkpoint_path,
-                  "write the search's state to this file (atomically) every --checkpoint-every "
-                  "seconds and when it stops (Ctrl-C, SIGTERM, a budget)");
-  cmd->add_option("--checkpoint-every", args->checkpoint_every_s,
-                  "seconds between checkpoints (default 60; 0: every generation)");
-  cmd->add_option("--resume", args->resume_path,
-                  "continue the search a checkpoint recorded (same data and options; the budgets "
-                  "may differ); it keeps that file current unless --checkpoint names another");
-  cmd->callback([args, &ctx] { run(*args, ctx); });
+  for (const SearchOptionField& f : search_option_fields()) {
+    if (f.name == "enumerate") {
+      cmd->add_option("--strategy", args->strategy, "both, enumerate or evolve (default both)");
+    } else if (f.name == "stop_at") {
+      cmd->add_option("--stop-loss", args->stop_loss,
+                      "stop once a formula has at most this loss (and --stop-cost)");
+      cmd->add_option("--stop-cost", args->stop_cost,
+                      "stop once a formula has at most this cost (and --stop-loss)");
+      cmd->add_option("--json", args->json_path,
+                      "write the result as JSON to this file ('-' for stdout)");
+      cmd->add_flag("--quiet", args->quiet, "do not print front members as they are found");
+    } else if (f.name != "evolve") {
+      add_search_option(cmd, *args, f);
+    }
+  }
+  cmd->callback([args, cmd, &ctx] { run(*args, *cmd, ctx); });
 }
 
 }  // namespace shaderfit::cli

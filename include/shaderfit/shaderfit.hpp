@@ -4,7 +4,6 @@
 
 #include "shaderfit/core.hpp"
 #include "shaderfit/codegen/codegen.hpp"
-#include "shaderfit/codegen/front.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/core/random.hpp"
@@ -49,6 +48,10 @@
 #include "shaderfit/reference/fresnel.hpp"
 #include "shaderfit/reference/smith_ggx.hpp"
 #include "shaderfit/report/html.hpp"
+#include "shaderfit/report/search_json.hpp"
+#include "shaderfit/report/search_report.hpp"
+#include "shaderfit/search/front_member.hpp"
 #include "shaderfit/search/loss.hpp"
+#include "shaderfit/search/options.hpp"
 #include "shaderfit/search/report.hpp"
 #include "shaderfit/search/search.hpp"

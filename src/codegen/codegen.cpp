@@ -150,15 +150,15 @@ class FunctionPrinter {
 }  // namespace
 
 std::string generate_function(const Expression& e, const CodegenOptions& options) {
-  codegen::check_name(options.name, "function name", SourceLocation{"--name"});
+  codegen::check_name(options.name, "function name", SourceLocation{"CodegenOptions::name"});
   std::vector<std::string> seen = {options.name};
   for (const auto* names : {&e.variables, &e.parameters}) {
     const bool params = names == &e.parameters;
     for (const std::string& n : *names) {
-      codegen::check_name(n, params ? "parameter name" : "input name", SourceLocation{params ? "--params" : "--inputs"});
+      codegen::check_name(n, params ? "parameter name" : "input name", SourceLocation{params ? "Expression::parameters" : "Expression::variables"});
       if (std::find(seen.begin(), seen.end(), n) != seen.end()) {
         throw Error("name '" + n + "' is used twice (function, inputs and parameters need distinct names)",
-                    SourceLocation{params ? "--params" : "--inputs"});
+                    SourceLocation{params ? "Expression::parameters" : "Expression::variables"});
       }
       seen.push_back(n);
     }

@@ -6,19 +6,20 @@
 #include <iostream>
 
 #include "codegen/compiler_harness_test_support.hpp"
-#include "shaderfit/codegen/front.hpp"
+#include "shaderfit/expr/parse.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 
 namespace shaderfit {
 namespace {
 
-const char* kFront = R"json({"inputs": ["r0", "cos_theta"], "front": [
-  {"formula": "r0 + (1 - r0) * (1 - cos_theta)^5"},
-  {"formula": "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"},
-  {"formula": "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", "parameters": {"s": 0.25}},
-  {"formula": "r0 + (1 - r0) * exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)"},
-  {"formula": "r0 + (1 - r0) * (1 - cos_theta)^5 / (1 + 0.5 * sqrt(cos_theta))"}]})json";
+// The members of a search front over r0 and cos_theta; `s` is a fitted parameter (0.25).
+const char* const kFront[] = {
+    "r0 + (1 - r0) * (1 - cos_theta)^5",
+    "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4",
+    "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4",
+    "r0 + (1 - r0) * exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)",
+    "r0 + (1 - r0) * (1 - cos_theta)^5 / (1 + 0.5 * sqrt(cos_theta))"};
 
 std::int64_t ulp_distance(float a, float b) {
   std::int32_t x, y;
@@ -31,10 +32,16 @@ std::int64_t ulp_distance(float a, float b) {
 
 TEST(CompilerCheck, FrontCompilesEverywhereAndCppAgreesWithEvaluator) {
   const auto dir = testing::scratch_folder("front");
-  testing::write_text(dir / "front.json", kFront);
-  const std::vector<FrontFormula> front = read_front((dir / "front.json").string());
   std::vector<Expression> exprs;
-  for (const FrontFormula& f : front) exprs.push_back(f.expression);
+  for (const char* formula : kFront) {
+    ParseOptions po;
+    po.variables = {"r0", "cos_theta"};
+    if (std::strstr(formula, " s ") != nullptr) {
+      po.parameters = {"s"};
+      po.parameter_values = {0.25};
+    }
+    exprs.push_back(parse_formula(formula, po));
+  }
 
   if (const auto nvcc = testing::find_tool("nvcc")) {
     const auto r = testing::compile_cuda(exprs, *nvcc, "front_cuda");
@@ -67,17 +74,17 @@ TEST(CompilerCheck, FrontCompilesEverywhereAndCppAgreesWithEvaluator) {
   }
   std::string src = "#include <algorithm>\n#include <cmath>\n#include <cstdio>\n";
   std::string calls;
-  for (std::size_t i = 0; i < front.size(); ++i) {
+  for (std::size_t i = 0; i < exprs.size(); ++i) {
     CodegenOptions o;
     o.language = Language::Cpp;
     o.name = "f" + std::to_string(i);
-    o.bake_parameters = front[i].parameters_have_values;
-    src += generate_function(front[i].expression, o);
+    o.bake_parameters = true;  // s has its fitted value
+    src += generate_function(exprs[i], o);
     calls += "    out[" + std::to_string(i) + "] = f" + std::to_string(i) + "(in[0], in[1]);\n";
   }
-  src += "int main() {\n  float in[2], out[" + std::to_string(front.size()) + "];\n"
+  src += "int main() {\n  float in[2], out[" + std::to_string(exprs.size()) + "];\n"
          "  while (std::fread(in, sizeof(float), 2, stdin) == 2) {\n" + calls +
-         "    std::fwrite(out, sizeof(float), " + std::to_string(front.size()) + ", stdout);\n  }\n}\n";
+         "    std::fwrite(out, sizeof(float), " + std::to_string(exprs.size()) + ", stdout);\n  }\n}\n";
   testing::write_text(dir / "front.cpp", src);
   std::string log;
   ASSERT_EQ(testing::run_command("'" + *cxx + "' -std=c++17 -O1 -o '" + (dir / "front").string() + "' '" +
@@ -91,22 +98,22 @@ TEST(CompilerCheck, FrontCompilesEverywhereAndCppAgreesWithEvaluator) {
   ASSERT_EQ(testing::run_command("'" + (dir / "front").string() + "' < '" + (dir / "in.bin").string() + "' > '" +
                                  (dir / "out.bin").string() + "'"), 0);
   const std::string output = testing::read_text(dir / "out.bin");
-  ASSERT_EQ(output.size(), rows * front.size() * 4);
+  ASSERT_EQ(output.size(), rows * exprs.size() * 4);
 
   const float* columns[] = {r0.data(), cs.data()};
-  for (std::size_t f = 0; f < front.size(); ++f) {
+  for (std::size_t f = 0; f < exprs.size(); ++f) {
     std::vector<float> expected(rows);
-    evaluate(front[f].expression, columns, expected, {.threads = 1});
+    evaluate(exprs[f], columns, expected, {.threads = 1});
     std::int64_t worst = 0;
     for (std::size_t i = 0; i < rows; ++i) {
       float got;
-      std::memcpy(&got, &output[(i * front.size() + f) * 4], 4);
+      std::memcpy(&got, &output[(i * exprs.size() + f) * 4], 4);
       worst = std::max(worst, ulp_distance(got, expected[i]));
     }
     // Within a few ulp: fma against a*b + c, and the evaluator's SIMD exp2 is itself within a
     // few ulp of exp2.
-    EXPECT_LE(worst, 8) << front[f].formula;
-    std::cout << "C++ vs evaluator, " << front[f].formula << ": max " << worst << " ulp\n";
+    EXPECT_LE(worst, 8) << kFront[f];
+    std::cout << "C++ vs evaluator, " << kFront[f] << ": max " << worst << " ulp\n";
   }
 }
 

@@ -152,11 +152,11 @@ TEST(DataFresnelSeed, BuiltinByName) {
   EXPECT_EQ(make_builtin_dataset("fresnel-seed", a)->rows(), 4096u);
   EXPECT_FALSE(make_builtin_dataset("fresnel", a).has_value());
   try {
-    (void)builtin_dataset("x", a, 10, {"--data"});
+    (void)builtin_dataset("x", a, 10, {"dataset"});
     FAIL() << "no error";
   } catch (const Error& e) {
     EXPECT_EQ(e.message(), "unknown data set 'x' (built-in: fresnel-seed, fresnel-seed-half)");
-    EXPECT_EQ(e.where().source, "--data");
+    EXPECT_EQ(e.where().source, "dataset");
   }
 }
 

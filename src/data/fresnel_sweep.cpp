@@ -63,8 +63,8 @@ std::vector<Material> seed_materials() {
 }
 
 Dataset make_fresnel_sweep(const std::vector<Material>& materials, int angles) {
-  if (angles < 2) throw Error("a sweep needs at least 2 angles, got " + std::to_string(angles), {"--angles"});
-  if (materials.empty()) throw Error("a sweep needs at least one material", {"--material"});
+  if (angles < 2) throw Error("a sweep needs at least 2 angles, got " + std::to_string(angles), {"fresnel_sweep::angles"});
+  if (materials.empty()) throw Error("a sweep needs at least one material", {"fresnel_sweep::materials"});
   std::vector<double> deg;
   data_internal::FresnelRows rows;
   for (const Material& m : materials) {

@@ -34,7 +34,7 @@ TEST(Constraint, Kinds) {
 
 void expect_error(const char* text, const char* message) {
   try {
-    (void)parse_constraint(text, seed_formula(), "--constraint 1");
+    (void)parse_constraint(text, seed_formula(), "constraint 1");
     ADD_FAILURE() << "no error for " << text;
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find(message), std::string::npos) << e.what();
@@ -44,12 +44,12 @@ void expect_error(const char* text, const char* message) {
 TEST(Constraint, Errors) {
   expect_error("C", "needs '='");
   expect_error("C + x = 0", "cannot use the variable 'x'");
-  expect_error("D = 0", "--constraint 1:1:1: unknown variable 'D'");
+  expect_error("D = 0", "constraint 1:1:1: unknown variable 'D'");
   expect_error("f(y = 0) = 1", "'y' is not a variable of the formula");
   expect_error("df/dy(x = 0) = 1", "cannot differentiate by 'y'");
   expect_error("C = A", "cannot use the parameter 'A'");
   expect_error("C = x", "must be a number");
-  expect_error("f(x = 0) = 1 +", "--constraint 1:1:");
+  expect_error("f(x = 0) = 1 +", "constraint 1:1:");
   expect_error("2 = 1", "names no parameter");
 }
 

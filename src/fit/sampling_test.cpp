@@ -14,18 +14,18 @@ namespace shaderfit {
 namespace {
 
 TEST(Sampling, AxesAndCells) {
-  const SampleAxis t = parse_sample_axis("theta=0:pi/2:4", "--domain");
+  const SampleAxis t = parse_sample_axis("theta=0:pi/2:4", "domain");
   EXPECT_DOUBLE_EQ(t.at(0), std::numbers::pi / 16);
-  const SampleAxis e = parse_sample_axis("t = 0:1:5:endpoints", "--domain");
+  const SampleAxis e = parse_sample_axis("t = 0:1:5:endpoints", "domain");
   EXPECT_EQ(e.at(4), 1.0);
-  const GridAxis g = parse_grid_axis("f0=0:1:4:sqrt", "--grid");
+  const GridAxis g = parse_grid_axis("f0=0:1:4:sqrt", "grid");
   EXPECT_DOUBLE_EQ(g.centre(1), 0.375 * 0.375);
   EXPECT_EQ(g.cell_of(0.375 * 0.375), 1);
   EXPECT_EQ(g.cell_of(1.5), -1);
   Rng rng(1);
   const std::vector<GridCell> cells =
       sample_grid({parse_grid_axis("r=0:1:2", "g"), g}, {t},
-                  {parse_definition("d = cos(theta)", {"theta"}, "--define")}, 0, rng);
+                  {parse_definition("d = cos(theta)", {"theta"}, "define")}, 0, rng);
   ASSERT_EQ(cells.size(), 8u);
   EXPECT_EQ(cells[5].index, (std::vector<std::size_t>{1, 1}));  // last axis fastest
   EXPECT_EQ(cells[5].label(), "r=0.75 f0=0.140625");
@@ -33,24 +33,24 @@ TEST(Sampling, AxesAndCells) {
 }
 
 TEST(Sampling, Errors) {
-  EXPECT_THROW(parse_grid_axis("r=0:1:0", "--grid"), Error);
-  EXPECT_THROW(parse_grid_axis("r=1:0:4", "--grid"), Error);
-  EXPECT_THROW(parse_grid_axis("r=0:1", "--grid"), Error);
-  EXPECT_THROW(parse_sample_axis("t=0:1:x", "--domain"), Error);
-  EXPECT_THROW(parse_sample_axis("t=0:1:3:sideways", "--domain"), Error);
+  EXPECT_THROW(parse_grid_axis("r=0:1:0", "grid"), Error);
+  EXPECT_THROW(parse_grid_axis("r=1:0:4", "grid"), Error);
+  EXPECT_THROW(parse_grid_axis("r=0:1", "grid"), Error);
+  EXPECT_THROW(parse_sample_axis("t=0:1:x", "domain"), Error);
+  EXPECT_THROW(parse_sample_axis("t=0:1:3:sideways", "domain"), Error);
   // Found by fuzzing (fuzz/regressions/options/grid_infinite_lo): an infinite bound made cell_of
   // convert NaN to long. Bounds must be finite numbers, and so must their difference.
-  EXPECT_THROW(parse_grid_axis("r=-1/0:12:6", "--grid"), Error);
-  EXPECT_THROW(parse_grid_axis("r=-1e308:1e308:6", "--grid"), Error);
-  EXPECT_THROW(parse_sample_axis("t=0:0/0:3", "--domain"), Error);
+  EXPECT_THROW(parse_grid_axis("r=-1/0:12:6", "grid"), Error);
+  EXPECT_THROW(parse_grid_axis("r=-1e308:1e308:6", "grid"), Error);
+  EXPECT_THROW(parse_sample_axis("t=0:0/0:3", "domain"), Error);
   const GridAxis wide{"w", -1e308, 1e308, 4, false};
   EXPECT_EQ(wide.cell_of(1e308), 3);
   EXPECT_EQ(wide.cell_of(-1e308), 0);
   EXPECT_EQ(wide.cell_of(0.0), 2);
   try {
-    parse_grid_axis("roughness=0:1:0", "--grid");
+    parse_grid_axis("roughness=0:1:0", "grid");
   } catch (const Error& e) {
-    EXPECT_EQ(std::string(e.what()), "--grid: grid size must be at least 1, got 0");
+    EXPECT_EQ(std::string(e.what()), "grid: grid size must be at least 1, got 0");
   }
 }
 

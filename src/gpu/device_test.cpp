@@ -68,7 +68,7 @@ TEST(GpuSelection, ResolveFollowsAvailability) {
     resolve_device(ComputeDevice::Cuda);
     ADD_FAILURE() << "no error without a GPU";
   } catch (const Error& e) {
-    EXPECT_EQ(e.where().source, "--device");
+    EXPECT_EQ(e.where().source, "ComputeDevice");
     EXPECT_NE(e.message().find("cannot use the GPU: "), std::string::npos) << e.what();
     EXPECT_EQ(e.message().find('\n'), std::string::npos);
   }
@@ -318,7 +318,7 @@ TEST(GpuDevice, SearchOnTheGpu) {
   run_search(o, p, &b);
   ASSERT_FALSE(a.front.empty());
   EXPECT_GT(a.generations, 0u);
-  EXPECT_EQ(a.termination, "candidate limit");
+  EXPECT_EQ(a.termination, Termination::CandidateLimit);
   ASSERT_EQ(a.front.size(), b.front.size());
   for (std::size_t i = 0; i < a.front.size(); ++i)
     EXPECT_EQ(a.front[i].formula, b.front[i].formula);
@@ -329,7 +329,7 @@ TEST(GpuDevice, SearchOnTheGpu) {
   full.stop_at = SearchTarget{0.00035236, 4};
   SearchSummary s;
   run_search(full, p, &s);
-  EXPECT_EQ(s.termination, "target reached");
+  EXPECT_EQ(s.termination, Termination::TargetReached);
 }
 
 }  // namespace

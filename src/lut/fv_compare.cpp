@@ -75,7 +75,7 @@ ExactComparison compare_with_exact(const FvLutOptions& options, FvVariant varian
     throw Error(
         "the comparison with the exact reference needs a fitted variant (linear, constrained, "
         "clamped)",
-        {"--compare-exact"});
+        {"compare_with_exact"});
   const auto t0 = std::chrono::steady_clock::now();
   ExactComparison c;
   c.variant = variant;

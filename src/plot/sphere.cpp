@@ -13,11 +13,11 @@ namespace {
 
 void check(const SphereScene& s) {
   if (!(s.roughness > 0 && s.roughness <= 1))
-    throw Error("roughness must be in (0, 1], got " + std::to_string(s.roughness), {"--roughness"});
-  if (!(s.f0 > 0 && s.f0 < 1)) throw Error("F0 must be in (0, 1), got " + std::to_string(s.f0), {"--f0"});
+    throw Error("roughness must be in (0, 1], got " + std::to_string(s.roughness), {"SphereScene::roughness"});
+  if (!(s.f0 > 0 && s.f0 < 1)) throw Error("F0 must be in (0, 1), got " + std::to_string(s.f0), {"SphereScene::f0"});
   const double len2 = s.light[0] * s.light[0] + s.light[1] * s.light[1] + s.light[2] * s.light[2];
-  if (!(len2 > 0) || !std::isfinite(len2)) throw Error("the light direction must be a non-zero vector", {"--light"});
-  if (s.size < 8) throw Error("the image needs at least 8 pixels per side", {"--size"});
+  if (!(len2 > 0) || !std::isfinite(len2)) throw Error("the light direction must be a non-zero vector", {"SphereScene::light"});
+  if (s.size < 8) throw Error("the image needs at least 8 pixels per side", {"SphereScene::size"});
 }
 
 }  // namespace

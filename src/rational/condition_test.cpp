@@ -30,7 +30,7 @@ TEST(RationalCondition, ParsesValuesDerivativesAndIntegrals) {
   EXPECT_EQ(parse_condition("integral(0,1)=ref", kParams).b, 1.0);
 }
 
-// Each bad condition gives an error at "--cond" with the column of the problem.
+// Each bad condition gives an error at RationalProblem::conditions with the column of the problem.
 TEST(RationalCondition, ErrorsNameTheColumn) {
   struct Case {
     const char* text;
@@ -50,10 +50,10 @@ TEST(RationalCondition, ErrorsNameTheColumn) {
   };
   for (const Case& c : cases) {
     try {
-      (void)parse_condition(c.text, kParams, {"--cond", 2, 0});
+      (void)parse_condition(c.text, kParams, {"RationalProblem::conditions", 2, 0});
       ADD_FAILURE() << c.text;
     } catch (const Error& e) {
-      EXPECT_EQ(e.where().source, "--cond") << c.text;
+      EXPECT_EQ(e.where().source, "RationalProblem::conditions") << c.text;
       EXPECT_EQ(e.where().line, 2) << c.text;
       EXPECT_EQ(e.where().column, c.column) << c.text << ": " << e.what();
       EXPECT_NE(e.message().find(c.words), std::string::npos) << e.what();

@@ -18,7 +18,7 @@ TEST(RationalForm, ParsesDegreesAndRejectsTheRest) {
       (void)parse_form(bad);
       ADD_FAILURE() << "parsed: '" << bad << "'";
     } catch (const Error& e) {
-      EXPECT_EQ(e.where().source, "--form") << e.what();
+      EXPECT_EQ(e.where().source, "RationalForm") << e.what();
     }
   }
 }

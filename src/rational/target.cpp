@@ -146,7 +146,7 @@ Target Target::builtin(std::string_view name) {
   for (const auto& b : table) known += std::string(known.empty() ? "" : ", ") + b.name;
   throw Error("unknown target '" + std::string(name) + "' (built-ins: " + known +
                   "; or a formula in the variable)",
-              {"--target"});
+              {"RationalProblem::target"});
 }
 
 bool Target::is_builtin(std::string_view name) {

@@ -17,6 +17,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "search/exact_json.hpp"
+
 // The build defines it for this file from the CMake project version (CMakeLists.txt).
 #ifndef SHADERFIT_VERSION
 #define SHADERFIT_VERSION "unknown"
@@ -31,108 +33,16 @@ using nlohmann::json;
 constexpr std::string_view kMagic = "shaderfit checkpoint";
 
 // A body that does not hold what the format says; reported as a damaged file.
-struct BadBody : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
+using BadBody = BadExactJson;
 
-json num(double v) {
-  if (std::isfinite(v)) return v;  // nlohmann writes the shortest text that reads back exactly
-  return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
-}
-
-double get_num(const json& j) {
-  if (j.is_number()) return j.get<double>();
-  if (j.is_string()) {
-    const auto& s = j.get_ref<const std::string&>();
-    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
-    if (s == "inf") return std::numeric_limits<double>::infinity();
-    if (s == "-inf") return -std::numeric_limits<double>::infinity();
-  }
-  throw BadBody("a number was expected");
-}
-
-// An integer that fits T exactly. nlohmann's get<T> converts a fraction or an out-of-range value
-// without a word (and a float beyond T's range is undefined behaviour), so a field that must be a
-// count or an index is checked here.
+json num(double v) { return exact_number(v); }
+double get_num(const json& j) { return exact_number_from(j); }
 template <class T>
 T get_integer(const json& j, std::string_view field) {
-  if (j.is_number_unsigned()) {
-    const auto v = j.get<std::uint64_t>();
-    if (std::in_range<T>(v)) return static_cast<T>(v);
-  } else if (j.is_number_integer()) {
-    const auto v = j.get<std::int64_t>();
-    if (std::in_range<T>(v)) return static_cast<T>(v);
-  }
-  throw BadBody("an integer in range was expected for '" + std::string(field) + "'");
+  return exact_integer_from<T>(j, field);
 }
-
-json expression_json(const Expression& e) {
-  json nodes = json::array();
-  for (const Node& n : e.nodes) nodes.push_back({static_cast<int>(n.op), n.index, num(n.value)});
-  json values = json::array();
-  for (double v : e.parameter_values) values.push_back(num(v));
-  return {{"variables", e.variables},
-          {"parameters", e.parameters},
-          {"values", values},
-          {"nodes", nodes}};
-}
-
-Expression expression_from(const json& j) {
-  Expression e;
-  e.variables = j.at("variables").get<std::vector<std::string>>();
-  e.parameters = j.at("parameters").get<std::vector<std::string>>();
-  for (const json& v : j.at("values")) e.parameter_values.push_back(get_num(v));
-  if (e.parameter_values.size() != e.parameters.size())
-    throw BadBody("a formula has parameters without values");
-  for (const json& n : j.at("nodes")) {
-    const int op = get_integer<int>(n.at(0), "a node's operator");
-    const int index = get_integer<std::int16_t>(n.at(1), "a node's index");
-    if (op < 0 || op >= kOpCount) throw BadBody("an unknown operator");
-    Node node = Node::op_node(static_cast<Op>(op));
-    node.index = static_cast<std::int16_t>(index);
-    node.value = get_num(n.at(2));
-    const auto bound =
-        static_cast<int>(node.op == Op::Var ? e.variables.size() : e.parameters.size());
-    if ((node.op == Op::Var || node.op == Op::Param) && (index < 0 || index >= bound))
-      throw BadBody("a variable or parameter out of range");
-    e.nodes.push_back(node);
-  }
-  if (e.nodes.empty()) throw BadBody("an empty formula");
-  e.update_lengths();  // throws on a malformed tree
-  return e;
-}
-
-json member_json(const FrontMember& m) {
-  return {{"expression", expression_json(m.expression)},
-          {"formula", m.formula},
-          {"cost", num(m.cost)},
-          {"nodes", m.nodes},
-          {"loss", num(m.loss)},
-          {"mse", num(m.metrics.mse)},
-          {"rmse", num(m.metrics.rmse)},
-          {"max_abs", num(m.metrics.max_abs)},
-          {"rel", num(m.metrics.rel)},
-          {"log", num(m.metrics.log)},
-          {"time_s", num(m.time_s)},
-          {"origin", m.origin}};
-}
-
-FrontMember member_from(const json& j) {
-  FrontMember m;
-  m.expression = expression_from(j.at("expression"));
-  m.formula = j.at("formula").get<std::string>();
-  m.cost = get_num(j.at("cost"));
-  m.nodes = get_integer<std::size_t>(j.at("nodes"), "nodes");
-  m.loss = get_num(j.at("loss"));
-  m.metrics.mse = get_num(j.at("mse"));
-  m.metrics.rmse = get_num(j.at("rmse"));
-  m.metrics.max_abs = get_num(j.at("max_abs"));
-  m.metrics.rel = get_num(j.at("rel"));
-  m.metrics.log = get_num(j.at("log"));
-  m.time_s = get_num(j.at("time_s"));
-  m.origin = j.at("origin").get<std::string>();
-  return m;
-}
+json expression_json(const Expression& e) { return exact_expression_json(e); }
+Expression expression_from(const json& j) { return exact_expression_from(j); }
 
 json individual_json(const SavedIndividual& s) {
   return {{"expression", expression_json(s.expr)},
@@ -171,14 +81,14 @@ json body_json(const Checkpoint& c) {
   json options = json::array();
   for (const auto& [k, v] : c.options) options.push_back({k, v});
   json front = json::array();
-  for (const FrontMember& m : c.front) front.push_back(member_json(m));
+  for (const FrontMember& m : c.front) front.push_back(front_member_json(m, FrontJson::Exact));
   json islands = json::array();
   for (const SavedIsland& is : c.evolution.islands) {
     json pop = json::array();
     for (const SavedIndividual& s : is.population) pop.push_back(individual_json(s));
     islands.push_back({{"rng", is.rng}, {"population", pop}});
   }
-  return {{"phase", c.phase},
+  return {{"phase", search_phase_name(c.phase)},
           {"data", {{"hash", c.data_hash}, {"rows", c.rows}, {"inputs", c.input_names}}},
           {"options", options},
           {"clock",
@@ -199,8 +109,9 @@ json body_json(const Checkpoint& c) {
 
 Checkpoint checkpoint_from(const json& j) {
   Checkpoint c;
-  c.phase = j.at("phase").get<std::string>();
-  if (c.phase != "enumeration" && c.phase != "evolution") throw BadBody("an unknown phase");
+  const auto phase = search_phase_from_name(j.at("phase").get<std::string>());
+  if (!phase) throw BadBody("an unknown phase");
+  c.phase = *phase;
   const json& d = j.at("data");
   c.data_hash = get_integer<std::uint64_t>(d.at("hash"), "hash");
   c.rows = get_integer<std::size_t>(d.at("rows"), "rows");
@@ -216,7 +127,9 @@ Checkpoint checkpoint_from(const json& j) {
     if (e.variables != c.input_names) throw BadBody("a formula over other inputs than the data's");
   };
   for (const json& m : j.at("front")) {
-    c.front.push_back(member_from(m));
+    if (!m.is_object() || !m.contains("expression"))
+      throw BadBody("a front member without its expression");
+    c.front.push_back(front_member_from_json(m, c.input_names, {}, "front").member);
     over_inputs(c.front.back().expression);
   }
   const json& en = j.at("enumeration");
@@ -238,7 +151,7 @@ Checkpoint checkpoint_from(const json& j) {
     }
     c.evolution.islands.push_back(std::move(island));
   }
-  if (c.phase == "evolution") {
+  if (c.phase == SearchPhase::Evolution) {
     check_rng_text(c.rng);
     if (c.evolution.islands.empty()) throw BadBody("an evolution without islands");
   }
@@ -257,8 +170,6 @@ bool take_line(std::string_view& rest, std::string_view* line) {
   rest.remove_prefix(nl + 1);
   return true;
 }
-
-std::string option_text(double v) { return fmt::format("{}", v); }
 
 }  // namespace
 
@@ -285,28 +196,10 @@ std::uint64_t problem_hash(const SearchProblem& p) {
 }
 
 std::vector<std::pair<std::string, std::string>> checkpoint_options(const SearchOptions& o) {
-  std::string literals;
-  for (double v : o.literals) literals += (literals.empty() ? "" : ",") + option_text(v);
-  return {{"seed", std::to_string(o.seed)},
-          {"loss", std::string(loss_name(o.loss))},
-          {"cost", std::string(cost_target_name(o.cost))},
-          {"operators", operator_list_name(o.operators)},
-          {"evolution_operators", operator_list_name(o.evolution_operators)},
-          {"max_power", std::to_string(o.max_power)},
-          {"literals", literals},
-          {"enumerate", o.enumerate ? "true" : "false"},
-          {"screen_rows", std::to_string(o.screen_rows)},
-          {"max_classes", std::to_string(o.max_classes)},
-          {"max_enumeration_share", option_text(o.max_enumeration_share)},
-          {"max_enumeration_cost", std::to_string(o.max_enumeration_cost)},
-          {"evolve", o.evolve ? "true" : "false"},
-          {"max_nodes", std::to_string(o.max_nodes)},
-          {"population", std::to_string(o.population)},
-          {"islands", std::to_string(o.islands)},
-          {"migration_interval", std::to_string(o.migration_interval)},
-          {"max_parameters", std::to_string(o.max_parameters)},
-          {"fit_rows", std::to_string(o.fit_rows)},
-          {"linear_scaling", o.linear_scaling ? "true" : "false"}};
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const SearchOptionField& f : search_option_fields())
+    if (f.role == OptionRole::Search) out.emplace_back(f.name, search_option_text(o, f));
+  return out;
 }
 
 std::string checkpoint_text(const Checkpoint& c) {
@@ -358,7 +251,7 @@ Checkpoint parse_checkpoint(std::string_view text, const std::string& path) {
 void write_checkpoint(const std::string& path, const Checkpoint& c) {
   const std::string text = checkpoint_text(c);
   const std::string tmp = path + ".tmp";
-  const SourceLocation where{"--checkpoint"};
+  const SourceLocation where{"SearchOptions::checkpoint_path"};
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (f == nullptr)
     throw Error("cannot write the checkpoint '" + tmp + "': " + std::strerror(errno), where);
@@ -376,7 +269,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
 
 Checkpoint read_checkpoint(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open the checkpoint '" + path + "'", {"--resume"});
+  if (!in) throw Error("cannot open the checkpoint '" + path + "'", {"SearchOptions::resume_path"});
   std::ostringstream text;
   text << in.rdbuf();
   return parse_checkpoint(text.str(), path);
@@ -424,7 +317,7 @@ Checkpointer::Checkpointer(SearchContext& ctx) : ctx_(ctx) {
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (f == nullptr)
     throw Error("cannot write the checkpoint '" + tmp + "': " + std::strerror(errno),
-                {"--checkpoint"});
+                {"SearchOptions::checkpoint_path"});
   std::fclose(f);
   std::remove(tmp.c_str());
   last_write_s_ = ctx.elapsed();
@@ -441,9 +334,9 @@ void Checkpointer::begin_evolution(double enumeration_time_s, std::uint64_t dist
   base_.rng = out.str();
 }
 
-Checkpoint Checkpointer::capture(std::string phase) {
+Checkpoint Checkpointer::capture(SearchPhase phase) {
   Checkpoint c = base_;
-  c.phase = std::move(phase);
+  c.phase = phase;
   c.elapsed_s = ctx_.elapsed();
   c.candidates = ctx_.candidates.load();
   c.node_evaluations = ctx_.node_evaluations.load();
@@ -456,14 +349,14 @@ bool Checkpointer::due() const {
 }
 
 void Checkpointer::write(const Checkpoint& c) {
-  if (!deferred_error_.empty()) throw Error(deferred_error_, {"--checkpoint"});
+  if (!deferred_error_.empty()) throw Error(deferred_error_, {"SearchOptions::checkpoint_path"});
   write_checkpoint(ctx_.options.checkpoint_path, c);
   last_write_s_ = ctx_.elapsed();
 }
 
 void Checkpointer::at_boundary(const EvolutionState& state) {
   std::lock_guard lock(write_mutex_);
-  at_boundary_ = capture("evolution");
+  at_boundary_ = capture(SearchPhase::Evolution);
   at_boundary_.evolution = state;
   have_boundary_ = true;
   if (due()) write(at_boundary_);
@@ -475,7 +368,7 @@ void Checkpointer::at_end(bool generation_cut, const EvolutionState& current) {
     write(at_boundary_);
     return;
   }
-  Checkpoint c = capture("evolution");
+  Checkpoint c = capture(SearchPhase::Evolution);
   c.evolution = current;
   write(c);
 }
@@ -484,7 +377,7 @@ void Checkpointer::enumeration_tick() {
   std::unique_lock lock(write_mutex_, std::try_to_lock);
   if (!lock.owns_lock() || !due() || !deferred_error_.empty()) return;
   try {
-    write(capture("enumeration"));
+    write(capture(SearchPhase::Enumeration));
   } catch (const Error& e) {
     // Not thrown on an enumeration worker: the next write, on the search's thread, reports it.
     deferred_error_ = e.message();
@@ -493,7 +386,7 @@ void Checkpointer::enumeration_tick() {
 
 void Checkpointer::write_enumeration() {
   std::lock_guard lock(write_mutex_);
-  write(capture("enumeration"));
+  write(capture(SearchPhase::Enumeration));
 }
 
 }  // namespace shaderfit::search_detail

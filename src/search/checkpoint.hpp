@@ -52,7 +52,7 @@ struct EvolutionState {
 };
 
 struct Checkpoint {
-  std::string phase;  // "enumeration" (the front so far) or "evolution" (everything)
+  SearchPhase phase = SearchPhase::Enumeration;  // Enumeration: the front so far; Evolution: all
   std::string shaderfit_version;
   std::uint64_t data_hash = 0;
   std::size_t rows = 0;
@@ -77,9 +77,9 @@ std::string_view checkpoint_writer_version();
 std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL);
 // Hash of the data: input names and the bits of every input, target and weight value.
 std::uint64_t problem_hash(const SearchProblem& problem);
-// The options that decide what the search does, as (name, value) text. Budgets (time, evals,
-// stop target), threads (results do not depend on them), callbacks and the checkpoint settings
-// are left out, so a resumed run may be given a larger budget or other threads.
+// The options that decide what the search does (OptionRole::Search), as (name, value) text
+// (search_option_text). Budgets and how it runs (threads, device, checkpoint files) are left
+// out, so a resumed run may be given a larger budget or other threads.
 std::vector<std::pair<std::string, std::string>> checkpoint_options(const SearchOptions& o);
 
 std::string checkpoint_text(const Checkpoint& c);
@@ -117,7 +117,7 @@ class Checkpointer {
   void write_enumeration();
 
  private:
-  Checkpoint capture(std::string phase);
+  Checkpoint capture(SearchPhase phase);
   void write(const Checkpoint& c);
   [[nodiscard]] bool due() const;
 

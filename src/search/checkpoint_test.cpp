@@ -50,7 +50,7 @@ Checkpoint sample_checkpoint() {
   const SearchProblem p = seed_problem();
   SearchOptions o;
   Checkpoint c;
-  c.phase = "evolution";
+  c.phase = SearchPhase::Evolution;
   c.shaderfit_version = std::string(checkpoint_writer_version());
   c.data_hash = problem_hash(p);
   c.rows = p.target.size();
@@ -67,7 +67,7 @@ Checkpoint sample_checkpoint() {
   m.loss = 0.1;
   m.metrics = {0.1, std::sqrt(0.1), 5e-324, std::numeric_limits<double>::quiet_NaN(), -0.0};
   m.time_s = 1.0 / 3.0;
-  m.origin = "enumeration";
+  m.origin = SearchPhase::Enumeration;
   c.front.push_back(m);
   Rng rng(42);
   rng.discard(1000);
@@ -267,13 +267,13 @@ TEST(Checkpoint, ResumedAtAGenerationBoundaryEndsAsTheUninterruptedRun) {
   o.interrupt = &stop;
   o.progress_interval_s = 1e-9;
   o.on_progress = [&](const SearchProgress& g) {
-    if (g.phase == "evolution" && g.candidates > kBudget / 2) stop.store(true);
+    if (g.phase == SearchPhase::Evolution && g.candidates > kBudget / 2) stop.store(true);
   };
   SearchSummary b;
   run_search(o, p, &b);
   ASSERT_TRUE(b.interrupted);
   const Checkpoint c = read_checkpoint(path);
-  EXPECT_EQ(c.phase, "evolution");
+  EXPECT_EQ(c.phase, SearchPhase::Evolution);
   EXPECT_GT(c.evolution.generations, 0u);
   EXPECT_LT(c.evolution.generations, a.generations);
 
@@ -304,7 +304,7 @@ TEST(Checkpoint, ResumedFromTheEnumerationEndsAsTheUninterruptedRun) {
   ASSERT_TRUE(b.interrupted);
   ASSERT_EQ(b.generations, 0u);
   const Checkpoint c = read_checkpoint(path);
-  EXPECT_EQ(c.phase, "enumeration");
+  EXPECT_EQ(c.phase, SearchPhase::Enumeration);
   EXPECT_FALSE(c.front.empty());
 
   SearchOptions r = small_budget(kBudget);

@@ -149,7 +149,7 @@ void Enumerator::offer_scored(Expression e, Negated negated, float screen_loss) 
     e = std::move(tidy);
   const double cost = expression_cost(e, ctx_.options.cost);
   if (!ctx_.front.would_enter(cost, std::min(pos, neg))) return;  // every metric only for entrants
-  if (ctx_.offer(std::move(e), std::min(pos, neg), "enumeration"))
+  if (ctx_.offer(std::move(e), std::min(pos, neg), SearchPhase::Enumeration))
     screen_front_.emplace_back(cost, screen_loss);
 }
 

@@ -238,7 +238,7 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
       }
       merged.store(++m, std::memory_order_release);
     }
-    ctx_.maybe_progress("enumeration");
+    ctx_.maybe_progress(SearchPhase::Enumeration);
   };
 
   auto worker = [&](std::size_t, std::size_t) {

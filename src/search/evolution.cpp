@@ -284,7 +284,7 @@ void Evolution::polish_front() {
       },
       ctx_.threads);
   for (Candidate& c : done)
-    ctx_.offer(std::move(c.expr), loss_value(ctx_.options.loss, c.metrics), "evolution");
+    ctx_.offer(std::move(c.expr), loss_value(ctx_.options.loss, c.metrics), SearchPhase::Evolution);
 }
 
 void Evolution::migrate() {
@@ -346,7 +346,7 @@ void Evolution::resume(const EvolutionState& state) {
   if (state.islands.size() != islands_.size())
     throw Error("the checkpoint has " + std::to_string(state.islands.size()) +
                     " islands; this search has " + std::to_string(islands_.size()),
-                {"--resume"});
+                {"SearchOptions::resume_path"});
   for (std::size_t i = 0; i < islands_.size(); ++i) {
     Island& is = islands_[i];
     std::istringstream rng(state.islands[i].rng);
@@ -377,14 +377,14 @@ void Evolution::evolve() {
             expression_cost(tidy, ctx_.options.cost) <= expression_cost(c.expr, ctx_.options.cost)
                 ? tidy
                 : c.expr,
-            loss_value(ctx_.options.loss, c.metrics), "evolution");
+            loss_value(ctx_.options.loss, c.metrics), SearchPhase::Evolution);
       }
       is.found.clear();
       evaluated += is.evaluated;
       is.evaluated = 0;
     }
     ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
-    ctx_.maybe_progress("evolution");
+    ctx_.maybe_progress(SearchPhase::Evolution);
     if (ctx_.should_stop()) break;
     if (!polished_ && ctx_.elapsed() >= kPolishAt * ctx_.options.time_limit_s) {
       polish_front();

@@ -51,7 +51,7 @@ TEST(SearchOptions, OperatorLists) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("unknown operator 'frobnicate'"), std::string::npos);
-    EXPECT_EQ(e.where().source, "--ops");
+    EXPECT_EQ(e.where().source, "SearchOptions::operators");
   }
   EXPECT_THROW(parse_operator_list(""), Error);
 }

@@ -3,10 +3,6 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <nlohmann/json.hpp>
-
-#include "shaderfit/codegen/codegen.hpp"
-#include "shaderfit/expr/print.hpp"
 
 namespace shaderfit {
 
@@ -16,22 +12,6 @@ std::string when(double s) {
   return s < 10 ? fmt::format("{:.1f} ms", s * 1e3) : fmt::format("{:.2f} s", s);
 }
 
-nlohmann::json number_or_null(double v) {
-  return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json();
-}
-
-std::string code_for(const FrontMember& m, Language lang) {
-  try {
-    CodegenOptions o;
-    o.language = lang;
-    o.name = "shaderfit_formula";
-    o.bake_parameters = true;
-    return generate_function(m.expression, o);
-  } catch (const std::exception&) {
-    return {};
-  }
-}
-
 }  // namespace
 
 std::string SearchSummary::brief_report() const {
@@ -39,7 +19,7 @@ std::string SearchSummary::brief_report() const {
       "search: {} after {:.3f} s (enumeration {:.3f} s up to cost {}, {} distinct; evolution "
       "{:.3f} s, "
       "{} generations); {} candidates, {:.3g} node evaluations\n",
-      termination, total_time_s, enumeration_time_s, enumeration_cost_completed,
+      termination_name(termination), total_time_s, enumeration_time_s, enumeration_cost_completed,
       distinct_candidates, evolution_time_s, generations, candidates,
       static_cast<double>(node_evaluations));
   return s + front_table(*this);
@@ -67,68 +47,6 @@ std::string front_table(const SearchSummary& s, LossKind loss) {
         "! not stable in float32: float32 and float64 differ by more than 1e-4 of the "
         "target's scale and 1% of the formula's max_abs error (docs/reliability.md)\n";
   return out;
-}
-
-std::string search_json(const SearchSummary& s, const SearchOptions& o, const SearchDataInfo& d) {
-  using nlohmann::json;
-  json front = json::array();
-  for (const FrontMember& m : s.front) {
-    json params = json::object();
-    for (std::size_t i = 0; i < m.expression.parameters.size(); ++i)
-      params[m.expression.parameters[i]] = m.expression.parameter_values[i];
-    front.push_back(
-        {{"formula", m.formula},
-         {"cost", m.cost},
-         {"nodes", m.nodes},
-         {"loss", number_or_null(m.loss)},
-         {"mse", number_or_null(m.metrics.mse)},
-         {"rmse", number_or_null(m.metrics.rmse)},
-         {"max_abs", number_or_null(m.metrics.max_abs)},
-         {"rel", number_or_null(m.metrics.rel)},
-         {"log", number_or_null(m.metrics.log)},
-         {"time_s", m.time_s},
-         {"float32_max_abs_diff", number_or_null(m.float32_max_abs_diff)},
-         {"float32_stable", m.float32_stable},
-         {"origin", m.origin},
-         {"formula_parametric", to_infix(m.expression)},
-         {"fitted_parameters", params},
-         {"latex", to_latex(m.expression, {.substitute_parameters = true})},
-         {"code", {{"glsl", code_for(m, Language::Glsl)}, {"cuda", code_for(m, Language::Cuda)}}}});
-  }
-  json literals = json::array();
-  for (double v : o.literals) literals.push_back(v);
-  json out = {{"inputs", d.inputs},
-              {"data",
-               {{"source", d.source},
-                {"rows", d.rows},
-                {"target", d.target},
-                {"load_time_s", d.load_time_s}}},
-              {"options",
-               {{"loss", loss_name(o.loss)},
-                {"cost", cost_target_name(o.cost)},
-                {"operators", operator_list_name(o.operators)},
-                {"evolution_operators", operator_list_name(o.evolution_operators)},
-                {"max_power", o.max_power},
-                {"literals", literals},
-                {"seed", o.seed},
-                {"threads", o.threads},
-                {"device", device_name(o.device)},
-                {"time_limit_s", o.time_limit_s},
-                {"max_candidates", o.max_candidates ? json(*o.max_candidates) : json()},
-                {"max_nodes", o.max_nodes}}},
-              {"summary",
-               {{"termination", s.termination},
-                {"interrupted", s.interrupted},
-                {"total_time_s", s.total_time_s},
-                {"enumeration_time_s", s.enumeration_time_s},
-                {"evolution_time_s", s.evolution_time_s},
-                {"candidates", s.candidates},
-                {"node_evaluations", s.node_evaluations},
-                {"distinct_candidates", s.distinct_candidates},
-                {"enumeration_cost_completed", s.enumeration_cost_completed},
-                {"generations", s.generations}}},
-              {"front", front}};
-  return out.dump(2) + "\n";
 }
 
 }  // namespace shaderfit

@@ -28,13 +28,13 @@ double SearchContext::elapsed() const {
          std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
-void SearchContext::stop(std::string_view reason) {
+void SearchContext::stop(Termination reason) {
   std::lock_guard lock(reason_mutex_);
-  if (reason_.empty()) reason_ = reason;
+  if (!stopped()) reason_ = reason;
   stopped_.store(true, std::memory_order_relaxed);
 }
 
-std::string SearchContext::stop_reason() const {
+Termination SearchContext::stop_reason() const {
   std::lock_guard lock(reason_mutex_);
   return reason_;
 }
@@ -42,18 +42,19 @@ std::string SearchContext::stop_reason() const {
 bool SearchContext::should_stop() {
   if (stopped()) return true;
   if (options.interrupt != nullptr && options.interrupt->load(std::memory_order_relaxed)) {
-    stop("interrupted");
+    stop(Termination::Interrupted);
   } else if (elapsed() >= options.time_limit_s) {
-    stop("time limit");
+    stop(Termination::TimeLimit);
   } else if (options.max_candidates && candidates.load(std::memory_order_relaxed) >=
                                            static_cast<std::uint64_t>(*options.max_candidates)) {
-    stop("candidate limit");
+    stop(Termination::CandidateLimit);
   }
   return stopped();
 }
 
-void SearchContext::maybe_progress(std::string_view phase) {
-  if (checkpointer != nullptr && phase == "enumeration") checkpointer->enumeration_tick();
+void SearchContext::maybe_progress(SearchPhase phase) {
+  if (checkpointer != nullptr && phase == SearchPhase::Enumeration)
+    checkpointer->enumeration_tick();
   if (!options.on_progress) return;
   const double now = elapsed();
   if (now - last_progress_.load(std::memory_order_relaxed) < options.progress_interval_s) return;
@@ -139,7 +140,7 @@ bool SearchContext::finite_everywhere(const Expression& e) {
   return true;
 }
 
-bool SearchContext::offer(Expression e, double loss_estimate, std::string_view origin) {
+bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin) {
   FrontMember m;
   m.cost = expression_cost(e, options.cost);
   m.loss = loss_estimate;
@@ -162,7 +163,7 @@ bool SearchContext::offer(Expression e, double loss_estimate, std::string_view o
   const double cost = m.cost, loss = m.loss;
   if (!front.offer(std::move(m))) return false;
   if (options.stop_at && loss <= options.stop_at->max_loss && cost <= options.stop_at->max_cost) {
-    stop("target reached");
+    stop(Termination::TargetReached);
   }
   return true;
 }

@@ -46,11 +46,12 @@ class SearchContext {
   // reason is kept. Cheap enough to call per batch of candidates.
   bool should_stop();
   [[nodiscard]] bool stopped() const { return stopped_.load(std::memory_order_relaxed); }
-  void stop(std::string_view reason);
-  [[nodiscard]] std::string stop_reason() const;
+  void stop(Termination reason);
+  // Termination::Done until stop() is called.
+  [[nodiscard]] Termination stop_reason() const;
 
   // Calls options.on_progress when progress_interval_s has passed since the last call.
-  void maybe_progress(std::string_view phase);
+  void maybe_progress(SearchPhase phase);
 
   // e on every row (double precision; out has `rows` entries), counting its node evaluations.
   void predict(const Expression& e, std::span<double> out);
@@ -62,7 +63,7 @@ class SearchContext {
   // of an equivalent form, e.g. before simplification) only pre-selects: a formula that may
   // enter is scored again as it will be shown, and never enters when its loss is not finite or
   // it is not finite_everywhere.
-  bool offer(Expression e, double loss_estimate, std::string_view origin);
+  bool offer(Expression e, double loss_estimate, SearchPhase origin);
   // Whether e and every subexpression of it is finite on every row (weight-0 rows included),
   // in float64. GLSL leaves x / 0, logs of 0 or less, square roots of negatives and whatever
   // is computed from an infinity or a NaN unspecified (and min, max, saturate and rcp can turn
@@ -75,7 +76,7 @@ class SearchContext {
   double clock_offset_s_ = 0;
   std::atomic<bool> stopped_{false};
   mutable std::mutex reason_mutex_;
-  std::string reason_;
+  Termination reason_ = Termination::Done;
   std::atomic<double> last_progress_{0.0};
   std::mutex progress_mutex_;
 };

@@ -45,18 +45,18 @@ TEST(SearchContext, NonFiniteOnAnyRowNeverEntersTheFront) {
     // Infinite only on the weight-0 row: its weighted metrics are finite, yet it is refused.
     const Expression pole = formula("1 / (x - 0.5)");
     ASSERT_TRUE(std::isfinite(weighted_metrics(pole, p).mse));
-    EXPECT_FALSE(ctx.offer(pole, loss_value(loss, weighted_metrics(pole, p)), "test"));
+    EXPECT_FALSE(ctx.offer(pole, loss_value(loss, weighted_metrics(pole, p)), SearchPhase::Evolution));
     // NaN on the rows x < 0.3, even when offered with made-up finite metrics.
-    EXPECT_FALSE(ctx.offer(formula("log2(x - 0.3)"), 0.0, "test"));
-    EXPECT_FALSE(ctx.offer(formula("sqrt(x - 0.7) + x"), 0.0, "test"));
+    EXPECT_FALSE(ctx.offer(formula("log2(x - 0.3)"), 0.0, SearchPhase::Evolution));
+    EXPECT_FALSE(ctx.offer(formula("sqrt(x - 0.7) + x"), 0.0, SearchPhase::Evolution));
     // Finite results through non-finite intermediates: rcp(inf) = 0, max(NaN, 0) = 0.
-    EXPECT_FALSE(ctx.offer(formula("rcp(1 / (x - 0.5)) + x"), 0.0, "test"));
-    EXPECT_FALSE(ctx.offer(formula("max(log2(x - 0.3), 0) + x"), 0.0, "test"));
-    EXPECT_FALSE(ctx.offer(formula("rcp((2 / 0)^3 - 0.5) + x"), 0.0, "test"));
+    EXPECT_FALSE(ctx.offer(formula("rcp(1 / (x - 0.5)) + x"), 0.0, SearchPhase::Evolution));
+    EXPECT_FALSE(ctx.offer(formula("max(log2(x - 0.3), 0) + x"), 0.0, SearchPhase::Evolution));
+    EXPECT_FALSE(ctx.offer(formula("rcp((2 / 0)^3 - 0.5) + x"), 0.0, SearchPhase::Evolution));
     EXPECT_EQ(ctx.front.size(), 0u);
     // Finite everywhere: enters.
     const Expression fine = formula("x * 0.5");
-    EXPECT_TRUE(ctx.offer(fine, loss_value(loss, weighted_metrics(fine, p)), "test"));
+    EXPECT_TRUE(ctx.offer(fine, loss_value(loss, weighted_metrics(fine, p)), SearchPhase::Evolution));
     EXPECT_EQ(ctx.front.size(), 1u);
   }
 }
@@ -67,7 +67,7 @@ TEST(SearchContext, MembersCarryTheMetricsOfTheirOwnFormula) {
   SearchContext ctx(o, p);
   const Expression e = formula("x * 0.5");
   const double flattering = 0;  // better than the truth
-  ASSERT_TRUE(ctx.offer(e, flattering, "test"));
+  ASSERT_TRUE(ctx.offer(e, flattering, SearchPhase::Evolution));
   const FrontMember m = ctx.front.members().at(0);
   EXPECT_EQ(m.metrics.mse, weighted_metrics(e, p).mse);
   EXPECT_GT(m.loss, 0.0);

@@ -56,7 +56,7 @@ TEST(Search, EnumerationReachesTheSeedFormula) {
   const FrontMember* m = best_within(s, 4);
   ASSERT_NE(m, nullptr);
   EXPECT_LE(m->metrics.mse, target_mse * (1 + 1e-9)) << m->formula;
-  EXPECT_EQ(s.termination, "target reached");
+  EXPECT_EQ(s.termination, Termination::TargetReached);
   std::printf("seed target: %s (mse %.4g, cost %g) after %.1f ms\n", m->formula.c_str(),
               m->metrics.mse, m->cost, m->time_s * 1e3);
   // Schlick's formula (cost 5) is dominated: a member no worse in both error and cost.
@@ -115,7 +115,7 @@ TEST(Search, NewMembersAreReportedAsFoundAndTheFrontIsSorted) {
   o.on_new_member = [&](const FrontMember& m) {
     ++calls;
     EXPECT_FALSE(m.formula.empty());
-    EXPECT_EQ(m.origin, "enumeration");
+    EXPECT_EQ(m.origin, SearchPhase::Enumeration);
   };
   SearchSummary s;
   run_search(o, p, &s);
@@ -141,7 +141,7 @@ TEST(Search, InterruptReturnsTheFrontSoFar) {
   SearchSummary s;
   run_search(o, p, &s);
   EXPECT_TRUE(s.interrupted);
-  EXPECT_EQ(s.termination, "interrupted");
+  EXPECT_EQ(s.termination, Termination::Interrupted);
   EXPECT_FALSE(s.front.empty());
 }
 

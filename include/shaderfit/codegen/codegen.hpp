@@ -42,8 +42,8 @@ struct CodegenOptions {
   std::vector<std::string> comment;
 };
 
-// One function, ending in a newline. Throws shaderfit::Error (located at "--name", "--inputs"
-// or "formula") for a function, input or parameter name that is not an identifier of the
+// One function, ending in a newline. Throws shaderfit::Error (located at CodegenOptions::name,
+// Expression::variables, Expression::parameters or "formula") for a function, input or parameter name that is not an identifier of the
 // language or is reserved there, and for a constant that is not finite.
 std::string generate_function(const Expression& e, const CodegenOptions& options);
 

@@ -12,7 +12,7 @@
 namespace shaderfit {
 
 // Where a bad input is. `source` names a file path, or a pseudo-source such as "formula" or
-// "--seed"; line and column are 1-based, 0 when not known.
+// a field, "SearchOptions::seed"; line and column are 1-based, 0 when not known.
 struct SourceLocation {
   std::string source;
   int line = 0;

@@ -59,7 +59,7 @@ std::optional<Dataset> make_builtin_dataset(std::string_view name, Rng& rng,
                                             std::size_t rows = FresnelSeedOptions{}.rows);
 
 // As above, but an unknown name throws Error "unknown data set 'x' (built-in: fresnel-seed,
-// fresnel-seed-half)" located at `where` (for example {"--data"}).
+// fresnel-seed-half)" located at `where` (for example {"dataset"}).
 Dataset builtin_dataset(std::string_view name, Rng& rng,
                         std::size_t rows = FresnelSeedOptions{}.rows,
                         const SourceLocation& where = {});

@@ -31,7 +31,7 @@ std::vector<Material> named_materials();
 // "aluminium" or "gold"; a real IOR "1.5"; a complex IOR "0.3+3i" (n + k i, k >= 0). Names
 // follow the seed data set's labels ("ior1.5", "metal 0.3+3i"). Throws shaderfit::Error located
 // at `where` for anything else (a non-positive n, a negative k, unknown names).
-Material parse_material(std::string_view text, const SourceLocation& where = {"--material"});
+Material parse_material(std::string_view text, const SourceLocation& where = {"Material"});
 
 // The seed 001 materials: IOR 1.5 and the seven metals of the post.
 std::vector<Material> seed_materials();

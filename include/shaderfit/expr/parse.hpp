@@ -36,7 +36,7 @@ struct ParseOptions {
   // name) or 0.
   std::vector<std::string> parameters;
   std::vector<double> parameter_values;
-  // Name used as the source of error locations ("formula", "--baseline", a file name...).
+  // Name used as the source of error locations ("formula", "baseline 1", a file name...).
   std::string source = "formula";
   int line = 1;
 };

@@ -1,10 +1,10 @@
 // Building the blocks of a fixed-form fit: sampling a domain (per cell of a grid over
 // conditioning variables), derived columns, and splitting a data set by group or by grid cell.
 //
-//   GridAxis r = parse_grid_axis("roughness=0:1:16", "--grid");       // 16 cells, centres
-//   GridAxis f = parse_grid_axis("f0=0:1:16:sqrt", "--grid");         // centres in sqrt(f0)
-//   SampleAxis t = parse_sample_axis("theta=0:1.5707963:90", "--domain");  // 90 midpoints
-//   Definition d = parse_definition("dot_lh = cos(theta)", {"theta"}, "--define");
+//   GridAxis r = parse_grid_axis("roughness=0:1:16", "grid");       // 16 cells, centres
+//   GridAxis f = parse_grid_axis("f0=0:1:16:sqrt", "grid");         // centres in sqrt(f0)
+//   SampleAxis t = parse_sample_axis("theta=0:1.5707963:90", "domain");  // 90 midpoints
+//   Definition d = parse_definition("dot_lh = cos(theta)", {"theta"}, "define");
 //   Rng rng(1);
 //   std::vector<GridCell> cells = sample_grid({r, f}, {t}, {d}, 0, rng);
 #pragma once

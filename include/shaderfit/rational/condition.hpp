@@ -31,7 +31,7 @@ struct Condition {
   bool from_reference = false;
   Expression value;  // over the problem's parameter names (as parameters); unused if from_reference
   std::string text;  // as written, or as built
-  SourceLocation where;  // where the condition came from ("--cond", line = its position)
+  SourceLocation where;  // where the condition came from (RationalProblem::conditions, line = its position)
   int point_column = 0;  // 1-based column of the point (or first bound) in `text`, 0 if built
 
   static Condition derivative(double at, int order, double value);
@@ -49,7 +49,7 @@ struct Condition {
 // `where` with the 1-based column of the problem: a syntax error, a negative or too high order,
 // a point that is not a constant, an unknown name.
 Condition parse_condition(std::string_view text, const std::vector<std::string>& parameters,
-                          SourceLocation where = {"--cond", 0, 0});
+                          SourceLocation where = {"RationalProblem::conditions", 0, 0});
 
 // "f(0) = 1", "f'''(1) = 0", "f^(4)(1) = ref", "int(0, 1) = 0.5" for conditions built in code.
 std::string condition_text(const Condition& c);

@@ -31,7 +31,7 @@ struct Transform {
   // Parses an affine formula in `variable` ("1 - cos", "x - 1", "2*x - 1"). Throws
   // shaderfit::Error at `source` if it does not parse or is not affine with a nonzero slope.
   static Transform parse(std::string_view text, const std::string& variable,
-                         const std::string& source = "--transform");
+                         const std::string& source = "Transform");
 
   [[nodiscard]] bool is_identity() const { return offset == 0.0 && scale == 1.0; }
   [[nodiscard]] double operator()(double x) const { return offset + scale * x; }
@@ -64,7 +64,7 @@ std::vector<RationalForm> enumerate_forms(int coefficients,
                                           const std::vector<Transform>& transforms);
 
 // Parses "m/n" (or "m" for a polynomial). Throws shaderfit::Error at `source` otherwise.
-RationalForm parse_form(std::string_view text, const std::string& source = "--form");
+RationalForm parse_form(std::string_view text, const std::string& source = "RationalForm");
 
 struct Rational {
   RationalForm form;

@@ -41,7 +41,7 @@ class Target {
   // Throws shaderfit::Error with the column of a syntax error, located at `source`.
   static Target formula(std::string_view text, const std::string& variable,
                         const std::vector<std::string>& parameters,
-                        const std::string& source = "--target");
+                        const std::string& source = "RationalProblem::target");
 
   // Built-in names, each with a one-line description ("fresnel-schlick: F0 + (1 - F0)(1 - cos)^5").
   static std::vector<std::string> builtin_target_names();

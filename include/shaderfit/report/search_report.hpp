@@ -1,0 +1,49 @@
+// The HTML report of a run's JSON (`shaderfit report`): a search's front with its plot, the
+// comparison with baselines, curves and code; any other run's JSON laid out generically.
+//
+//   HtmlReport r("shaderfit search: run.json");
+//   SearchReportOptions o;
+//   o.data = &dataset;                                    // optional: scores and curves
+//   o.baselines = {{"Schlick", "r0 + (1 - r0)*x^5", parse_formula_on("r0 + (1 - r0)*x^5",
+//   dataset)}}; add_search_report(r, run_json, "run.json", o); r.write("run.html");
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+#include <string>
+#include <vector>
+
+#include "shaderfit/data/dataset.hpp"
+#include "shaderfit/expr/expression.hpp"
+#include "shaderfit/report/html.hpp"
+
+namespace shaderfit {
+
+struct ReportFormula {
+  std::string label;
+  std::string formula;    // as the user wrote it
+  Expression expression;  // parsed over the data's columns
+};
+
+struct SearchReportOptions {
+  // The data the search ran on: with it, the baselines and the chosen formula are scored, and
+  // when the formula's inputs are those of a Fresnel sweep, curves over the angle are drawn.
+  const Dataset* data = nullptr;
+  std::vector<ReportFormula> baselines;  // scored only with data
+  // The front member to show as code (a formula); empty: the most accurate member no costlier
+  // than the first baseline, else the most accurate member.
+  std::string choose;
+};
+
+// Adds a search's sections: its data, settings and run, the front as a table and a plot, the
+// chosen formula, its comparison with the baselines, curves and its code in GLSL, HLSL and CUDA.
+// `run` is the JSON search_json writes; `source` names it in errors. Throws shaderfit::Error
+// for an empty front, or a chosen formula that does not parse (at SearchReportOptions::choose).
+void add_search_report(HtmlReport& report, const nlohmann::json& run, const std::string& source,
+                       const SearchReportOptions& options);
+
+// Any run's JSON, generically: scalars as settings, arrays of objects as tables, PNG paths that
+// exist as images, nested objects as sub-sections (under a heading `name` when not empty).
+void add_json_section(HtmlReport& report, const nlohmann::json& j, const std::string& name,
+                      int level);
+
+}  // namespace shaderfit

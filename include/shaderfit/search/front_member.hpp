@@ -1,0 +1,93 @@
+// A member of a search's Pareto front, and its JSON: one writer and one reader, used by the
+// search's JSON, its checkpoints, `codegen --front`, `plot front` and `report`. The schema is in
+// docs/search.md (section "JSON").
+//
+//   nlohmann::json j = front_member_json(member, FrontJson::Result);      // for people and tools
+//   nlohmann::json k = front_member_json(member, FrontJson::Exact);       // checkpoints
+//   FrontFile f = read_front_file("run.json");                    // any front file, by formula
+//   for (const FrontMember& m : f.front) use(m.expression, m.cost, m.metrics.mse);
+#pragma once
+
+#include <nlohmann/json_fwd.hpp>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "shaderfit/expr/expression.hpp"
+#include "shaderfit/search/loss.hpp"
+
+namespace shaderfit {
+
+// The two strategies of a search, in the order they run: the phase a search is in, and the one
+// that found a front member.
+enum class SearchPhase { Enumeration, Evolution };
+// "enumeration", "evolution" (and back; nullopt for anything else).
+std::string_view search_phase_name(SearchPhase phase);
+std::optional<SearchPhase> search_phase_from_name(std::string_view name);
+
+// One formula of the Pareto front.
+struct FrontMember {
+  Expression expression;  // variables: the problem's input names; parameters hold fitted values
+  std::string formula;    // infix that parse_formula reads (fitted constants written as numbers)
+  double cost = 0;        // expression_cost(expression, options.cost)
+  std::size_t nodes = 0;  // expression.size()
+  LossMetrics metrics;    // on every row of the problem
+  double loss = 0;        // the metric options.loss names
+  double time_s = 0;      // when it was found, seconds since the search started
+  SearchPhase origin = SearchPhase::Enumeration;  // the strategy that found it
+  // Float32 against float64 on every row (docs/reliability.md): the largest absolute
+  // difference (+inf when float32 is not finite on a row), and whether it is within
+  // max(1e-4 * max |target|, 0.01 * metrics.max_abs). Filled in for the final front.
+  double float32_max_abs_diff = 0;
+  bool float32_stable = true;
+};
+
+enum class FrontJson {
+  // For people and tools (the search's --json): numbers that are not finite are null; adds the
+  // parametric formula, the fitted parameters, LaTeX and the code in GLSL and CUDA.
+  Result,
+  // For checkpoints: the expression node by node and every double to the last bit (NaN and
+  // infinities as the strings "nan", "inf", "-inf"), so that a resumed search continues exactly.
+  Exact,
+};
+nlohmann::json front_member_json(const FrontMember& member, FrontJson style);
+
+// How members are read.
+struct FrontReadOptions {
+  std::vector<std::string> inputs;      // overrides the file's "inputs" when not empty
+  std::vector<std::string> parameters;  // names that are parameters in every formula
+};
+
+// A member as read: with an "expression" (a checkpoint's), that expression exactly and every
+// field required; otherwise the "formula" parsed over `inputs` (with "parameters": a list of
+// names, or an object of values), and the fields that are absent or null left NaN (cost, loss,
+// metrics, time_s; origin Enumeration). Throws shaderfit::Error located at `where` for a member
+// that is not an object or lacks what it needs, a formula that does not parse, or "parameters"
+// that are neither names nor an object of numbers.
+struct ReadFrontMember {
+  FrontMember member;
+  bool parameters_have_values = false;  // "parameters" gave values (baked into code)
+};
+ReadFrontMember front_member_from_json(const nlohmann::json& j,
+                                       const std::vector<std::string>& inputs,
+                                       const FrontReadOptions& options, const std::string& where);
+
+// A front file: {"inputs": [...] (optional), "front": [member, ...], ...} as the search's
+// --json writes it (or written by hand: members need only "formula").
+struct FrontFile {
+  std::vector<std::string> inputs;  // the file's, or options.inputs
+  std::vector<ReadFrontMember> front;
+};
+// Throws shaderfit::Error located at the file (and member) for: a file that cannot be read,
+// JSON that does not parse, no "front" list, "inputs" that is not a list of names, or a member
+// as front_member_from_json says.
+FrontFile read_front_file(const std::string& path, const FrontReadOptions& options = {});
+// The same for JSON text already in memory, or already parsed; `source` names it in error
+// locations.
+FrontFile parse_front_file(std::string_view json, const std::string& source,
+                           const FrontReadOptions& options = {});
+FrontFile front_file_from_json(const nlohmann::json& doc, const std::string& source,
+                               const FrontReadOptions& options = {});
+
+}  // namespace shaderfit

@@ -1,0 +1,279 @@
+#include "shaderfit/search/front_member.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "search/exact_json.hpp"
+#include "shaderfit/codegen/codegen.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
+
+namespace shaderfit {
+
+using nlohmann::json;
+
+std::string_view search_phase_name(SearchPhase phase) {
+  return phase == SearchPhase::Evolution ? "evolution" : "enumeration";
+}
+
+std::optional<SearchPhase> search_phase_from_name(std::string_view name) {
+  if (name == "enumeration") return SearchPhase::Enumeration;
+  if (name == "evolution") return SearchPhase::Evolution;
+  return std::nullopt;
+}
+
+namespace search_detail {
+
+json exact_number(double v) {
+  if (std::isfinite(v)) return v;  // nlohmann writes the shortest text that reads back exactly
+  return std::isnan(v) ? "nan" : (v > 0 ? "inf" : "-inf");
+}
+
+double exact_number_from(const json& j) {
+  if (j.is_number()) return j.get<double>();
+  if (j.is_string()) {
+    const auto& s = j.get_ref<const std::string&>();
+    if (s == "nan") return std::numeric_limits<double>::quiet_NaN();
+    if (s == "inf") return std::numeric_limits<double>::infinity();
+    if (s == "-inf") return -std::numeric_limits<double>::infinity();
+  }
+  throw BadExactJson("a number was expected");
+}
+
+json exact_expression_json(const Expression& e) {
+  json nodes = json::array();
+  for (const Node& n : e.nodes)
+    nodes.push_back({static_cast<int>(n.op), n.index, exact_number(n.value)});
+  json values = json::array();
+  for (double v : e.parameter_values) values.push_back(exact_number(v));
+  return {{"variables", e.variables},
+          {"parameters", e.parameters},
+          {"values", values},
+          {"nodes", nodes}};
+}
+
+Expression exact_expression_from(const json& j) {
+  Expression e;
+  e.variables = j.at("variables").get<std::vector<std::string>>();
+  e.parameters = j.at("parameters").get<std::vector<std::string>>();
+  for (const json& v : j.at("values")) e.parameter_values.push_back(exact_number_from(v));
+  if (e.parameter_values.size() != e.parameters.size())
+    throw BadExactJson("a formula has parameters without values");
+  for (const json& n : j.at("nodes")) {
+    const int op = exact_integer_from<int>(n.at(0), "a node's operator");
+    const int index = exact_integer_from<std::int16_t>(n.at(1), "a node's index");
+    if (op < 0 || op >= kOpCount) throw BadExactJson("an unknown operator");
+    Node node = Node::op_node(static_cast<Op>(op));
+    node.index = static_cast<std::int16_t>(index);
+    node.value = exact_number_from(n.at(2));
+    const auto bound =
+        static_cast<int>(node.op == Op::Var ? e.variables.size() : e.parameters.size());
+    if ((node.op == Op::Var || node.op == Op::Param) && (index < 0 || index >= bound))
+      throw BadExactJson("a variable or parameter out of range");
+    e.nodes.push_back(node);
+  }
+  if (e.nodes.empty()) throw BadExactJson("an empty formula");
+  e.update_lengths();  // throws on a malformed tree
+  return e;
+}
+
+}  // namespace search_detail
+
+namespace {
+
+using search_detail::exact_number;
+using search_detail::exact_number_from;
+
+json number_or_null(double v) { return std::isfinite(v) ? json(v) : json(); }
+
+std::string code_for(const FrontMember& m, Language lang) {
+  try {
+    CodegenOptions o;
+    o.language = lang;
+    o.name = "shaderfit_formula";
+    o.bake_parameters = true;
+    return generate_function(m.expression, o);
+  } catch (const std::exception&) {
+    return {};
+  }
+}
+
+// A number of the Result form: absent or null is NaN.
+double result_number(const json& m, const char* key, const std::string& where) {
+  const auto it = m.find(key);
+  if (it == m.end() || it->is_null()) return std::numeric_limits<double>::quiet_NaN();
+  if (!it->is_number())
+    throw Error(std::string("\"") + key + "\" must be a number", SourceLocation{where});
+  return it->get<double>();
+}
+
+}  // namespace
+
+json front_member_json(const FrontMember& m, FrontJson style) {
+  const bool exact = style == FrontJson::Exact;
+  auto number = [&](double v) { return exact ? exact_number(v) : number_or_null(v); };
+  json j = {{"formula", m.formula},
+            {"cost", number(m.cost)},
+            {"nodes", m.nodes},
+            {"loss", number(m.loss)},
+            {"mse", number(m.metrics.mse)},
+            {"rmse", number(m.metrics.rmse)},
+            {"max_abs", number(m.metrics.max_abs)},
+            {"rel", number(m.metrics.rel)},
+            {"log", number(m.metrics.log)},
+            {"time_s", number(m.time_s)},
+            {"origin", search_phase_name(m.origin)},
+            {"float32_max_abs_diff", number(m.float32_max_abs_diff)},
+            {"float32_stable", m.float32_stable}};
+  if (exact) {
+    j["expression"] = search_detail::exact_expression_json(m.expression);
+    return j;
+  }
+  json params = json::object();
+  for (std::size_t i = 0; i < m.expression.parameters.size(); ++i)
+    params[m.expression.parameters[i]] = m.expression.parameter_values[i];
+  j["formula_parametric"] = to_infix(m.expression);
+  j["fitted_parameters"] = params;
+  j["latex"] = to_latex(m.expression, {.substitute_parameters = true});
+  j["code"] = {{"glsl", code_for(m, Language::Glsl)}, {"cuda", code_for(m, Language::Cuda)}};
+  return j;
+}
+
+namespace {
+
+// The exact form: every field of a checkpoint's member (the float32 check is optional: it is
+// filled in for the final front only).
+FrontMember exact_member_from(const json& j) {
+  FrontMember m;
+  m.expression = search_detail::exact_expression_from(j.at("expression"));
+  m.formula = j.at("formula").get<std::string>();
+  m.cost = exact_number_from(j.at("cost"));
+  m.nodes = search_detail::exact_integer_from<std::size_t>(j.at("nodes"), "nodes");
+  m.loss = exact_number_from(j.at("loss"));
+  m.metrics.mse = exact_number_from(j.at("mse"));
+  m.metrics.rmse = exact_number_from(j.at("rmse"));
+  m.metrics.max_abs = exact_number_from(j.at("max_abs"));
+  m.metrics.rel = exact_number_from(j.at("rel"));
+  m.metrics.log = exact_number_from(j.at("log"));
+  m.time_s = exact_number_from(j.at("time_s"));
+  const auto origin = search_phase_from_name(j.at("origin").get<std::string>());
+  if (!origin) throw search_detail::BadExactJson("an unknown origin");
+  m.origin = *origin;
+  if (j.contains("float32_max_abs_diff"))
+    m.float32_max_abs_diff = exact_number_from(j.at("float32_max_abs_diff"));
+  if (j.contains("float32_stable")) m.float32_stable = j.at("float32_stable").get<bool>();
+  return m;
+}
+
+}  // namespace
+
+ReadFrontMember front_member_from_json(const json& m, const std::vector<std::string>& inputs,
+                                       const FrontReadOptions& options, const std::string& where) {
+  ReadFrontMember out;
+  if (m.is_object() && m.contains("expression")) {
+    out.member = exact_member_from(m);
+    out.parameters_have_values = true;
+    return out;
+  }
+  if (!m.is_object() || !m.contains("formula") || !m["formula"].is_string())
+    throw Error("member has no \"formula\" string", SourceLocation{where});
+  ParseOptions po;
+  po.variables = inputs;
+  po.parameters = options.parameters;
+  po.source = where;
+  if (m.contains("parameters")) {
+    const auto& p = m["parameters"];
+    if (p.is_array()) {
+      for (const auto& n : p) {
+        if (!n.is_string())
+          throw Error("\"parameters\" must be names or an object of numbers",
+                      SourceLocation{where});
+        po.parameters.push_back(n.get<std::string>());
+      }
+    } else if (p.is_object()) {
+      out.parameters_have_values = true;
+      po.parameter_values.assign(po.parameters.size(), 0.0);
+      for (const auto& [name, value] : p.items()) {
+        if (!value.is_number())
+          throw Error("parameter '" + name + "' has no numeric value", SourceLocation{where});
+        po.parameters.push_back(name);
+        po.parameter_values.push_back(value.get<double>());
+      }
+    } else {
+      throw Error("\"parameters\" must be names or an object of numbers", SourceLocation{where});
+    }
+  }
+  FrontMember& f = out.member;
+  f.formula = m["formula"].get<std::string>();
+  f.expression = parse_formula(f.formula, po);
+  f.nodes = f.expression.size();
+  f.cost = result_number(m, "cost", where);
+  f.loss = result_number(m, "loss", where);
+  f.metrics.mse = result_number(m, "mse", where);
+  f.metrics.rmse = result_number(m, "rmse", where);
+  f.metrics.max_abs = result_number(m, "max_abs", where);
+  f.metrics.rel = result_number(m, "rel", where);
+  f.metrics.log = result_number(m, "log", where);
+  f.time_s = result_number(m, "time_s", where);
+  f.float32_max_abs_diff = result_number(m, "float32_max_abs_diff", where);
+  if (m.contains("origin") && m["origin"].is_string())
+    f.origin =
+        search_phase_from_name(m["origin"].get<std::string>()).value_or(SearchPhase::Enumeration);
+  if (m.contains("float32_stable") && m["float32_stable"].is_boolean())
+    f.float32_stable = m["float32_stable"].get<bool>();
+  return out;
+}
+
+FrontFile read_front_file(const std::string& path, const FrontReadOptions& options) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw Error("cannot open the front file", SourceLocation{path});
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw Error("cannot read the front file", SourceLocation{path});
+  return parse_front_file(text.str(), path, options);
+}
+
+FrontFile parse_front_file(std::string_view text, const std::string& path,
+                           const FrontReadOptions& options) {
+  json doc;
+  try {
+    doc = json::parse(text.begin(), text.end());
+  } catch (const json::exception& e) {
+    throw Error(std::string("not valid JSON: ") + e.what(), SourceLocation{path});
+  }
+  return front_file_from_json(doc, path, options);
+}
+
+FrontFile front_file_from_json(const json& doc, const std::string& path,
+                               const FrontReadOptions& options) {
+  if (!doc.is_object() || !doc.contains("front") || !doc["front"].is_array())
+    throw Error("expected an object with a \"front\" list", SourceLocation{path});
+  FrontFile out;
+  out.inputs = options.inputs;
+  if (out.inputs.empty() && doc.contains("inputs")) {
+    if (!doc["inputs"].is_array())
+      throw Error("\"inputs\" must be a list of names", SourceLocation{path});
+    for (const auto& n : doc["inputs"]) {
+      if (!n.is_string()) throw Error("\"inputs\" must be a list of names", SourceLocation{path});
+      out.inputs.push_back(n.get<std::string>());
+    }
+  }
+  const auto& front = doc["front"];
+  for (std::size_t i = 0; i < front.size(); ++i) {
+    const std::string where = path + ": front[" + std::to_string(i) + "]";
+    try {
+      out.front.push_back(front_member_from_json(front[i], out.inputs, options, where));
+    } catch (const Error&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw Error(std::string("not a front member: ") + e.what(), SourceLocation{where});
+    }
+  }
+  return out;
+}
+
+}  // namespace shaderfit

@@ -1,0 +1,398 @@
+// The description of SearchOptions (one entry per field) and what is generated from it:
+// validation, text (checkpoints, defaults in help) and reading text back.
+#include "shaderfit/search/options.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <type_traits>
+
+namespace shaderfit {
+
+namespace {
+
+template <class... F>
+struct Overloaded : F... {
+  using F::operator()...;
+};
+template <class... F>
+Overloaded(F...) -> Overloaded<F...>;
+
+constexpr Op kSearchable[] = {Op::Add,  Op::Sub,   Op::Mul, Op::Div,      Op::IPow,
+                              Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2,     Op::Log2,
+                              Op::Exp,  Op::Log,   Op::Abs, Op::Saturate, Op::Sin,
+                              Op::Cos,  Op::Min,   Op::Max, Op::Pow};
+
+bool searchable(Op op) {
+  return std::find(std::begin(kSearchable), std::end(kSearchable), op) != std::end(kSearchable);
+}
+
+std::string_view list_name(Op op) { return op == Op::IPow ? "^" : op_info(op).name; }
+
+std::string known_operators() {
+  std::string s;
+  for (Op op : kSearchable) {
+    if (!s.empty()) s += ' ';
+    s += list_name(op);
+  }
+  return s;
+}
+
+// Checks, as captureless lambdas the table turns into function pointers.
+template <auto Member>
+std::string in_range(const SearchOptions& o, double lo, double hi) {
+  const double v = static_cast<double>(o.*Member);
+  if (v >= lo && v <= hi) return {};
+  return hi == std::numeric_limits<double>::infinity() ? fmt::format("must be at least {}", lo)
+                                                       : fmt::format("must be in [{}, {}]", lo, hi);
+}
+
+std::string searchable_ops(const std::vector<Op>& ops) {
+  for (Op op : ops)
+    if (!searchable(op))
+      return "operator '" + std::string(op_info(op).name) + "' cannot be searched";
+  return {};
+}
+
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+
+using O = SearchOptions;
+using Role = OptionRole;
+
+// The description. Help lines are the command line's (the CLI adds "(default ...)").
+const SearchOptionField kFields[] = {
+    {"time_limit_s", &O::time_limit_s, Role::Budget, "time budget in seconds", "", "", false,
+     [](const O& o) {
+       return o.time_limit_s > 0 && std::isfinite(o.time_limit_s)
+                  ? std::string()
+                  : fmt::format("the time budget must be positive (got {})", o.time_limit_s);
+     }},
+    {"max_candidates", &O::max_candidates, Role::Budget, "budget of candidate formulas evaluated",
+     "", "", true,
+     [](const O& o) {
+       return !o.max_candidates || *o.max_candidates > 0
+                  ? std::string()
+                  : fmt::format("the evaluation budget must be positive (got {})",
+                                *o.max_candidates);
+     }},
+    {"seed", &O::seed, Role::Search, "seed of the search", "", "", false, nullptr},
+    {"threads", &O::threads, Role::Run, "threads, 0 for all cores", "", "", false,
+     [](const O& o) {
+       return o.threads >= 0 ? std::string() : "threads must be >= 0 (0: all cores)";
+     }},
+    {"device", &O::device, Role::Run, "cpu, cuda or auto: where the evolution scores its children",
+     ": the GPU when this build has CUDA and one is present", "auto, cpu, cuda", false, nullptr},
+    {"loss", &O::loss, Role::Search, "mse, rmse, max_abs, rel or log", "",
+     "mse, rmse, max_abs, rel, log", false, nullptr},
+    {"cost", &O::cost, Role::Search, "instructions or nodes", "", "instructions, nodes", false,
+     nullptr},
+    {"operators", &O::operators, Role::Search,
+     "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs saturate sin "
+     "cos min max pow",
+     "", "", false,
+     [](const O& o) {
+       return o.operators.empty() ? "no operators given" : searchable_ops(o.operators);
+     }},
+    {"evolution_operators", &O::evolution_operators, Role::Search,
+     "more operators for the evolution only, or 'none'", "", "", true,
+     [](const O& o) { return searchable_ops(o.evolution_operators); }},
+    {"literals", &O::literals, Role::Search, "literal constants, comma-separated", "", "", false,
+     [](const O& o) {
+       if (o.literals.size() > 100) return std::string("at most 100 literal constants");
+       for (double v : o.literals)
+         if (!std::isfinite(v)) return std::string("literal constants must be finite");
+       return std::string();
+     }},
+    {"max_power", &O::max_power, Role::Search, "largest integer power x^k", "", "", false,
+     [](const O& o) { return in_range<&O::max_power>(o, 2, kMaxIntegerPower); }},
+    {"max_nodes", &O::max_nodes, Role::Search, "largest formula of the evolution, in nodes", "", "",
+     false, [](const O& o) { return in_range<&O::max_nodes>(o, 1, kNoLimit); }},
+    {"population", &O::population, Role::Search, "formulas per island of the evolution", "", "",
+     false, [](const O& o) { return in_range<&O::population>(o, 4, kNoLimit); }},
+    {"max_classes", &O::max_classes, Role::Search,
+     "distinct formulas the enumeration keeps; bounds the memory, about 500 bytes each", "", "",
+     false, [](const O& o) { return in_range<&O::max_classes>(o, 1024, kNoLimit); }},
+    {"enumerate", &O::enumerate, Role::Search, "run the exhaustive enumeration", "", "", false,
+     nullptr},
+    {"evolve", &O::evolve, Role::Search, "run the evolution", "", "", false, nullptr},
+    {"stop_at", &O::stop_at, Role::Budget,
+     "stop once a formula has at most this loss and this cost", "", "", true, nullptr},
+    {"screen_rows", &O::screen_rows, Role::Search,
+     "rows cached per distinct formula of the enumeration, to deduplicate and screen", "", "",
+     false,
+     [](const O& o) {
+       return o.screen_rows >= 16 && o.screen_rows % 8 == 0
+                  ? std::string()
+                  : std::string("must be a multiple of 8, at least 16");
+     }},
+    {"max_enumeration_share", &O::max_enumeration_share, Role::Search,
+     "fraction of the time budget the enumeration may use", "", "", false,
+     [](const O& o) { return in_range<&O::max_enumeration_share>(o, 0, 1); }},
+    {"max_enumeration_cost", &O::max_enumeration_cost, Role::Search,
+     "highest cost level the enumeration reaches", "", "", false,
+     [](const O& o) { return in_range<&O::max_enumeration_cost>(o, 0, 60); }},
+    {"islands", &O::islands, Role::Search, "sub-populations of the evolution", "", "", false,
+     [](const O& o) { return in_range<&O::islands>(o, 1, kNoLimit); }},
+    {"migration_interval", &O::migration_interval, Role::Search,
+     "generations between migrations of the evolution", "", "", false,
+     [](const O& o) { return in_range<&O::migration_interval>(o, 1, kNoLimit); }},
+    {"max_parameters", &O::max_parameters, Role::Search,
+     "free constants per formula of the evolution", "", "", false,
+     [](const O& o) { return in_range<&O::max_parameters>(o, 0, 8); }},
+    {"fit_rows", &O::fit_rows, Role::Search,
+     "rows the evolution fits constants and ranks formulas on", "", "", false,
+     [](const O& o) { return in_range<&O::fit_rows>(o, 8, kNoLimit); }},
+    {"linear_scaling", &O::linear_scaling, Role::Search,
+     "also try a * f + b for each formula of the evolution", "", "", false, nullptr},
+    {"progress_interval_s", &O::progress_interval_s, Role::Run, "seconds between progress reports",
+     "", "", false,
+     [](const O& o) {
+       return o.progress_interval_s > 0 ? std::string() : std::string("must be positive");
+     }},
+    {"checkpoint_path", &O::checkpoint_path, Role::Run,
+     "write the search's state to this file (atomically) every checkpoint_interval_s seconds "
+     "and when it stops",
+     "", "", true, nullptr},
+    {"checkpoint_interval_s", &O::checkpoint_interval_s, Role::Run, "seconds between checkpoints",
+     "; 0: every generation", "", false,
+     [](const O& o) {
+       return o.checkpoint_interval_s >= 0 && std::isfinite(o.checkpoint_interval_s)
+                  ? std::string()
+                  : std::string("the checkpoint interval must be a number of seconds >= 0");
+     }},
+    {"resume_path", &O::resume_path, Role::Run,
+     "continue the search a checkpoint recorded (same data and options; the budgets may differ)",
+     "", "", true, nullptr},
+};
+
+std::string number_text(double v) { return fmt::format("{}", v); }
+
+[[noreturn]] void bad_text(const SearchOptionField& f, const std::string& why) {
+  throw Error(why, {search_option_location(f)});
+}
+
+double number_from(const SearchOptionField& f, std::string_view text) {
+  const std::string s(text);
+  std::size_t used = 0;
+  double v = 0;
+  try {
+    v = std::stod(s, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (s.empty() || used != s.size()) bad_text(f, "not a number: '" + s + "'");
+  return v;
+}
+
+template <class T>
+T integer_from(const SearchOptionField& f, std::string_view text) {
+  T v{};
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
+  if (ec != std::errc() || end != text.data() + text.size() || text.empty())
+    bad_text(f, "not an integer in range: '" + std::string(text) + "'");
+  return v;
+}
+
+std::vector<std::string_view> split(std::string_view list) {
+  std::vector<std::string_view> out;
+  std::size_t pos = 0;
+  while (pos <= list.size()) {
+    std::size_t end = list.find(',', pos);
+    if (end == std::string_view::npos) end = list.size();
+    std::string_view item = list.substr(pos, end - pos);
+    while (!item.empty() && item.front() == ' ') item.remove_prefix(1);
+    while (!item.empty() && item.back() == ' ') item.remove_suffix(1);
+    if (!item.empty()) out.push_back(item);
+    pos = end + 1;
+  }
+  return out;
+}
+
+template <class E, class FromName>
+E choice_from(const SearchOptionField& f, std::string_view text, FromName from_name) {
+  const auto v = from_name(text);
+  if (!v)
+    bad_text(f, "unknown " + std::string(f.name) + " '" + std::string(text) +
+                    "' (known: " + std::string(f.choices) + ")");
+  return *v;
+}
+
+}  // namespace
+
+std::span<const SearchOptionField> search_option_fields() { return kFields; }
+
+const SearchOptionField* find_search_option(std::string_view name) {
+  for (const SearchOptionField& f : kFields)
+    if (f.name == name) return &f;
+  return nullptr;
+}
+
+OptionKind search_option_kind(const SearchOptionField& field) {
+  return std::visit(
+      Overloaded{[](double O::*) { return OptionKind::Real; },
+                 [](bool O::*) { return OptionKind::Bool; },
+                 [](std::string O::*) { return OptionKind::Text; },
+                 [](std::optional<SearchTarget> O::*) { return OptionKind::StopTarget; },
+                 [](std::vector<double> O::*) { return OptionKind::Reals; },
+                 [](std::vector<Op> O::*) { return OptionKind::Operators; },
+                 [](LossKind O::*) { return OptionKind::Choice; },
+                 [](CostTarget O::*) { return OptionKind::Choice; },
+                 [](ComputeDevice O::*) { return OptionKind::Choice; },
+                 [](auto) { return OptionKind::Integer; }},
+      field.member);
+}
+
+std::string_view option_kind_name(OptionKind kind) {
+  switch (kind) {
+    case OptionKind::Real: return "real";
+    case OptionKind::Integer: return "integer";
+    case OptionKind::Bool: return "bool";
+    case OptionKind::Text: return "text";
+    case OptionKind::StopTarget: return "stop target";
+    case OptionKind::Reals: return "reals";
+    case OptionKind::Operators: return "operators";
+    case OptionKind::Choice: return "choice";
+  }
+  return "?";
+}
+
+std::string search_option_location(const SearchOptionField& field) {
+  return "SearchOptions::" + std::string(field.name);
+}
+
+std::string search_option_text(const SearchOptions& o, const SearchOptionField& field) {
+  return std::visit(
+      Overloaded{[&](double O::*m) { return number_text(o.*m); },
+                 [&](bool O::*m) { return std::string(o.*m ? "true" : "false"); },
+                 [&](std::string O::*m) { return o.*m; },
+                 [&](std::optional<std::int64_t> O::*m) {
+                   return o.*m ? std::to_string(*(o.*m)) : std::string();
+                 },
+                 [&](std::optional<SearchTarget> O::*m) {
+                   return o.*m ? number_text((o.*m)->max_loss) + "," + number_text((o.*m)->max_cost)
+                               : std::string();
+                 },
+                 [&](std::vector<double> O::*m) {
+                   std::string s;
+                   for (double v : o.*m) s += (s.empty() ? "" : ",") + number_text(v);
+                   return s;
+                 },
+                 [&](std::vector<Op> O::*m) { return operator_list_name(o.*m); },
+                 [&](LossKind O::*m) { return std::string(loss_name(o.*m)); },
+                 [&](CostTarget O::*m) { return std::string(cost_target_name(o.*m)); },
+                 [&](ComputeDevice O::*m) { return std::string(device_name(o.*m)); },
+                 [&](auto m) { return std::to_string(o.*m); }},
+      field.member);
+}
+
+void set_search_option(SearchOptions& o, const SearchOptionField& f, std::string_view text) {
+  std::visit(
+      Overloaded{
+          [&](double O::*m) { o.*m = number_from(f, text); },
+          [&](bool O::*m) {
+            if (text != "true" && text != "false")
+              bad_text(f, "expected true or false, got '" + std::string(text) + "'");
+            o.*m = text == "true";
+          },
+          [&](std::string O::*m) { o.*m = std::string(text); },
+          [&](std::optional<std::int64_t> O::*m) {
+            if (text.empty())
+              o.*m = std::nullopt;
+            else
+              o.*m = integer_from<std::int64_t>(f, text);
+          },
+          [&](std::optional<SearchTarget> O::*m) {
+            const auto parts = split(text);
+            if (parts.empty()) {
+              o.*m = std::nullopt;
+              return;
+            }
+            if (parts.size() != 2) bad_text(f, "expected MAX_LOSS,MAX_COST");
+            o.*m = SearchTarget{number_from(f, parts[0]), number_from(f, parts[1])};
+          },
+          [&](std::vector<double> O::*m) {
+            std::vector<double> v;
+            for (std::string_view s : split(text)) {
+              const double x = number_from(f, s);
+              if (!std::isfinite(x)) bad_text(f, "not a number: '" + std::string(s) + "'");
+              v.push_back(x);
+            }
+            o.*m = std::move(v);
+          },
+          [&](std::vector<Op> O::*m) {
+            if (f.may_be_empty && (text.empty() || text == "none"))
+              (o.*m).clear();
+            else
+              o.*m = parse_operator_list(text, {search_option_location(f)});
+          },
+          [&](LossKind O::*m) { o.*m = choice_from<LossKind>(f, text, loss_from_name); },
+          [&](CostTarget O::*m) { o.*m = choice_from<CostTarget>(f, text, cost_target_from_name); },
+          [&](ComputeDevice O::*m) {
+            o.*m = choice_from<ComputeDevice>(f, text, device_from_name);
+          },
+          [&](auto m) { o.*m = integer_from<std::remove_reference_t<decltype(o.*m)>>(f, text); }},
+      f.member);
+}
+
+void set_search_option(SearchOptions& o, std::string_view name, std::string_view text) {
+  const SearchOptionField* f = find_search_option(name);
+  if (f == nullptr) throw Error("no search option '" + std::string(name) + "'", {"SearchOptions"});
+  set_search_option(o, *f, text);
+}
+
+void SearchOptions::validate() const {
+  for (const SearchOptionField& f : kFields) {
+    if (f.check == nullptr) continue;
+    std::string why = f.check(*this);
+    if (!why.empty()) throw Error(why, {search_option_location(f)});
+  }
+}
+
+bool SearchOptions::is_valid(std::string* why) const {
+  try {
+    validate();
+    return true;
+  } catch (const Error& e) {
+    if (why != nullptr) *why = e.what();
+    return false;
+  }
+}
+
+std::vector<Op> parse_operator_list(std::string_view list, const SourceLocation& where) {
+  std::vector<Op> ops;
+  for (std::string_view name : split(list)) {
+    Op op = Op::Count_;
+    if (name == "^" || name == "ipow")
+      op = Op::IPow;
+    else if (name == "add")
+      op = Op::Add;
+    else if (name == "sub")
+      op = Op::Sub;
+    else if (name == "mul")
+      op = Op::Mul;
+    else if (name == "div")
+      op = Op::Div;
+    else
+      op = op_from_name(name);
+    if (!searchable(op))
+      throw Error("unknown operator '" + std::string(name) + "' (known: " + known_operators() + ")",
+                  where);
+    if (std::find(ops.begin(), ops.end(), op) == ops.end()) ops.push_back(op);
+  }
+  if (ops.empty()) throw Error("no operators given (known: " + known_operators() + ")", where);
+  return ops;
+}
+
+std::string operator_list_name(const std::vector<Op>& ops) {
+  std::string s;
+  for (Op op : ops) {
+    if (!s.empty()) s += ',';
+    s += list_name(op);
+  }
+  return s;
+}
+
+}  // namespace shaderfit
