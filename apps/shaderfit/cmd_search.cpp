@@ -9,6 +9,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <ostream>
 #include <sstream>
 #include <type_traits>
@@ -36,7 +37,9 @@ struct SearchArgs {
   std::string target = "R";
   std::string weights;
   SearchOptions options;  // plain fields are bound to their flags directly
-  // The text of the other fields' flags (lists, choices, optionals), read after parsing.
+  // The other fields' flags, read after parsing: optional integers, and the text of lists,
+  // choices and the like.
+  std::map<std::string_view, std::int64_t> integers;
   std::map<std::string_view, std::string> texts;
   std::string strategy = "both";
   std::string json_path;
@@ -77,8 +80,10 @@ const std::vector<double>& numeric_column(const Dataset& d, const std::string& n
 SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
   SearchOptions o = a.options;
   for (const SearchOptionField& f : search_option_fields()) {
-    const auto text = a.texts.find(f.name);
-    if (text != a.texts.end() && cmd.count(search_option_flag(f.name)) > 0)
+    if (cmd.count(search_option_flag(f.name)) == 0) continue;
+    if (const auto i = a.integers.find(f.name); i != a.integers.end())
+      set_search_option(o, f, std::to_string(i->second));
+    if (const auto text = a.texts.find(f.name); text != a.texts.end())
       set_search_option(o, f, text->second);
   }
   if (a.strategy == "enumerate")
@@ -211,6 +216,8 @@ void add_search_option(CLI::App* cmd, SearchArgs& a, const SearchOptionField& f)
                         help + (a.options.*m ? " (default; " + negated + " turns it off)" : ""));
         } else if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>) {
           cmd->add_option(flag, a.options.*m, help);
+        } else if constexpr (std::is_same_v<T, std::optional<std::int64_t>>) {
+          cmd->add_option(flag, a.integers[f.name], help);
         } else {
           cmd->add_option(flag, a.texts[f.name], help);
         }

@@ -97,6 +97,13 @@ TEST(CmdSearch, OtherBadOptions) {
                    "unknown cost 'watts'");
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--literals", "1,two"},
                    "not a number: 'two'");
+  // Library errors name the field (SearchOptions::max_power); the command shows its flag.
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--max-power", "17"},
+                   "shaderfit: error: --max-power: must be in [2, 16]");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--ops", "+,frob"},
+                   "shaderfit: error: --ops: unknown operator 'frob'");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--islands", "0"},
+                   "shaderfit: error: --islands: must be at least 1");
 }
 
 // Seed 001's Fresnel data, every 16th row (256), as CSV: a short search for the tests below.

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <set>
+
 #include "shaderfit/search/loss.hpp"
+#include "shaderfit/search/options.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -135,6 +138,57 @@ TEST(Loss, LossOfAgreesWithTheMetrics) {
        {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
     EXPECT_DOUBLE_EQ(loss_of(k, p, t), loss_value(k, loss_metrics(p, t))) << loss_name(k);
     EXPECT_DOUBLE_EQ(loss_of(k, p, t, w), loss_value(k, loss_metrics(p, t, w))) << loss_name(k);
+  }
+}
+
+}  // namespace
+}  // namespace shaderfit
+
+namespace shaderfit {
+namespace {
+
+TEST(SearchOptions, DescriptionReadsBackItsText) {
+  std::set<std::string_view> names;
+  SearchOptions edited;
+  edited.max_candidates = 1000;
+  edited.stop_at = SearchTarget{1e-4, 4};
+  edited.evolution_operators.clear();
+  edited.literals = {0.1, 3.0};
+  edited.checkpoint_path = "run.ckpt";
+  for (const SearchOptionField& f : search_option_fields()) {
+    EXPECT_TRUE(names.insert(f.name).second) << f.name << " is described twice";
+    EXPECT_FALSE(f.help.empty()) << f.name;
+    EXPECT_EQ(find_search_option(f.name), &f);
+    for (const SearchOptions& o : {SearchOptions{}, edited}) {
+      SearchOptions back;
+      set_search_option(back, f, search_option_text(o, f));
+      EXPECT_EQ(search_option_text(back, f), search_option_text(o, f)) << f.name;
+    }
+  }
+  EXPECT_EQ(search_option_text(SearchOptions{}, *find_search_option("operators")), "+,-,*,/,^");
+  EXPECT_EQ(search_option_kind(*find_search_option("max_nodes")), OptionKind::Integer);
+  EXPECT_EQ(search_option_kind(*find_search_option("loss")), OptionKind::Choice);
+  EXPECT_EQ(find_search_option("max_candidates")->role, OptionRole::Budget);
+}
+
+TEST(SearchOptions, ErrorsNameTheField) {
+  SearchOptions o;
+  o.max_power = 17;
+  std::string why;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_EQ(why, "SearchOptions::max_power: must be in [2, 16]");
+  try {
+    o.validate();
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "SearchOptions::max_power");
+  }
+  try {
+    set_search_option(o, "loss", "l7");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "SearchOptions::loss");
+    EXPECT_EQ(e.message(), "unknown loss 'l7' (known: mse, rmse, max_abs, rel, log)");
   }
 }
 
