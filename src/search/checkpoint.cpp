@@ -293,10 +293,15 @@ void check_checkpoint_matches(const Checkpoint& c, const SearchOptions& options,
                         ? ", other values"
                         : ""),
         where);
+  // An option the checkpoint does not record (one added since it was written) is taken to have
+  // had its default.
+  const auto defaults = checkpoint_options(SearchOptions{});
   for (const auto& option : checkpoint_options(options)) {
     auto it = std::find_if(c.options.begin(), c.options.end(),
                            [&](const auto& kv) { return kv.first == option.first; });
-    const std::string then = it == c.options.end() ? "(not recorded)" : it->second;
+    auto fallback = std::find_if(defaults.begin(), defaults.end(),
+                                 [&](const auto& kv) { return kv.first == option.first; });
+    const std::string then = it != c.options.end() ? it->second : fallback->second;
     if (then != option.second)
       throw Error(fmt::format("the checkpoint was made with {0} = {1}; this search has {0} = {2} "
                               "(resume with the same options)",

@@ -90,7 +90,8 @@ Checkpoint parse_checkpoint(std::string_view text, const std::string& path);
 // a whole checkpoint. Throws Error when it cannot.
 void write_checkpoint(const std::string& path, const Checkpoint& c);
 Checkpoint read_checkpoint(const std::string& path);
-// Throws Error when the checkpoint was made for other data or with other options.
+// Throws Error when the checkpoint was made for other data or with other options (an option it
+// does not record counts as its default, so adding an option keeps checkpoints resumable).
 void check_checkpoint_matches(const Checkpoint& c, const SearchOptions& options,
                               const SearchProblem& problem, const std::string& path);
 

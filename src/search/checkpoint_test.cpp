@@ -206,6 +206,13 @@ TEST(Checkpoint, OtherDataOrOptionsAreRefused) {
         << e.what();
   }
   o.seed = 1;
+  // An option the checkpoint does not record (added since) counts as its default.
+  Checkpoint older = c;
+  std::erase_if(older.options, [](const auto& kv) { return kv.first == "islands"; });
+  EXPECT_NO_THROW(check_checkpoint_matches(older, o, p, "run.ckpt"));
+  o.islands = 3;
+  EXPECT_THROW(check_checkpoint_matches(older, o, p, "run.ckpt"), Error);
+  o.islands = 4;
   p.target[7] += 1e-9;
   EXPECT_THROW(check_checkpoint_matches(c, o, p, "run.ckpt"), Error);
 }
