@@ -1,6 +1,6 @@
 // Fuzz target: a search front's JSON, as `shaderfit codegen --front FILE.json` reads it (the file
-// `shaderfit search --json` writes, possibly edited by hand). parse_front_file must read it or throw
-// shaderfit::Error; each member then goes through what the command does: its cost in every
+// `shaderfit search --json` writes, possibly edited by hand). parse_front_file must read it or
+// throw shaderfit::Error; each member then goes through what the command does: its cost in every
 // target and its code in one language.
 #include "fuzz_targets.hpp"
 #include "shaderfit/codegen/codegen.hpp"

@@ -16,7 +16,8 @@ void RationalProblem::validate() const {
                             parameter_values.size()));
   for (std::size_t i = 0; i < parameter_names.size(); ++i)
     if (!std::isfinite(parameter_values[i]))
-      throw Error("parameter " + parameter_names[i] + " is not a finite number", {"RationalProblem::parameter_values"});
+      throw Error("parameter " + parameter_names[i] + " is not a finite number",
+                  {"RationalProblem::parameter_values"});
   (void)target_parameter_values();
   if (!std::isfinite(domain.lo) || !std::isfinite(domain.hi) || !(domain.lo < domain.hi))
     throw Error(fmt::format("the domain [{}, {}] is empty or not finite", domain.lo, domain.hi),

@@ -1,9 +1,10 @@
+#include "shaderfit/search/options.hpp"
+
 #include <gtest/gtest.h>
 
 #include <set>
 
 #include "shaderfit/search/loss.hpp"
-#include "shaderfit/search/options.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {

@@ -43,8 +43,9 @@ struct CodegenOptions {
 };
 
 // One function, ending in a newline. Throws shaderfit::Error (located at CodegenOptions::name,
-// Expression::variables, Expression::parameters or "formula") for a function, input or parameter name that is not an identifier of the
-// language or is reserved there, and for a constant that is not finite.
+// Expression::variables, Expression::parameters or "formula") for a function, input or parameter
+// name that is not an identifier of the language or is reserved there, and for a constant that is
+// not finite.
 std::string generate_function(const Expression& e, const CodegenOptions& options);
 
 // `v` rounded to float32, as the shortest literal of the language that reads back to it:

@@ -38,6 +38,7 @@ std::string cuda_unavailable_reason();
 
 // The device to use for a request: Cpu stays Cpu, Auto becomes Cuda or Cpu, Cuda stays Cuda when
 // available and otherwise throws Error("cannot use the GPU: <reason>", where).
-ComputeDevice resolve_device(ComputeDevice requested, const SourceLocation& where = {"ComputeDevice"});
+ComputeDevice resolve_device(ComputeDevice requested,
+                             const SourceLocation& where = {"ComputeDevice"});
 
 }  // namespace shaderfit

@@ -31,7 +31,7 @@ struct Condition {
   bool from_reference = false;
   Expression value;  // over the problem's parameter names (as parameters); unused if from_reference
   std::string text;  // as written, or as built
-  SourceLocation where;  // where the condition came from (RationalProblem::conditions, line = its position)
+  SourceLocation where;  // where it came from (RationalProblem::conditions, line = position)
   int point_column = 0;  // 1-based column of the point (or first bound) in `text`, 0 if built
 
   static Condition derivative(double at, int order, double value);
