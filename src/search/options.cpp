@@ -64,108 +64,186 @@ using Role = OptionRole;
 
 // The description. Help lines are the command line's (the CLI adds "(default ...)").
 const SearchOptionField kFields[] = {
-    {"time_limit_s", &O::time_limit_s, Role::Budget, "time budget in seconds", "", "", false,
-     [](const O& o) {
-       return o.time_limit_s > 0 && std::isfinite(o.time_limit_s)
-                  ? std::string()
-                  : fmt::format("the time budget must be positive (got {})", o.time_limit_s);
-     }},
-    {"max_candidates", &O::max_candidates, Role::Budget, "budget of candidate formulas evaluated",
-     "", "", true,
-     [](const O& o) {
-       return !o.max_candidates || *o.max_candidates > 0
-                  ? std::string()
-                  : fmt::format("the evaluation budget must be positive (got {})",
-                                *o.max_candidates);
-     }},
-    {"seed", &O::seed, Role::Search, "seed of the search", "", "", false, nullptr},
-    {"threads", &O::threads, Role::Run, "threads, 0 for all cores", "", "", false,
-     [](const O& o) {
-       return o.threads >= 0 ? std::string() : "threads must be >= 0 (0: all cores)";
-     }},
-    {"device", &O::device, Role::Run, "cpu, cuda or auto: where the evolution scores its children",
-     ": the GPU when this build has CUDA and one is present", "auto, cpu, cuda", false, nullptr},
-    {"loss", &O::loss, Role::Search, "mse, rmse, max_abs, rel or log", "",
-     "mse, rmse, max_abs, rel, log", false, nullptr},
-    {"cost", &O::cost, Role::Search, "instructions or nodes", "", "instructions, nodes", false,
-     nullptr},
-    {"operators", &O::operators, Role::Search,
-     "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs saturate sin "
-     "cos min max pow",
-     "", "", false,
-     [](const O& o) {
-       return o.operators.empty() ? "no operators given" : searchable_ops(o.operators);
-     }},
-    {"evolution_operators", &O::evolution_operators, Role::Search,
-     "more operators for the evolution only, or 'none'", "", "", true,
-     [](const O& o) { return searchable_ops(o.evolution_operators); }},
-    {"literals", &O::literals, Role::Search, "literal constants, comma-separated", "", "", false,
-     [](const O& o) {
-       if (o.literals.size() > 100) return std::string("at most 100 literal constants");
-       for (double v : o.literals)
-         if (!std::isfinite(v)) return std::string("literal constants must be finite");
-       return std::string();
-     }},
-    {"max_power", &O::max_power, Role::Search, "largest integer power x^k", "", "", false,
-     [](const O& o) { return in_range<&O::max_power>(o, 2, kMaxIntegerPower); }},
-    {"max_nodes", &O::max_nodes, Role::Search, "largest formula of the evolution, in nodes", "", "",
-     false, [](const O& o) { return in_range<&O::max_nodes>(o, 1, kNoLimit); }},
-    {"population", &O::population, Role::Search, "formulas per island of the evolution", "", "",
-     false, [](const O& o) { return in_range<&O::population>(o, 4, kNoLimit); }},
-    {"max_classes", &O::max_classes, Role::Search,
-     "distinct formulas the enumeration keeps; bounds the memory, about 500 bytes each", "", "",
-     false, [](const O& o) { return in_range<&O::max_classes>(o, 1024, kNoLimit); }},
-    {"enumerate", &O::enumerate, Role::Search, "run the exhaustive enumeration", "", "", false,
-     nullptr},
-    {"evolve", &O::evolve, Role::Search, "run the evolution", "", "", false, nullptr},
-    {"stop_at", &O::stop_at, Role::Budget,
-     "stop once a formula has at most this loss and this cost", "", "", true, nullptr},
-    {"screen_rows", &O::screen_rows, Role::Search,
-     "rows cached per distinct formula of the enumeration, to deduplicate and screen", "", "",
-     false,
-     [](const O& o) {
-       return o.screen_rows >= 16 && o.screen_rows % 8 == 0
-                  ? std::string()
-                  : std::string("must be a multiple of 8, at least 16");
-     }},
-    {"max_enumeration_share", &O::max_enumeration_share, Role::Search,
-     "fraction of the time budget the enumeration may use", "", "", false,
-     [](const O& o) { return in_range<&O::max_enumeration_share>(o, 0, 1); }},
-    {"max_enumeration_cost", &O::max_enumeration_cost, Role::Search,
-     "highest cost level the enumeration reaches", "", "", false,
-     [](const O& o) { return in_range<&O::max_enumeration_cost>(o, 0, 60); }},
-    {"islands", &O::islands, Role::Search, "sub-populations of the evolution", "", "", false,
-     [](const O& o) { return in_range<&O::islands>(o, 1, kNoLimit); }},
-    {"migration_interval", &O::migration_interval, Role::Search,
-     "generations between migrations of the evolution", "", "", false,
-     [](const O& o) { return in_range<&O::migration_interval>(o, 1, kNoLimit); }},
-    {"max_parameters", &O::max_parameters, Role::Search,
-     "free constants per formula of the evolution", "", "", false,
-     [](const O& o) { return in_range<&O::max_parameters>(o, 0, 8); }},
-    {"fit_rows", &O::fit_rows, Role::Search,
-     "rows the evolution fits constants and ranks formulas on", "", "", false,
-     [](const O& o) { return in_range<&O::fit_rows>(o, 8, kNoLimit); }},
-    {"linear_scaling", &O::linear_scaling, Role::Search,
-     "also try a * f + b for each formula of the evolution", "", "", false, nullptr},
-    {"progress_interval_s", &O::progress_interval_s, Role::Run, "seconds between progress reports",
-     "", "", false,
-     [](const O& o) {
-       return o.progress_interval_s > 0 ? std::string() : std::string("must be positive");
-     }},
-    {"checkpoint_path", &O::checkpoint_path, Role::Run,
-     "write the search's state to this file (atomically) every checkpoint_interval_s seconds "
-     "and when it stops",
-     "", "", true, nullptr},
-    {"checkpoint_interval_s", &O::checkpoint_interval_s, Role::Run, "seconds between checkpoints",
-     "; 0: every generation", "", false,
-     [](const O& o) {
-       return o.checkpoint_interval_s >= 0 && std::isfinite(o.checkpoint_interval_s)
-                  ? std::string()
-                  : std::string("the checkpoint interval must be a number of seconds >= 0");
-     }},
-    {"resume_path", &O::resume_path, Role::Run,
-     "continue the search a checkpoint recorded (same data and options; the budgets may differ)",
-     "", "", true, nullptr},
+    {.name = "time_limit_s",
+     .member = &O::time_limit_s,
+     .role = Role::Budget,
+     .help = "time budget in seconds",
+     .check =
+         [](const O& o) {
+           return o.time_limit_s > 0 && std::isfinite(o.time_limit_s)
+                      ? std::string()
+                      : fmt::format("the time budget must be positive (got {})", o.time_limit_s);
+         }},
+    {.name = "max_candidates",
+     .member = &O::max_candidates,
+     .role = Role::Budget,
+     .help = "budget of candidate formulas evaluated",
+     .may_be_empty = true,
+     .check =
+         [](const O& o) {
+           return !o.max_candidates || *o.max_candidates > 0
+                      ? std::string()
+                      : fmt::format("the evaluation budget must be positive (got {})",
+                                    *o.max_candidates);
+         }},
+    {.name = "seed", .member = &O::seed, .role = Role::Search, .help = "seed of the search"},
+    {.name = "threads",
+     .member = &O::threads,
+     .role = Role::Run,
+     .help = "threads, 0 for all cores",
+     .check =
+         [](const O& o) {
+           return o.threads >= 0 ? std::string() : "threads must be >= 0 (0: all cores)";
+         }},
+    {.name = "device",
+     .member = &O::device,
+     .role = Role::Run,
+     .help = "cpu, cuda or auto: where the evolution scores its children",
+     .default_note = ": the GPU when this build has CUDA and one is present",
+     .choices = "auto, cpu, cuda"},
+    {.name = "loss",
+     .member = &O::loss,
+     .role = Role::Search,
+     .help = "mse, rmse, max_abs, rel or log",
+     .choices = "mse, rmse, max_abs, rel, log"},
+    {.name = "cost",
+     .member = &O::cost,
+     .role = Role::Search,
+     .help = "instructions or nodes",
+     .choices = "instructions, nodes"},
+    {.name = "operators",
+     .member = &O::operators,
+     .role = Role::Search,
+     .help =
+         "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs saturate sin "
+         "cos min max pow",
+     .check =
+         [](const O& o) {
+           return o.operators.empty() ? "no operators given" : searchable_ops(o.operators);
+         }},
+    {.name = "evolution_operators",
+     .member = &O::evolution_operators,
+     .role = Role::Search,
+     .help = "more operators for the evolution only, or 'none'",
+     .may_be_empty = true,
+     .check = [](const O& o) { return searchable_ops(o.evolution_operators); }},
+    {.name = "literals",
+     .member = &O::literals,
+     .role = Role::Search,
+     .help = "literal constants, comma-separated",
+     .check =
+         [](const O& o) {
+           if (o.literals.size() > 100) return std::string("at most 100 literal constants");
+           for (double v : o.literals)
+             if (!std::isfinite(v)) return std::string("literal constants must be finite");
+           return std::string();
+         }},
+    {.name = "max_power",
+     .member = &O::max_power,
+     .role = Role::Search,
+     .help = "largest integer power x^k",
+     .check = [](const O& o) { return in_range<&O::max_power>(o, 2, kMaxIntegerPower); }},
+    {.name = "max_nodes",
+     .member = &O::max_nodes,
+     .role = Role::Search,
+     .help = "largest formula of the evolution, in nodes",
+     .check = [](const O& o) { return in_range<&O::max_nodes>(o, 1, kNoLimit); }},
+    {.name = "population",
+     .member = &O::population,
+     .role = Role::Search,
+     .help = "formulas per island of the evolution",
+     .check = [](const O& o) { return in_range<&O::population>(o, 4, kNoLimit); }},
+    {.name = "max_classes",
+     .member = &O::max_classes,
+     .role = Role::Search,
+     .help = "distinct formulas the enumeration keeps; bounds the memory, about 500 bytes each",
+     .check = [](const O& o) { return in_range<&O::max_classes>(o, 1024, kNoLimit); }},
+    {.name = "enumerate",
+     .member = &O::enumerate,
+     .role = Role::Search,
+     .help = "run the exhaustive enumeration"},
+    {.name = "evolve", .member = &O::evolve, .role = Role::Search, .help = "run the evolution"},
+    {.name = "stop_at",
+     .member = &O::stop_at,
+     .role = Role::Budget,
+     .help = "stop once a formula has at most this loss and this cost",
+     .may_be_empty = true},
+    {.name = "screen_rows",
+     .member = &O::screen_rows,
+     .role = Role::Search,
+     .help = "rows cached per distinct formula of the enumeration, to deduplicate and screen",
+     .check =
+         [](const O& o) {
+           return o.screen_rows >= 16 && o.screen_rows % 8 == 0
+                      ? std::string()
+                      : std::string("must be a multiple of 8, at least 16");
+         }},
+    {.name = "max_enumeration_share",
+     .member = &O::max_enumeration_share,
+     .role = Role::Search,
+     .help = "fraction of the time budget the enumeration may use",
+     .check = [](const O& o) { return in_range<&O::max_enumeration_share>(o, 0, 1); }},
+    {.name = "max_enumeration_cost",
+     .member = &O::max_enumeration_cost,
+     .role = Role::Search,
+     .help = "highest cost level the enumeration reaches",
+     .check = [](const O& o) { return in_range<&O::max_enumeration_cost>(o, 0, 60); }},
+    {.name = "islands",
+     .member = &O::islands,
+     .role = Role::Search,
+     .help = "sub-populations of the evolution",
+     .check = [](const O& o) { return in_range<&O::islands>(o, 1, kNoLimit); }},
+    {.name = "migration_interval",
+     .member = &O::migration_interval,
+     .role = Role::Search,
+     .help = "generations between migrations of the evolution",
+     .check = [](const O& o) { return in_range<&O::migration_interval>(o, 1, kNoLimit); }},
+    {.name = "max_parameters",
+     .member = &O::max_parameters,
+     .role = Role::Search,
+     .help = "free constants per formula of the evolution",
+     .check = [](const O& o) { return in_range<&O::max_parameters>(o, 0, 8); }},
+    {.name = "fit_rows",
+     .member = &O::fit_rows,
+     .role = Role::Search,
+     .help = "rows the evolution fits constants and ranks formulas on",
+     .check = [](const O& o) { return in_range<&O::fit_rows>(o, 8, kNoLimit); }},
+    {.name = "linear_scaling",
+     .member = &O::linear_scaling,
+     .role = Role::Search,
+     .help = "also try a * f + b for each formula of the evolution"},
+    {.name = "progress_interval_s",
+     .member = &O::progress_interval_s,
+     .role = Role::Run,
+     .help = "seconds between progress reports",
+     .check =
+         [](const O& o) {
+           return o.progress_interval_s > 0 ? std::string() : std::string("must be positive");
+         }},
+    {.name = "checkpoint_path",
+     .member = &O::checkpoint_path,
+     .role = Role::Run,
+     .help =
+         "write the search's state to this file (atomically) every checkpoint_interval_s seconds "
+         "and when it stops",
+     .may_be_empty = true},
+    {.name = "checkpoint_interval_s",
+     .member = &O::checkpoint_interval_s,
+     .role = Role::Run,
+     .help = "seconds between checkpoints",
+     .default_note = "; 0: every generation",
+     .check =
+         [](const O& o) {
+           return o.checkpoint_interval_s >= 0 && std::isfinite(o.checkpoint_interval_s)
+                      ? std::string()
+                      : std::string("the checkpoint interval must be a number of seconds >= 0");
+         }},
+    {.name = "resume_path",
+     .member = &O::resume_path,
+     .role = Role::Run,
+     .help = "continue the search a checkpoint recorded (same data and options; the budgets may "
+             "differ)",
+     .may_be_empty = true},
 };
 
 std::string number_text(double v) { return fmt::format("{}", v); }
