@@ -95,11 +95,11 @@ double EndpointAdjustment::operator()(double roughness) const {
 FvFunction reference_function(const FvLutOptions& o) {
   if (o.function != nullptr) return o.function;
   if (o.reference == "fv-schlick-smith-lh")
-    return [](double d, double f0, double r) { return fv_schlick_smith_lh(d, f0, r); };
+    return [](double d, double f0, double r) { return reference::fv_schlick_smith_lh(d, f0, r); };
   if (o.reference == "fv-schlick-smith")
-    return [](double d, double f0, double r) { return fv_schlick_smith_peak(d, f0, r); };
+    return [](double d, double f0, double r) { return reference::fv_schlick_smith_peak(d, f0, r); };
   if (o.reference == "fv-exact")
-    return [](double d, double f0, double r) { return fv_exact_dielectric(d, f0, r); };
+    return [](double d, double f0, double r) { return reference::fv_exact_dielectric(d, f0, r); };
   return nullptr;
 }
 

@@ -16,11 +16,12 @@ void RationalProblem::validate() const {
                             parameter_values.size()));
   for (std::size_t i = 0; i < parameter_names.size(); ++i)
     if (!std::isfinite(parameter_values[i]))
-      throw Error("parameter " + parameter_names[i] + " is not a finite number", {"--param"});
+      throw Error("parameter " + parameter_names[i] + " is not a finite number",
+                  {"RationalProblem::parameter_values"});
   (void)target_parameter_values();
   if (!std::isfinite(domain.lo) || !std::isfinite(domain.hi) || !(domain.lo < domain.hi))
     throw Error(fmt::format("the domain [{}, {}] is empty or not finite", domain.lo, domain.hi),
-                {"--domain"});
+                {"RationalProblem::domain"});
   const std::string dom = "[" + format_number(domain.lo) + ", " + format_number(domain.hi) + "]";
   for (const Condition& c : conditions) {
     if (c.order < 0 || c.order > kMaxDerivativeOrder)
@@ -48,9 +49,10 @@ std::vector<double> RationalProblem::target_parameter_values() const {
   for (const std::string& name : target.parameters()) {
     auto it = std::find(parameter_names.begin(), parameter_names.end(), name);
     if (it == parameter_names.end())
-      throw Error(fmt::format("target {} needs a value for its parameter {} (--param {}=...)",
+      throw Error(fmt::format("target {} needs a value for its parameter {} "
+                              "(RationalProblem::parameter_names {}=...)",
                               target.name(), name, name),
-                  {"--param"});
+                  {"RationalProblem::parameter_values"});
     out.push_back(parameter_values[static_cast<std::size_t>(it - parameter_names.begin())]);
   }
   return out;

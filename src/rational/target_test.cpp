@@ -78,7 +78,7 @@ TEST(RationalTarget, UnknownNamesAndBadFormulas) {
     (void)Target::formula("x + * 2", "x", {});
     FAIL();
   } catch (const Error& e) {
-    EXPECT_EQ(e.where().source, "--target");
+    EXPECT_EQ(e.where().source, "RationalProblem::target");
     EXPECT_GT(e.where().column, 0);
   }
 }
