@@ -48,6 +48,7 @@
 #include "shaderfit/rational/solve.hpp"
 #include "shaderfit/rational/target.hpp"
 #include "shaderfit/reference/builtin.hpp"
+#include "shaderfit/reference/builtin_evaluate.hpp"
 #include "shaderfit/reference/fresnel.hpp"
 #include "shaderfit/reference/fv_reference.hpp"
 #include "shaderfit/reference/smith_ggx.hpp"

@@ -45,8 +45,8 @@ enum class BuiltinId {
   Rcp,
 };
 
-// The name lists that offer an entry: `shaderfit fit --reference` (FitReference) and
-// `shaderfit rational --target` (RationalTarget). Each list is documented as it stands.
+// The name lists that offer an entry: a fit's reference functions (FitReference) and the targets
+// of rational approximations (RationalTarget). Each list is documented as it stands.
 enum BuiltinList : unsigned { FitReference = 1u, RationalTarget = 2u };
 
 struct BuiltinDomain {
