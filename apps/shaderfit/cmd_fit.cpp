@@ -54,10 +54,10 @@ std::vector<BlockReport> block_reports(const FitSetup& s, const FixedFormSummary
   return out;
 }
 
-const char* loss_name(Loss l) {
-  return l == Loss::squared ? "least squares"
-         : l == Loss::log   ? "log2 error (least squares)"
-                            : "max error (minimax)";
+const char* fit_loss_description(Loss l) {
+  return l == Loss::Mse   ? "least squares"
+         : l == Loss::Log ? "log2 error (least squares)"
+                          : "max error (minimax)";
 }
 
 nlohmann::json to_json(const FitSetup& s, const FixedFormSummary& sum,
@@ -68,7 +68,7 @@ nlohmann::json to_json(const FitSetup& s, const FixedFormSummary& sum,
   j["formula"] = to_infix(s.problem.formula);
   j["data"] = s.data_description;
   j["reference"] = s.reference_description;
-  j["loss"] = loss_name(s.options.loss);
+  j["loss"] = fit_loss_description(s.options.loss);
   j["solver"] = sum.solver;
   j["linear"] = sum.linear;
   j["coupled"] = sum.coupled;
@@ -131,7 +131,7 @@ void print_table(std::ostream& out, const FitSetup& s, const FixedFormSummary& s
                      s.grouping.empty() ? "" : "; " + s.grouping);
   if (s.dropped_rows)
     out << fmt::format("  {} rows outside the grid were left out\n", s.dropped_rows);
-  out << fmt::format("  loss: {}\n  ", loss_name(s.options.loss)) << sum.brief_report();
+  out << fmt::format("  loss: {}\n  ", fit_loss_description(s.options.loss)) << sum.brief_report();
   for (std::size_t k = 0; k < a.baselines.size(); ++k)
     out << fmt::format("  baseline [{}]: {}\n", k + 1, a.baselines[k]);
   std::vector<std::size_t> shown;  // per-block parameters, or every parameter with one block

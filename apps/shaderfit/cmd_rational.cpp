@@ -183,9 +183,9 @@ void run_rational(const RationalArgs& a, Context& ctx) {
     throw Error("unknown fit '" + a.fit + "' (none, lsq, minimax)", {"--fit"});
   options.relative_minimax = a.relative;
   if (a.rank == "max-abs")
-    options.rank_by = ErrorMetric::MaxAbs;
+    options.rank_by = Loss::MaxAbs;
   else if (a.rank == "max-rel")
-    options.rank_by = ErrorMetric::MaxRel;
+    options.rank_by = Loss::MaxRel;
   else if (a.rank != "rmse")
     throw Error("unknown ranking '" + a.rank + "' (rmse, max-abs, max-rel)", {"--rank"});
 
