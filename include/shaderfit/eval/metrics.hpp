@@ -11,7 +11,7 @@
 //   mse      sum w (p - t)^2 / sum w
 //   rmse     sqrt(mse)
 //   max_abs  max |p - t|                     (weights only select rows)
-//   max_rel  max |p - t| / |t| over rows with t != 0; 0 when there are none
+//   max_rel  max |p - t| / |t| over rows with t != 0 (weights only select rows); 0 if none
 //   rel      sum w ((p - t) / t)^2 / sum w   mean squared relative error; NaN when some t == 0
 //   log      sum w (ln p - ln t)^2 / sum w   mean squared log error (natural log); NaN when some
 //            t <= 0, and p <= 0 is scored as p = 1e-30 (a large but finite penalty)
