@@ -96,11 +96,11 @@ FitSetup to_setup(const FitArgs& a) {
   s.baselines = a.baselines;
   FixedFormOptions& o = s.options;
   if (a.loss == "ls" || a.loss == "squared")
-    o.loss = Loss::squared;
+    o.loss = Loss::Mse;
   else if (a.loss == "log")
-    o.loss = Loss::log;
+    o.loss = Loss::Log;
   else if (a.loss == "max")
-    o.loss = Loss::max;
+    o.loss = Loss::MaxAbs;
   else
     fail("unknown loss '" + a.loss + "' (ls, log, max)", "--loss");
   if (a.solver == "auto")

@@ -62,9 +62,9 @@ RationalSetup to_setup(const RationalArgs& a) {
     throw Error("unknown fit '" + a.fit + "' (none, lsq, minimax)", {"--fit"});
   s.relative_minimax = a.relative;
   if (a.rank == "max-abs")
-    s.rank_by = ErrorMetric::MaxAbs;
+    s.rank_by = Loss::MaxAbs;
   else if (a.rank == "max-rel")
-    s.rank_by = ErrorMetric::MaxRel;
+    s.rank_by = Loss::MaxRel;
   else if (a.rank != "rmse")
     throw Error("unknown ranking '" + a.rank + "' (rmse, max-abs, max-rel)", {"--rank"});
   return s;

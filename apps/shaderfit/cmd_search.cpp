@@ -115,7 +115,7 @@ SearchOptions make_options(const SearchArgs& a) {
     throw Error("unknown device '" + a.device + "' (known: auto, cpu, cuda)", {"--device"});
   o.device = resolve_device(*device, {"--device"});  // --device cuda without a GPU stops here
   const auto loss = loss_from_name(a.loss);
-  if (!loss)
+  if (!loss || *loss == Loss::MaxRel)  // max_rel ranks rational forms; the search cannot use it
     throw Error("unknown loss '" + a.loss + "' (known: mse, rmse, max_abs, rel, log)", {"--loss"});
   o.loss = *loss;
   const auto cost = cost_target_from_name(a.cost);

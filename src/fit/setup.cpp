@@ -293,9 +293,9 @@ PreparedFit prepare_fit(FitSetup a) {
 }
 
 const char* loss_description(Loss l) {
-  return l == Loss::squared ? "least squares"
-         : l == Loss::log   ? "log2 error (least squares)"
-                            : "max error (minimax)";
+  return l == Loss::Mse   ? "least squares"
+         : l == Loss::Log ? "log2 error (least squares)"
+                          : "max error (minimax)";
 }
 
 std::vector<BlockComparison> compare_blocks(const PreparedFit& fit,

@@ -156,7 +156,7 @@ EndpointAdjustment derive_endpoint_adjustment(const FvLutOptions& o) {
       "f0 * exp2((s0 + s1*u + s2*u^2 + s3*u^3) * log2(4 / (roughness^4 * f0)) * x^2)", po);
   p.blocks.push_back(std::move(b));
   FixedFormOptions fo;
-  fo.loss = Loss::log;
+  fo.loss = Loss::Log;
   fo.threads = o.threads;
   FixedFormSummary s;
   solve_fixed_form(fo, p, &s);

@@ -89,6 +89,7 @@ bool SearchOptions::is_valid(std::string* why) const {
     return fail("the time budget must be a positive number of seconds");
   if (max_candidates && *max_candidates <= 0) return fail("the evaluation budget must be positive");
   if (threads < 0) return fail("threads must be >= 0 (0: all hardware threads)");
+  if (loss == Loss::MaxRel) return fail("loss must be mse, rmse, max_abs, rel or log");
   if (operators.empty()) return fail("no operators given");
   for (const auto* list : {&operators, &evolution_operators}) {
     for (Op op : *list) {
@@ -178,10 +179,10 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
   problem.validate();
   std::string why;
   if (!options.is_valid(&why)) throw Error(why, {"options"});
-  if (options.loss == LossKind::Relative &&
+  if (options.loss == Loss::Relative &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
     throw Error("the rel loss needs a target that is never 0", {"--loss"});
-  if (options.loss == LossKind::Log &&
+  if (options.loss == Loss::Log &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"--loss"});
 

@@ -35,7 +35,7 @@ struct RationalSetup {
   int count = 0;                        // RationalOptions::coefficient_count (not with forms)
   Fit fit = Fit::None;
   bool relative_minimax = false;
-  ErrorMetric rank_by = ErrorMetric::Rmse;
+  Loss rank_by = Loss::Rmse;
 };
 
 struct PreparedRational {

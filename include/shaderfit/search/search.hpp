@@ -30,9 +30,10 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
+#include "shaderfit/eval/loss.hpp"
+#include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/gpu/device.hpp"
-#include "shaderfit/search/loss.hpp"
 
 namespace shaderfit {
 
@@ -55,7 +56,7 @@ struct FrontMember {
   std::string formula;    // infix that parse_formula reads (fitted constants written as numbers)
   double cost = 0;        // expression_cost(expression, options.cost)
   std::size_t nodes = 0;  // expression.size()
-  LossMetrics metrics;    // on every row of the problem
+  ErrorMetrics metrics;   // on every row of the problem
   double loss = 0;        // the metric options.loss names
   double time_s = 0;      // when it was found, seconds since the search started
   std::string origin;     // "enumeration" or "evolution"
@@ -94,7 +95,7 @@ struct SearchOptions {
   // digits of the fit-row losses that rank individuals; front members are scored in float64.
   ComputeDevice device = ComputeDevice::Auto;
 
-  LossKind loss = LossKind::Mse;
+  Loss loss = Loss::Mse;  // mse, rmse, max_abs, rel or log (eval/loss.hpp); not max_rel
   CostTarget cost = CostTarget::Instructions;
 
   // Operators formulas may use (Op::IPow stands for x^2 .. x^max_power) and literal constants
