@@ -89,10 +89,10 @@ void BM_PopulationGpu(benchmark::State& state) {
   const auto rows = static_cast<std::size_t>(state.range(0));
   const PopulationData& d = population_data(rows);
   const GpuEvaluator gpu(d.inputs.pointers, d.target);
-  (void)gpu.evaluate_population(std::span(d.pointers).first(16), LossKind::Mse);  // warm-up
+  (void)gpu.evaluate_population(std::span(d.pointers).first(16), Loss::Mse);  // warm-up
   double checksum = 0;
   for (auto _ : state) {
-    const std::vector<PopulationScore> s = gpu.evaluate_population(d.pointers, LossKind::Mse);
+    const std::vector<PopulationScore> s = gpu.evaluate_population(d.pointers, Loss::Mse);
     checksum += s[0].loss;
   }
   benchmark::DoNotOptimize(checksum);
@@ -174,7 +174,7 @@ const ScreenData& screen_data() {
 void BM_EnumerationStepGpu(benchmark::State& state) {
   if (skip_without_gpu(state)) return;
   const ScreenData& d = screen_data();
-  gpu_detail::GpuScreen gpu(d.y, d.w, {}, d.wyy, LossKind::Mse);
+  gpu_detail::GpuScreen gpu(d.y, d.w, {}, d.wyy, Loss::Mse);
   gpu.add_columns(d.store);
   for (auto _ : state) benchmark::DoNotOptimize(gpu.screen(d.candidates));
   state.counters["candidates_per_s"] = benchmark::Counter(
@@ -186,7 +186,7 @@ void BM_EnumerationStepCpu(benchmark::State& state) {
   using namespace search_detail;
   const ScreenData& d = screen_data();
   const std::size_t n = ScreenData::kRows, count = 100'000;
-  const ScreenTarget target{d.y.data(), d.w.data(), nullptr, d.wyy, LossKind::Mse, n};
+  const ScreenTarget target{d.y.data(), d.w.data(), nullptr, d.wyy, Loss::Mse, n};
   std::vector<float> column(n);
   for (auto _ : state) {
     for (std::size_t i = 0; i < count; ++i) {

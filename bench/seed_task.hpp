@@ -33,7 +33,7 @@ inline double seed_target_mse(const SearchProblem& p) {
   const std::vector<const double*> cols = {p.inputs[0].data(), p.inputs[1].data()};
   std::vector<double> f(p.target.size());
   evaluate(e, cols, f, {.threads = 1});
-  return loss_metrics(f, p.target).mse * (1 + 1e-9);
+  return error_metrics(f, p.target).mse * (1 + 1e-9);
 }
 
 // Runs the search until the target; returns the search-clock time at which the first front

@@ -3,8 +3,8 @@
 #include <unistd.h>
 
 #include <iostream>
-#include <utility>
 
+#include "field_flags.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/search/options.hpp"
 
@@ -12,9 +12,10 @@ namespace shaderfit::cli {
 
 namespace {
 
-// Library locations and the flags that set them: every place the CLI's flags differ from what
-// the library calls a thing. Search options not listed take --<field name> (search_option_flag).
-constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
+// Library locations and the flags that set them, for errors that reach run_cli with the
+// library's location (fit and rational translate theirs with with_flags, field_flags.hpp).
+// Search options not listed take --<field name> (search_option_flag).
+constexpr FieldFlag kFlags[] = {
     // shaderfit search: historical names.
     {"SearchOptions::time_limit_s", "--time"},
     {"SearchOptions::max_candidates", "--evals"},
@@ -39,11 +40,7 @@ constexpr std::pair<std::string_view, std::string_view> kFlags[] = {
     {"fresnel_sweep::materials", "--material"},
     {"fresnel_sweep::angles", "--angles"},
     {"compare_with_exact", "--compare-exact"},
-    {"RationalProblem::target", "--target"},
-    {"RationalProblem::domain", "--domain"},
     {"RationalProblem::conditions", "--cond"},
-    {"RationalProblem::parameter_names", "--param"},
-    {"RationalProblem::parameter_values", "--param"},
     {"RationalForm", "--form"},
     {"Transform", "--transform"},
     {"SearchReportOptions::choose", "--choose"},
@@ -82,8 +79,8 @@ std::string search_option_flag(std::string_view field_name) {
 }
 
 std::string flag_for_location(std::string_view location) {
-  for (const auto& [from, flag] : kFlags)
-    if (from == location) return std::string(flag);
+  for (const FieldFlag& f : kFlags)
+    if (f.field == location) return std::string(f.flag);
   if (location.starts_with(kSearchOptions) &&
       find_search_option(location.substr(kSearchOptions.size())) != nullptr)
     return search_option_flag(location.substr(kSearchOptions.size()));

@@ -4,7 +4,6 @@
 
 #include <fstream>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <ostream>
 
 #include "shaderfit/cli.hpp"
@@ -12,6 +11,7 @@
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/report/command_json.hpp"
 
 namespace shaderfit::cli {
 
@@ -26,23 +26,6 @@ struct CostArgs {
 
 constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic};
 
-nlohmann::json to_json(const Expression& e, const std::vector<InstructionCost>& costs, const InstructionCost& shown) {
-  nlohmann::json j;
-  j["schema"] = "shaderfit.cost/1";
-  j["formula"] = to_infix(e);
-  j["inputs"] = e.variables;
-  j["parameters"] = e.parameters;
-  for (const InstructionCost& c : costs) {
-    j["targets"][std::string(instruction_target_name(c.target))] = {
-        {"instructions", c.instructions}, {"fp32", c.fp32}, {"minmax", c.minmax}, {"mufu", c.mufu}, {"weighted", c.weighted}};
-  }
-  nlohmann::json lines = nlohmann::json::array();
-  for (const ListingLine& l : shown.listing)
-    lines.push_back({{"instruction", l.instruction}, {"comment", l.comment}, {"unit", instruction_unit_name(l.unit)}});
-  j["listing"] = {{"target", instruction_target_name(shown.target)}, {"lines", lines}};
-  return j;
-}
-
 void run_cost(const CostArgs& a, Context& ctx) {
   const auto target = instruction_target_from_name(a.target);
   if (!target) throw Error("unknown target '" + a.target + "' (known: sass, ptx, generic)", SourceLocation{"--target"});
@@ -54,7 +37,7 @@ void run_cost(const CostArgs& a, Context& ctx) {
   for (InstructionTarget t : kTargets) costs.push_back(instruction_cost(e, t));
   const InstructionCost& shown = costs[static_cast<std::size_t>(*target)];
   if (a.json_path == "-") {
-    ctx.out << to_json(e, costs, shown).dump(2) << '\n';
+    ctx.out << cost_json(e, costs, shown) << '\n';
     return;
   }
   ctx.out << "formula: " << to_infix(e) << '\n';
@@ -69,7 +52,7 @@ void run_cost(const CostArgs& a, Context& ctx) {
   if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
-    f << to_json(e, costs, shown).dump(2) << '\n';
+    f << cost_json(e, costs, shown) << '\n';
   }
 }
 

@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <fstream>
-#include <nlohmann/json.hpp>
 #include <ostream>
 
 #include "data_source.hpp"
@@ -12,6 +11,7 @@
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/report/command_json.hpp"
 
 namespace shaderfit::cli {
 
@@ -28,29 +28,16 @@ struct EvalArgs {
   bool float32 = false;
 };
 
-struct GroupMetrics {
-  std::string column, label;
-  ErrorMetrics m;
-};
-
-struct FormulaResult {
-  std::string text;     // as the user wrote it
-  std::string printed;  // as shaderfit prints it
-  bool baseline = false;
-  ErrorMetrics all;
-  std::vector<GroupMetrics> groups;
-};
-
 std::string label_of(const Column& c, std::size_t row) {
   return c.numeric() ? format_number(c.values[row]) : c.labels[row];
 }
 
-FormulaResult evaluate_formula(const std::string& text, const std::string& source, const Dataset& d,
-                               std::span<const double> target, const EvalArgs& a) {
-  FormulaResult r;
-  r.text = text;
+EvalFormulaResult evaluate_formula(const std::string& text, const std::string& source, const Dataset& d,
+                                   std::span<const double> target, const EvalArgs& a) {
+  EvalFormulaResult r;
+  r.input = text;
   Expression e = parse_formula_on(text, d, source);
-  r.printed = to_infix(e);
+  r.formula = to_infix(e);
   const std::vector<double> p = a.float32 ? evaluate_on_f32(e, d) : evaluate_on(e, d);
   r.all = error_metrics(p, target);
   for (const std::string& g : a.groups) {
@@ -63,26 +50,14 @@ FormulaResult evaluate_formula(const std::string& text, const std::string& sourc
   return r;
 }
 
-nlohmann::json metrics_json(const ErrorMetrics& m) {
-  return {{"rows", m.rows},       {"mse", m.mse},         {"rmse", m.rmse},
-          {"max_abs", m.max_abs}, {"max_rel", m.max_rel}, {"nonfinite_rows", m.nonfinite}};
-}
-
-nlohmann::json change_json(const ErrorMetrics& m, const ErrorMetrics& b) {
-  return {{"mse", relative_change(m.mse, b.mse)},
-          {"rmse", relative_change(m.rmse, b.rmse)},
-          {"max_abs", relative_change(m.max_abs, b.max_abs)},
-          {"max_rel", relative_change(m.max_rel, b.max_rel)}};
-}
-
-void print_table(std::ostream& out, const std::vector<FormulaResult>& results, const EvalArgs& a,
+void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& results, const EvalArgs& a,
                  const Dataset& d) {
   out << fmt::format("shaderfit eval: {}, {} rows, target {}{}\n", a.data.describe(), d.rows(),
                      a.target, a.float32 ? ", float32" : "");
-  const FormulaResult* base = results.front().baseline ? &results.front() : nullptr;
+  const EvalFormulaResult* base = results.front().baseline ? &results.front() : nullptr;
   int number = 0;
-  for (const FormulaResult& r : results) {
-    out << '\n' << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number)) << r.printed << '\n';
+  for (const EvalFormulaResult& r : results) {
+    out << '\n' << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number)) << r.formula << '\n';
     out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE", "RMSE",
                        "max abs", "max rel", base && !r.baseline ? "  MSE vs baseline" : "");
     auto row = [&](const std::string& name, const ErrorMetrics& m, const ErrorMetrics* b) {
@@ -95,39 +70,14 @@ void print_table(std::ostream& out, const std::vector<FormulaResult>& results, c
     const bool compare = base && !r.baseline;
     row("all", r.all, compare ? &base->all : nullptr);
     for (std::size_t g = 0; g < r.groups.size(); ++g) {
-      const GroupMetrics& gm = r.groups[g];
-      row(gm.column + "=" + gm.label, gm.m, compare ? &base->groups[g].m : nullptr);
+      const EvalGroupResult& gm = r.groups[g];
+      row(gm.column + "=" + gm.label, gm.metrics, compare ? &base->groups[g].metrics : nullptr);
     }
   }
 }
 
-nlohmann::json to_json(const std::vector<FormulaResult>& results, const EvalArgs& a, const Dataset& d) {
-  nlohmann::json j;
-  j["schema"] = "shaderfit.eval/1";
-  j["data"] = {{"source", a.data.describe()}, {"rows", d.rows()}, {"target", a.target}};
-  j["precision"] = a.float32 ? "float32" : "float64";
-  j["groups"] = a.groups;
-  const FormulaResult* base = results.front().baseline ? &results.front() : nullptr;
-  j["baseline"] = base ? nlohmann::json(base->printed) : nlohmann::json(nullptr);
-  j["results"] = nlohmann::json::array();
-  for (const FormulaResult& r : results) {
-    nlohmann::json f;
-    f["formula"] = r.printed;
-    f["input"] = r.text;
-    f["role"] = r.baseline ? "baseline" : "candidate";
-    f["all"] = metrics_json(r.all);
-    if (base && !r.baseline) f["all"]["change_vs_baseline"] = change_json(r.all, base->all);
-    nlohmann::json groups = nlohmann::json::object();
-    for (std::size_t g = 0; g < r.groups.size(); ++g) {
-      const GroupMetrics& gm = r.groups[g];
-      nlohmann::json m = metrics_json(gm.m);
-      if (base && !r.baseline) m["change_vs_baseline"] = change_json(gm.m, base->groups[g].m);
-      groups[gm.column][gm.label] = m;
-    }
-    f["groups"] = groups;
-    j["results"].push_back(f);
-  }
-  return j;
+EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, const Dataset& d) {
+  return {a.data.describe(), d.rows(), a.target, a.float32, a.groups, std::move(results)};
 }
 
 void run_eval(EvalArgs& a, Context& ctx) {
@@ -141,7 +91,7 @@ void run_eval(EvalArgs& a, Context& ctx) {
   }
   for (const std::string& g : a.groups) (void)d.column(g);
 
-  std::vector<FormulaResult> results;
+  std::vector<EvalFormulaResult> results;
   if (!a.baseline.empty()) {
     results.push_back(evaluate_formula(a.baseline, "--baseline", d, target, a));
     results.back().baseline = true;
@@ -151,14 +101,14 @@ void run_eval(EvalArgs& a, Context& ctx) {
   }
 
   if (a.json_path == "-") {
-    ctx.out << to_json(results, a, d).dump(2) << '\n';
+    ctx.out << eval_json(to_report(std::move(results), a, d)) << '\n';
     return;
   }
   print_table(ctx.out, results, a, d);
   if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
-    f << to_json(results, a, d).dump(2) << '\n';
+    f << eval_json(to_report(std::move(results), a, d)) << '\n';
   }
 }
 

@@ -3,107 +3,120 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
-#include <map>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "cmd_fit_blocks.hpp"
+#include "data_source.hpp"
+#include "field_flags.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/eval/dataset_eval.hpp"
-#include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/fit/setup.hpp"
+#include "shaderfit/report/command_json.hpp"
 
 namespace shaderfit::cli {
 
 namespace {
 
-struct BlockReport {
-  double mse = 0;                    // of the fitted formula, raw values, unweighted
-  std::vector<double> baseline_mse;  // of each baseline on the same rows
+struct FitArgs {
+  DataSource data;
+  std::string formula;
+  std::vector<std::string> params;     // NAME or NAME=START
+  std::vector<std::string> per_group;  // NAME:COLUMN
+  std::vector<std::string> per_cell;   // NAME
+  std::vector<std::string> grid;       // name=lo:hi:cells[:sqrt]
+  std::vector<std::string> domain;     // name=lo:hi:count[:midpoints|endpoints]
+  std::vector<std::string> defines;    // name = formula
+  std::size_t random_samples = 0;
+  std::uint64_t rng_seed = 1;
+  std::string target, reference, weight, transform;
+  std::string loss = "ls", solver = "auto";
+  std::vector<std::string> constraints, baselines;
+  std::string json_path, table_path;
+  std::size_t max_rows = 40;
+  int max_iterations = 100;
+  int threads = 0;
 };
 
-std::vector<BlockReport> block_reports(const FitSetup& s, const FixedFormSummary& sum,
-                                       const std::vector<std::string>& baselines) {
-  std::vector<BlockReport> out(s.problem.blocks.size());
-  std::map<const Dataset*, std::vector<std::vector<double>>> cache;  // baseline values per data set
-  for (std::size_t b = 0; b < out.size(); ++b) {
-    const FitBlock& blk = s.problem.blocks[b];
-    const BlockSource& src = s.sources[b];
-    Expression e = s.problem.formula;
-    e.parameter_values = sum.blocks[b].parameters;
-    std::vector<const double*> cols;
-    for (const auto& c : blk.columns) cols.push_back(c.data());
-    std::vector<double> v(blk.target.size());
-    if (!v.empty()) evaluate(e, std::span<const double* const>(cols), std::span<double>(v));
-    out[b].mse = error_metrics(v, blk.target).mse;
-    auto& values = cache[src.data];
-    if (values.empty())
-      for (std::size_t k = 0; k < baselines.size(); ++k)
-        values.push_back(evaluate_on(
-            parse_formula_on(baselines[k], *src.data, "--baseline " + std::to_string(k + 1)),
-            *src.data));
-    for (const std::vector<double>& all : values) {
-      std::vector<double> picked;
-      for (std::size_t i : src.rows) picked.push_back(all[i]);
-      out[b].baseline_mse.push_back(error_metrics(picked, src.target).mse);
-    }
+// ---- FitSetup's fields and the flags that set them (for the CLI's one field -> flag table) ----
+constexpr FieldFlag kFitFlags[] = {
+    {"FitSetup::random_samples", "--random-samples"},
+    {"FitSetup::definitions", "--define"},
+    {"FitSetup::constraints", "--constraint"},
+    {"FitSetup::parameters", "--param"},
+    {"FitSetup::reference", "--reference"},
+    {"FitSetup::transform", "--transform"},
+    {"FitSetup::baselines", "--baseline"},
+    {"FitSetup::per_group", "--per-group"},
+    {"FitSetup::per_cell", "--per-cell"},
+    {"FitSetup::rng_seed", "--rng-seed"},
+    {"FitSetup::formula", "formula"},
+    {"FitSetup::domain", "--domain"},
+    {"FitSetup::target", "--target"},
+    {"FitSetup::weight", "--weight"},
+    {"FitSetup::grid", "--grid"},
+    {"FitSetup::data", "--data"},
+};
+// ----
+
+[[noreturn]] void fail(const std::string& message, const char* option) {
+  throw Error(message, SourceLocation{option});
+}
+
+// The library's FitSetup from the flags: where the data comes from, and the loss and solver by
+// name.
+FitSetup to_setup(const FitArgs& a) {
+  const bool generated = !a.domain.empty();
+  const bool has_data = !a.data.path.empty() || !a.data.dataset.empty();
+  if (generated && has_data)
+    fail("give either --domain (sampled data) or --data/--dataset, not both", "--domain");
+  if (!generated && !has_data)
+    fail("no data: give --data FILE.csv, --dataset NAME or --domain", "--data");
+  FitSetup s;
+  if (has_data) {
+    s.data = load_data(a.data);
+    s.data_name = a.data.describe();
   }
-  return out;
+  s.domain = a.domain;
+  s.random_samples = a.random_samples;
+  s.rng_seed = a.rng_seed;
+  s.grid = a.grid;
+  s.definitions = a.defines;
+  s.formula = a.formula;
+  s.parameters = a.params;
+  s.per_group = a.per_group;
+  s.per_cell = a.per_cell;
+  s.target = a.target;
+  s.reference = a.reference;
+  s.weight = a.weight;
+  s.transform = a.transform;
+  s.constraints = a.constraints;
+  s.baselines = a.baselines;
+  FixedFormOptions& o = s.options;
+  if (a.loss == "ls" || a.loss == "squared")
+    o.loss = Loss::Mse;
+  else if (a.loss == "log")
+    o.loss = Loss::Log;
+  else if (a.loss == "max")
+    o.loss = Loss::MaxAbs;
+  else
+    fail("unknown loss '" + a.loss + "' (ls, log, max)", "--loss");
+  if (a.solver == "auto")
+    o.solver = SolverKind::automatic;
+  else if (a.solver == "linear")
+    o.solver = SolverKind::linear;
+  else if (a.solver == "lm")
+    o.solver = SolverKind::levenberg_marquardt;
+  else
+    fail("unknown solver '" + a.solver + "' (auto, linear, lm)", "--solver");
+  o.max_iterations = a.max_iterations;
+  o.threads = a.threads;
+  return s;
 }
 
-const char* loss_name(Loss l) {
-  return l == Loss::squared ? "least squares"
-         : l == Loss::log   ? "log2 error (least squares)"
-                            : "max error (minimax)";
-}
-
-nlohmann::json to_json(const FitSetup& s, const FixedFormSummary& sum,
-                       const std::vector<BlockReport>& reports,
-                       const std::vector<std::string>& baselines) {
-  nlohmann::json j;
-  j["schema"] = "shaderfit.fit/1";
-  j["formula"] = to_infix(s.problem.formula);
-  j["data"] = s.data_description;
-  j["reference"] = s.reference_description;
-  j["loss"] = loss_name(s.options.loss);
-  j["solver"] = sum.solver;
-  j["linear"] = sum.linear;
-  j["coupled"] = sum.coupled;
-  j["seconds"] = sum.seconds;
-  j["failed_blocks"] = sum.failed_blocks;
-  j["parameters"] = nlohmann::json::array();
-  for (std::size_t p = 0; p < sum.parameter_names.size(); ++p)
-    j["parameters"].push_back(
-        {{"name", sum.parameter_names[p]},
-         {"scope", sum.scopes[p] == ParameterScope::global ? "global" : "per block"}});
-  j["baselines"] = baselines;
-  j["blocks"] = nlohmann::json::array();
-  for (std::size_t b = 0; b < sum.blocks.size(); ++b) {
-    const BlockResult& r = sum.blocks[b];
-    nlohmann::json params;
-    for (std::size_t p = 0; p < r.parameters.size(); ++p)
-      params[sum.parameter_names[p]] = r.parameters[p];
-    j["blocks"].push_back({{"label", r.label},
-                           {"rows", r.rows},
-                           {"ok", r.ok},
-                           {"failure", r.failure},
-                           {"parameters", params},
-                           {"initial_cost", r.initial_cost},
-                           {"final_cost", r.final_cost},
-                           {"rms", r.rms},
-                           {"max_abs", r.max_abs},
-                           {"iterations", r.iterations},
-                           {"termination", r.termination},
-                           {"mse", reports[b].mse},
-                           {"baseline_mse", reports[b].baseline_mse}});
-  }
-  return j;
-}
-
-std::string table_csv(const FixedFormSummary& sum, const std::vector<BlockReport>& reports) {
+std::string table_csv(const FixedFormSummary& sum, const std::vector<BlockComparison>& reports) {
   std::string s = "block,rows,status";
   for (const std::string& p : sum.parameter_names) s += "," + p;
   s += ",cost,mse";
@@ -124,14 +137,14 @@ std::string table_csv(const FixedFormSummary& sum, const std::vector<BlockReport
   return s;
 }
 
-void print_table(std::ostream& out, const FitSetup& s, const FixedFormSummary& sum,
-                 const std::vector<BlockReport>& reports, const FitArgs& a) {
+void print_table(std::ostream& out, const PreparedFit& s, const FixedFormSummary& sum,
+                 const std::vector<BlockComparison>& reports, const FitArgs& a) {
   out << fmt::format("shaderfit fit: {}\n", to_infix(s.problem.formula));
   out << fmt::format("  data: {}; reference: {}{}\n", s.data_description, s.reference_description,
                      s.grouping.empty() ? "" : "; " + s.grouping);
   if (s.dropped_rows)
     out << fmt::format("  {} rows outside the grid were left out\n", s.dropped_rows);
-  out << fmt::format("  loss: {}\n  ", loss_name(s.options.loss)) << sum.brief_report();
+  out << fmt::format("  loss: {}\n  ", loss_description(s.options.loss)) << sum.brief_report();
   for (std::size_t k = 0; k < a.baselines.size(); ++k)
     out << fmt::format("  baseline [{}]: {}\n", k + 1, a.baselines[k]);
   std::vector<std::size_t> shown;  // per-block parameters, or every parameter with one block
@@ -167,17 +180,18 @@ void write_file(const std::string& path, const std::string& text, const char* op
 }
 
 void run_fit(const FitArgs& a, Context& ctx) {
-  const FitSetup s = make_fit_setup(a);
+  const PreparedFit s = with_flags(kFitFlags, [&] { return prepare_fit(to_setup(a)); });
   FixedFormSummary sum;
-  solve_fixed_form(s.options, s.problem, &sum);
-  const std::vector<BlockReport> reports = block_reports(s, sum, a.baselines);
+  const std::vector<BlockComparison> reports = with_flags(kFitFlags, [&] {
+    solve_fixed_form(s.options, s.problem, &sum);
+    return compare_blocks(s, sum);
+  });
   if (!a.table_path.empty()) write_file(a.table_path, table_csv(sum, reports), "--table");
   if (a.json_path == "-") {
-    ctx.out << to_json(s, sum, reports, a.baselines).dump(2) << '\n';
+    ctx.out << fit_json(s, sum, reports) << '\n';
   } else {
     print_table(ctx.out, s, sum, reports, a);
-    if (!a.json_path.empty())
-      write_file(a.json_path, to_json(s, sum, reports, a.baselines).dump(2) + "\n", "--json");
+    if (!a.json_path.empty()) write_file(a.json_path, fit_json(s, sum, reports) + "\n", "--json");
   }
   if (sum.failed_blocks > 0)
     ctx.err << fmt::format("shaderfit: warning: {} of {} blocks failed (listed above)\n",

@@ -22,6 +22,7 @@
 #include "shaderfit/fit/fit.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit::cli {
@@ -223,7 +224,7 @@ void run_front(FrontArgs& a, Context& ctx) {
     throw Error("no front to plot: the file has no non-empty 'front' list",
                 SourceLocation{a.front_path});
   // The vertical axis: "loss" or one of the metrics.
-  const std::optional<LossKind> metric = loss_from_name(a.metric);
+  const std::optional<Loss> metric = loss_from_name(a.metric);
   if (a.metric != "loss" && (!metric || a.metric != loss_name(*metric)))
     throw Error("front member without 'cost' or '" + a.metric + "'", SourceLocation{a.front_path});
   Series s;

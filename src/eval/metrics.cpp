@@ -1,36 +1,58 @@
 #include "shaderfit/eval/metrics.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 namespace shaderfit {
 
-ErrorMetrics error_metrics(std::span<const double> predicted, std::span<const double> target,
+ErrorMetrics error_metrics(std::span<const double> prediction, std::span<const double> target,
                            std::span<const std::size_t> rows, std::span<const double> weights) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  constexpr double kLogFloor = 1e-30;
   ErrorMetrics m;
   const std::size_t n = rows.empty() ? target.size() : rows.size();
-  double sum = 0, wsum = 0;
+  double sw = 0, se = 0, srel = 0, slog = 0;
+  bool rel_ok = true, log_ok = true;
   for (std::size_t j = 0; j < n; ++j) {
     const std::size_t i = rows.empty() ? j : rows[j];
-    const double p = predicted[i], t = target[i];
+    const double w = weights.empty() ? 1.0 : weights[i];
+    if (!(w > 0)) continue;
+    ++m.rows;
+    const double p = prediction[i], t = target[i];
     if (!std::isfinite(p)) {
       ++m.nonfinite;
       continue;
     }
-    const double d = std::fabs(p - t);
-    const double w = weights.empty() ? 1.0 : weights[i];
-    sum += w * d * d;
-    wsum += w;
-    if (d > m.max_abs) m.max_abs = d;
-    if (t != 0 && d / std::fabs(t) > m.max_rel) m.max_rel = d / std::fabs(t);
+    const double d = p - t;
+    const double ad = std::abs(d);
+    sw += w;
+    se += w * d * d;
+    if (ad > m.max_abs) m.max_abs = ad;
+    if (t != 0) {
+      const double r = d / t;
+      srel += w * r * r;
+      const double q = ad / std::abs(t);
+      if (q > m.max_rel) m.max_rel = q;
+    } else {
+      rel_ok = false;
+    }
+    if (t > 0) {
+      const double l = std::log(std::max(p, kLogFloor) / t);  // one log a row, not two
+      slog += w * l * l;
+    } else {
+      log_ok = false;
+    }
   }
-  m.rows = n;
   if (m.nonfinite > 0) {
-    m.mse = m.max_abs = std::numeric_limits<double>::infinity();
-  } else {
-    m.mse = wsum > 0 ? sum / wsum : 0.0;
+    m.mse = m.rmse = m.max_abs = m.rel = m.log = kInf;
+  } else if (sw > 0) {
+    m.mse = se / sw;
+    m.rmse = std::sqrt(m.mse);
+    m.rel = rel_ok ? srel / sw : kNaN;
+    m.log = log_ok ? slog / sw : kNaN;
   }
-  m.rmse = std::sqrt(m.mse);
   return m;
 }
 

@@ -25,7 +25,7 @@ struct Context {
 double weighted_cost(const Context& c, std::span<const double> w, std::span<const double> p) {
   std::vector<double> v;
   values(c.m, c.b, p, &v);
-  return loss_of(Loss::squared, v, c.b.target, w);
+  return fit_cost(Loss::Mse, v, c.b.target, w);
 }
 
 // The constraints linearised at p: C p' = d is c(p) + C (p' - p) = 0.
@@ -244,9 +244,9 @@ BlockResult solve_block(const Model& m, const PreparedBlock& b, const FixedFormO
     std::vector<double> v;
     values(m, b, p, &v);
     r.initial_cost =
-        loss_of(m.loss == Loss::max ? Loss::max : Loss::squared, v, b.target, b.weights);
+        fit_cost(m.loss == Loss::MaxAbs ? Loss::MaxAbs : Loss::Mse, v, b.target, b.weights);
   }
-  const Failure f = m.loss == Loss::max ? minimax(c, &p) : least_squares(c, b.weights, &p);
+  const Failure f = m.loss == Loss::MaxAbs ? minimax(c, &p) : least_squares(c, b.weights, &p);
   r.iterations = c.iterations;
   if (f) {
     if (kind != nullptr) *kind = f.kind;

@@ -360,12 +360,12 @@ std::vector<BlockResult> solve_coupled(const Model& m, std::span<const PreparedB
   for (std::size_t a = 0; a < lay.active.size(); ++a) c.w.push_back(c.block(a).weights);
   std::vector<double> initial(blocks.size());
   std::vector<double> v;
-  const Loss loss = m.loss == Loss::max ? Loss::max : Loss::squared;
+  const Loss loss = m.loss == Loss::MaxAbs ? Loss::MaxAbs : Loss::Mse;
   for (std::size_t a = 0; a < lay.active.size(); ++a) {
     values(m, c.block(a), c.params(x, a), &v);
-    results[lay.active[a]].initial_cost = loss_of(loss, v, c.block(a).target, c.block(a).weights);
+    results[lay.active[a]].initial_cost = fit_cost(loss, v, c.block(a).target, c.block(a).weights);
   }
-  *failure = m.loss == Loss::max ? c.minimax(&x) : c.least_squares(&x);
+  *failure = m.loss == Loss::MaxAbs ? c.minimax(&x) : c.least_squares(&x);
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     if (blocks[b].rows() == 0) {
       results[b].ok = false;

@@ -22,11 +22,21 @@ using fit_detail::FailureKind;
 using fit_detail::Model;
 using fit_detail::PreparedBlock;
 
+namespace {
+
+// The losses FixedFormOptions::loss may name.
+bool fit_minimises(Loss loss) {
+  return loss == Loss::Mse || loss == Loss::Log || loss == Loss::MaxAbs;
+}
+
+}  // namespace
+
 bool FixedFormOptions::is_valid(std::string* why) const {
   auto fail = [&](const char* m) {
     if (why != nullptr) *why = m;
     return false;
   };
+  if (!fit_minimises(loss)) return fail("loss must be mse, log or max_abs");
   if (max_iterations < 1) return fail("max_iterations must be at least 1");
   if (minimax_iterations < 1) return fail("minimax_iterations must be at least 1");
   if (!(function_tolerance > 0) || !(parameter_tolerance > 0) || !(constraint_tolerance > 0))
@@ -105,12 +115,12 @@ Model build_model(const FixedFormOptions& o, const FixedFormProblem& pr) {
         fmt::format("{} parameter scopes for {} parameters", m.scopes.size(), m.parameters()),
         {"formula"});
   m.loss = o.loss;
-  if (pr.transform && o.loss == Loss::log)
+  if (pr.transform && o.loss == Loss::Log)
     throw Error(
         "a transform and the log loss cannot be combined (the log loss is the transform log2(y))",
         {"transform"});
   std::optional<Expression> t = pr.transform;
-  if (o.loss == Loss::log) t = parse_formula("log2(y)", {.variables = {"y"}});
+  if (o.loss == Loss::Log) t = parse_formula("log2(y)", {.variables = {"y"}});
   if (t) {
     for (const std::string& v : t->variables)
       if (v != "y" && std::find(m.formula.variables.begin(), m.formula.variables.end(), v) ==
@@ -185,7 +195,7 @@ PreparedBlock prepare_block(const Model& m, const FitBlock& b) {
                   {"weights"});
     if (!std::isfinite(b.target[i]))
       throw Error(fmt::format("the target is not finite in row {} of {}", i + 1, where), {"data"});
-    if (m.loss == Loss::log && !(b.target[i] > 0))
+    if (m.loss == Loss::Log && !(b.target[i] > 0))
       throw Error(fmt::format("the log loss needs positive targets; row {} of {} has {}", i + 1,
                               where, b.target[i]),
                   {"data"});
@@ -241,6 +251,10 @@ bool structural(FailureKind k) {
 void solve_fixed_form(const FixedFormOptions& options, const FixedFormProblem& problem,
                       FixedFormSummary* summary) {
   const auto t0 = std::chrono::steady_clock::now();
+  if (!fit_minimises(options.loss))
+    throw Error(
+        "the fit minimises mse, log or max_abs, not " + std::string(loss_name(options.loss)),
+        {"FixedFormOptions::loss"});
   std::string why;
   if (!options.is_valid(&why)) throw Error(why, {"fit options"});
   Model m = build_model(options, problem);
@@ -270,7 +284,7 @@ void solve_fixed_form(const FixedFormOptions& options, const FixedFormProblem& p
   const bool use_linear = m.linear && options.solver != SolverKind::levenberg_marquardt;
   s.linear = use_linear;
   s.solver = use_linear ? "linear least squares" : "Levenberg-Marquardt";
-  if (options.loss == Loss::max) s.solver += " + Lawson minimax";
+  if (options.loss == Loss::MaxAbs) s.solver += " + Lawson minimax";
   const bool any_global = std::count(m.scopes.begin(), m.scopes.end(), ParameterScope::global) > 0;
   const std::vector<double>& start = m.formula.parameter_values;
   std::vector<FailureKind> kinds(blocks.size(), FailureKind::none);

@@ -42,7 +42,7 @@ struct Model {
   std::vector<Expression> derivative_forms;
   std::vector<bool> constraint_linear;
   std::vector<ParameterScope> scopes;
-  Loss loss = Loss::squared;
+  Loss loss = Loss::Mse;
   bool linear = false;               // the fitted quantity is linear in the parameters
   bool structurally_linear = false;  // ... and that was proven symbolically, not sampled
   std::size_t parameters() const { return formula.parameters.size(); }
@@ -67,10 +67,10 @@ void linearize(const Model& m, const PreparedBlock& b, std::span<const double> p
 void values(const Model& m, const PreparedBlock& b, std::span<const double> p,
             std::vector<double>* out);
 
-// Loss of residuals values - target with per-row weights (Loss::max: max w |r|; otherwise the
+// Loss of residuals values - target with per-row weights (Loss::MaxAbs: max w |r|; otherwise the
 // weighted mean square). Infinite when a weighted residual is not finite.
-double loss_of(Loss loss, std::span<const double> values, std::span<const double> target,
-               std::span<const double> weights);
+double fit_cost(Loss loss, std::span<const double> values, std::span<const double> target,
+                std::span<const double> weights);
 
 // c(p) = lhs(p) - rhs and its gradient over the block's parameters.
 void constraint_row(const Model& m, const ConstraintInstance& c, std::span<const double> p,
@@ -117,7 +117,7 @@ std::vector<BlockResult> solve_coupled(const Model& m, std::span<const PreparedB
                                        std::span<const std::vector<double>> starts,
                                        Failure* failure);
 
-// Lawson's reweighting for Loss::max over rows with weights w (minimax.cpp). `solve` runs a
+// Lawson's reweighting for Loss::MaxAbs over rows with weights w (minimax.cpp). `solve` runs a
 // least-squares solve with the given per-row weights, `residuals` writes |r| per row at its
 // solution, `keep` remembers the current solution as the best so far, `restore` returns to it.
 struct LawsonSteps {

@@ -29,21 +29,21 @@ void values(const Model& m, const PreparedBlock& b, std::span<const double> p,
   evaluate(e, std::span<const double* const>(b.columns), std::span<double>(*out));
 }
 
-double loss_of(Loss loss, std::span<const double> v, std::span<const double> t,
-               std::span<const double> w) {
+double fit_cost(Loss loss, std::span<const double> v, std::span<const double> t,
+                std::span<const double> w) {
   double acc = 0, sw = 0;
   for (std::size_t i = 0; i < t.size(); ++i) {
     if (w[i] == 0) continue;
     const double r = v[i] - t[i];
     if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
-    if (loss == Loss::max) {
+    if (loss == Loss::MaxAbs) {
       acc = std::max(acc, w[i] * std::abs(r));
     } else {
       acc += w[i] * r * r;
       sw += w[i];
     }
   }
-  if (loss == Loss::max) return acc;
+  if (loss == Loss::MaxAbs) return acc;
   return sw > 0 ? acc / sw : 0.0;
 }
 
@@ -59,7 +59,7 @@ void residual_stats(const Model& m, const PreparedBlock& b, std::span<const doub
   }
   r->rms = v.empty() ? 0.0 : std::sqrt(ss / static_cast<double>(v.size()));
   r->max_abs = mx;
-  r->final_cost = loss_of(m.loss == Loss::log ? Loss::squared : m.loss, v, b.target, b.weights);
+  r->final_cost = fit_cost(m.loss == Loss::Log ? Loss::Mse : m.loss, v, b.target, b.weights);
 }
 
 namespace {

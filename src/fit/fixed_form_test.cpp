@@ -66,7 +66,7 @@ FixedFormProblem seed_problem(double f0, double a, double b, double c) {
 TEST(FixedForm, LogLossAndNamedTransformAgreeAndAreLinear) {
   FixedFormProblem p = seed_problem(0.04, 3.0, 1.5, 0.2);
   FixedFormOptions log;
-  log.loss = Loss::log;
+  log.loss = Loss::Log;
   log.solver = SolverKind::linear;
   const FixedFormSummary a = solve(p, log);
   p.transform = parse_formula("log2(y / f0)", {.variables = {"y", "f0"}});
@@ -82,7 +82,7 @@ TEST(FixedForm, LogLossAndNamedTransformAgreeAndAreLinear) {
 TEST(FixedForm, ParameterConstraintHoldsExactlyAndEqualsTheValueConstraint) {
   FixedFormProblem p = seed_problem(0.04, 3.0, 1.5, 0.2);
   FixedFormOptions o;
-  o.loss = Loss::log;
+  o.loss = Loss::Log;
   p.constraints.push_back(parse_constraint("C = 0", p.formula));
   const FixedFormSummary a = solve(p, o);
   EXPECT_TRUE(a.linear);
@@ -119,7 +119,7 @@ TEST(FixedForm, MinimaxLineThroughAParabola) {
   }
   p.blocks.push_back(b);
   FixedFormOptions o;
-  o.loss = Loss::max;
+  o.loss = Loss::MaxAbs;
   const FixedFormSummary s = solve(p, o);
   EXPECT_NEAR(s.blocks[0].parameters[0], -0.125, 1e-3);
   EXPECT_NEAR(s.blocks[0].parameters[1], 1.0, 1e-3);
@@ -212,6 +212,25 @@ TEST(FixedForm, BadInput) {
   FixedFormProblem nonlinear = p;
   nonlinear.formula = formula("exp(a*x)", {"x"}, {"a"});
   expect_error(nonlinear, "not linear", lin);
+}
+
+TEST(FixedForm, LossesTheFitDoesNotMinimiseAreRefused) {
+  FixedFormProblem p;
+  p.formula = formula("a + b*x", {"x"}, {"a", "b"});
+  p.blocks.push_back(block_of([](double x) { return x; }));
+  for (Loss loss : {Loss::Rmse, Loss::MaxRel, Loss::Relative}) {
+    FixedFormOptions o;
+    o.loss = loss;
+    std::string why;
+    EXPECT_FALSE(o.is_valid(&why));
+    FixedFormSummary s;
+    try {
+      solve_fixed_form(o, p, &s);
+      FAIL() << loss_name(loss);
+    } catch (const Error& e) {
+      EXPECT_EQ(e.where().source, "FixedFormOptions::loss") << e.what();
+    }
+  }
 }
 
 TEST(FixedForm, SubstituteVariable) {

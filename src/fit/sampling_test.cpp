@@ -7,8 +7,8 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/fit/builtin_reference.hpp"
-#include "shaderfit/lut/fv_reference.hpp"
 #include "shaderfit/reference/fresnel.hpp"
+#include "shaderfit/reference/fv_reference.hpp"
 
 namespace shaderfit {
 namespace {
@@ -55,22 +55,23 @@ TEST(Sampling, Errors) {
 }
 
 TEST(BuiltinReference, ValuesAndConventions) {
-  const BuiltinReference* r = find_builtin_reference("fresnel-exact");
+  const reference::BuiltinFunction* r = find_builtin_reference("fresnel-exact");
   ASSERT_NE(r, nullptr);
   const double glass[] = {1.0, 1.5, 0.0};
-  EXPECT_NEAR(r->function(glass), 0.04, 1e-15);
+  EXPECT_NEAR(reference::evaluate_builtin(*r, glass), 0.04, 1e-15);
   const double metal[] = {1.0, 0.3, 3.0};
-  EXPECT_NEAR(r->function(metal), reference::r0_from_complex_ior(0.3, 3.0), 1e-15);
+  EXPECT_NEAR(reference::evaluate_builtin(*r, metal), reference::r0_from_complex_ior(0.3, 3.0),
+              1e-15);
   // FV at dot(L,H) = 1 is f0 for every FV reference (the visibility is 1 there).
   for (const char* name : {"fv-schlick-smith-lh", "fv-schlick-smith", "fv-exact"}) {
     const double a[] = {1.0, 0.04, 0.3};
-    EXPECT_NEAR(find_builtin_reference(name)->function(a), 0.04, 1e-12) << name;
+    EXPECT_NEAR(reference::evaluate_builtin(*find_builtin_reference(name), a), 0.04, 1e-12) << name;
   }
   // The exact visibility at n = h is 1 / (c sqrt(alpha^2 + (1 - alpha^2) c^2)).
   const double c = 0.3, alpha = 0.25;
-  EXPECT_NEAR(lut::visibility_exact_peak(c, 0.5),
+  EXPECT_NEAR(reference::visibility_exact_peak(c, 0.5),
               1 / (c * std::sqrt(alpha * alpha + (1 - alpha * alpha) * c * c)), 1e-12);
-  EXPECT_NEAR(lut::ior_from_f0(0.04), 1.5, 1e-12);
+  EXPECT_NEAR(reference::ior_from_f0(0.04), 1.5, 1e-12);
   EXPECT_EQ(find_builtin_reference("nope"), nullptr);
   EXPECT_NE(describe_builtin_references().find("fv-exact(dot_lh, f0, roughness)"),
             std::string::npos);

@@ -37,7 +37,7 @@ void destroy_device_data(DeviceData* data);
 // null or one per program) over every row: out[programs].
 std::string population_sums(DeviceData* data, const GpuNode* nodes, std::size_t num_nodes,
                             const std::uint32_t* offsets, std::size_t programs,
-                            const Affine* affine, LossKind loss, RowSums* out);
+                            const Affine* affine, Loss loss, RowSums* out);
 
 // Normal-equation sums of basis programs 0..k-1 and offset program k (when has_offset).
 std::string normal_sums(DeviceData* data, const GpuNode* nodes, std::size_t num_nodes,
@@ -46,7 +46,7 @@ std::string normal_sums(DeviceData* data, const GpuNode* nodes, std::size_t num_
 // The enumeration's column store and screen target, on the device.
 struct ScreenData;
 std::string create_screen_data(const float* y, const float* w, const float* log2_y,
-                               std::size_t rows, double wyy, LossKind loss, ScreenData** out);
+                               std::size_t rows, double wyy, Loss loss, ScreenData** out);
 void destroy_screen_data(ScreenData* data);
 // Appends `count` columns (rows floats each) to the store; they get the next indices.
 std::string screen_add_columns(ScreenData* data, const float* columns, std::size_t count);

@@ -175,7 +175,7 @@ struct DeviceData {
   std::size_t rows = 0;
   bool weighted = false;
 
-  PopulationView view(LossKind loss, bool with_affine) const {
+  PopulationView view(Loss loss, bool with_affine) const {
     PopulationView v;
     v.nodes = nodes.as<const GpuNode>();
     v.offsets = offsets.as<const std::uint32_t>();
@@ -198,7 +198,7 @@ struct ScreenData {
   Buffer y, w, log2_y, store, candidates, results, columns;
   std::size_t rows = 0, stored = 0;
   double wyy = 0;
-  LossKind loss = LossKind::Mse;
+  Loss loss = Loss::Mse;
 };
 
 bool backend_compiled() { return true; }
@@ -241,7 +241,7 @@ void destroy_device_data(DeviceData* data) { delete data; }
 
 std::string population_sums(DeviceData* d, const GpuNode* nodes, std::size_t num_nodes,
                             const std::uint32_t* offsets, std::size_t programs,
-                            const Affine* affine, LossKind loss, RowSums* out) {
+                            const Affine* affine, Loss loss, RowSums* out) {
   if (programs == 0) return {};
   if (std::string e = d->upload_programs(nodes, num_nodes, offsets, programs); !e.empty()) return e;
   if (affine != nullptr) {
@@ -272,7 +272,7 @@ std::string normal_sums(DeviceData* d, const GpuNode* nodes, std::size_t num_nod
   if (std::string e = d->partial.reserve(chunks * sizeof(NormalSums)); !e.empty()) return e;
   if (std::string e = d->out.reserve(sizeof(NormalSums)); !e.empty()) return e;
   normal_kernel<<<blocks_for(chunks * kWarpLanes), kBlock>>>(
-      d->view(LossKind::Mse, false), k, has_offset, chunks, d->partial.as<NormalSums>());
+      d->view(Loss::Mse, false), k, has_offset, chunks, d->partial.as<NormalSums>());
   fold_chunks<<<1, kBlock>>>(d->partial.as<NormalSums>(), 1, chunks, d->out.as<NormalSums>());
   if (std::string e = after_launch(); !e.empty()) return e;
   SF_CUDA_TRY(cudaMemcpy(out, d->out.ptr, sizeof(NormalSums), cudaMemcpyDeviceToHost));
@@ -280,7 +280,7 @@ std::string normal_sums(DeviceData* d, const GpuNode* nodes, std::size_t num_nod
 }
 
 std::string create_screen_data(const float* y, const float* w, const float* log2_y,
-                               std::size_t rows, double wyy, LossKind loss, ScreenData** out) {
+                               std::size_t rows, double wyy, Loss loss, ScreenData** out) {
   *out = nullptr;
   auto* d = new ScreenData;
   d->rows = rows;

@@ -27,7 +27,7 @@ std::string create_device_data(const float*, std::size_t, std::size_t, const dou
 void destroy_device_data(DeviceData*) {}
 
 std::string population_sums(DeviceData*, const GpuNode*, std::size_t, const std::uint32_t*,
-                            std::size_t, const Affine*, LossKind, RowSums*) {
+                            std::size_t, const Affine*, Loss, RowSums*) {
   return kNoCuda;
 }
 
@@ -36,8 +36,8 @@ std::string normal_sums(DeviceData*, const GpuNode*, std::size_t, const std::uin
   return kNoCuda;
 }
 
-std::string create_screen_data(const float*, const float*, const float*, std::size_t, double,
-                               LossKind, ScreenData** out) {
+std::string create_screen_data(const float*, const float*, const float*, std::size_t, double, Loss,
+                               ScreenData** out) {
   *out = nullptr;
   return kNoCuda;
 }

@@ -12,11 +12,9 @@
 #include "gpu/population_test_util.hpp"
 #include "gpu/screen.hpp"
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/gpu/evaluator.hpp"
-#include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
 namespace {
@@ -80,18 +78,7 @@ TEST(GpuSelection, WithoutAGpuTheGpuApiThrows) {
   const std::vector<const double*> cols = {x.data()};
   EXPECT_THROW(GpuEvaluator(cols, y), Error);
   const std::vector<float> t(16, 1.0f);
-  EXPECT_THROW(gpu_detail::GpuScreen(t, t, {}, 16.0, LossKind::Mse), Error);
-  SearchProblem p;
-  p.input_names = {"x"};
-  p.inputs = {x};
-  p.target = y;
-  SearchOptions o;
-  o.device = ComputeDevice::Cuda;
-  o.time_limit_s = 0.1;
-  SearchSummary s;
-  EXPECT_THROW(run_search(o, p, &s), Error);
-  o.device = ComputeDevice::Auto;  // falls back to the CPU
-  EXPECT_NO_THROW(run_search(o, p, &s));
+  EXPECT_THROW(gpu_detail::GpuScreen(t, t, {}, 16.0, Loss::Mse), Error);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -115,7 +102,7 @@ TEST(GpuDevice, PopulationMatchesTheEmulationAndTheCpuPath) {
           gpu_test::random_population(rng, 200, vars, 10, 30, set, true);
       const std::vector<const Expression*> ptrs = gpu_test::pointers_to(pop);
       HostPopulation host(ptrs, in.pointers, y, w);
-      for (LossKind loss : {LossKind::Mse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
+      for (Loss loss : {Loss::Mse, Loss::MaxAbs, Loss::Relative, Loss::Log}) {
         const std::vector<PopulationScore> got = gpu.evaluate_population(ptrs, loss);
         const std::vector<gpu_detail::RowSums> emu =
             emulate_population(host.view(loss), pop.size());
@@ -126,7 +113,7 @@ TEST(GpuDevice, PopulationMatchesTheEmulationAndTheCpuPath) {
           // the log loss's float64 log may differ by an ulp. Others: CUDA's exp2, sin, ... are
           // within 2 ulp of the CPU's, which a formula may magnify.
           const bool ok = set == OpSet::Exact
-                              ? near(got[i].loss, want.loss, loss == LossKind::Log ? 1e-12 : 0.0) &&
+                              ? near(got[i].loss, want.loss, loss == Loss::Log ? 1e-12 : 0.0) &&
                                     got[i].sfy == want.sfy
                               : near(got[i].loss, want.loss, 1e-4);
           if (set == OpSet::Exact) {
@@ -153,9 +140,9 @@ TEST(GpuDevice, ResultsDoNotDependOnTheBatch) {
   const std::vector<Expression> pop =
       gpu_test::random_population(rng, 64, vars, 10, 30, OpSet::All);
   const std::vector<const Expression*> all = gpu_test::pointers_to(pop);
-  const auto together = gpu.evaluate_population(all, LossKind::Mse);
+  const auto together = gpu.evaluate_population(all, Loss::Mse);
   for (std::size_t i = 0; i < pop.size(); i += 7) {
-    const auto alone = gpu.evaluate_population(std::span(all).subspan(i, 1), LossKind::Mse);
+    const auto alone = gpu.evaluate_population(std::span(all).subspan(i, 1), Loss::Mse);
     EXPECT_TRUE(alone[0].loss == together[i].loss ||
                 (std::isnan(alone[0].loss) && std::isnan(together[i].loss)));
     EXPECT_EQ(alone[0].mean_f, together[i].mean_f);
@@ -174,11 +161,11 @@ TEST(GpuDevice, LinearScalingSecondPass) {
   const Expression e = parse_formula("x^2", po);
   const std::vector<const Expression*> pop = {&e};
   const GpuEvaluator gpu(in.pointers, y);
-  const PopulationScore s = gpu.evaluate_population(pop, LossKind::Mse)[0];
+  const PopulationScore s = gpu.evaluate_population(pop, Loss::Mse)[0];
   const LinearScaling ls = s.linear_scaling();
   EXPECT_NEAR(ls.a, 3.0, 1e-5);
   EXPECT_NEAR(ls.b, -0.5, 1e-5);
-  const PopulationScore scaled = gpu.evaluate_population(pop, LossKind::Mse, {&ls, 1})[0];
+  const PopulationScore scaled = gpu.evaluate_population(pop, Loss::Mse, {&ls, 1})[0];
   EXPECT_LT(scaled.loss, 1e-10);
 }
 
@@ -193,7 +180,7 @@ TEST(GpuDevice, AMillionRows) {
       gpu_test::random_population(rng, 6, {"x", "y"}, 10, 30, OpSet::Exact);
   const std::vector<const Expression*> ptrs = gpu_test::pointers_to(pop);
   const GpuEvaluator gpu(in.pointers, y);
-  const auto got = gpu.evaluate_population(ptrs, LossKind::Mse);
+  const auto got = gpu.evaluate_population(ptrs, Loss::Mse);
   for (std::size_t i = 0; i < pop.size(); ++i) {
     std::vector<std::vector<float>> cols;
     std::vector<const float*> cp;
@@ -202,7 +189,7 @@ TEST(GpuDevice, AMillionRows) {
     std::vector<float> f(rows);
     evaluate(pop[i], cp, f);
     const std::vector<double> fd(f.begin(), f.end());
-    EXPECT_TRUE(near(got[i].loss, loss_of(LossKind::Mse, fd, y), 1e-9)) << i;
+    EXPECT_TRUE(near(got[i].loss, loss_of(Loss::Mse, fd, y), 1e-9)) << i;
   }
 }
 
@@ -223,7 +210,7 @@ TEST(GpuDevice, NormalEquationsMatchTheEmulation) {
   const std::vector<const Expression*> all = {&g1, &g2, &g0};
   HostPopulation host(all, in.pointers, y);
   const gpu_detail::NormalSums want =
-      gpu_detail::emulate_normal_sums(host.view(LossKind::Mse), 2, true);
+      gpu_detail::emulate_normal_sums(host.view(Loss::Mse), 2, true);
   EXPECT_TRUE(got.finite);
   EXPECT_DOUBLE_EQ(got.rr, want.rr);
   EXPECT_DOUBLE_EQ(got.jtj[0], want.jtj[0]);
@@ -256,7 +243,7 @@ TEST(GpuDevice, EnumerationStepMatchesTheCpuBitForBit) {
                                         gpu_detail::ColumnOp::Max,    gpu_detail::ColumnOp::Pow};
   const Op unary[] = {Op::Sqrt, Op::Rcp, Op::Exp2, Op::Log2,
                       Op::Exp,  Op::Log, Op::Abs,  Op::Saturate};
-  for (LossKind loss : {LossKind::Mse, LossKind::MaxAbs, LossKind::Log}) {
+  for (Loss loss : {Loss::Mse, Loss::MaxAbs, Loss::Log}) {
     gpu_detail::GpuScreen gpu(y, w, log2_y, wyy, loss);
     gpu.add_columns(std::span(store).first(10 * n));  // in two appends, as an enumerator would
     gpu.add_columns(std::span(store).subspan(10 * n));
@@ -296,40 +283,6 @@ TEST(GpuDevice, EnumerationStepMatchesTheCpuBitForBit) {
                   (std::isnan(got_cols[i]) && std::isnan(want_cols[i])))
           << i;
   }
-}
-
-TEST(GpuDevice, SearchOnTheGpu) {
-  SF_REQUIRE_GPU();
-  Rng data_rng(1);
-  const Dataset d = make_fresnel_seed_dataset(data_rng);
-  SearchProblem p;
-  p.input_names = {"r0", "x"};
-  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
-  p.target = d.numeric("R").values;
-  // The evolution alone, with a candidate budget (a count): reproducible, GPU scoring included.
-  SearchOptions o;
-  o.device = ComputeDevice::Cuda;
-  o.enumerate = false;
-  o.threads = 2;
-  o.time_limit_s = 120;
-  o.max_candidates = 4000;
-  SearchSummary a, b;
-  run_search(o, p, &a);
-  run_search(o, p, &b);
-  ASSERT_FALSE(a.front.empty());
-  EXPECT_GT(a.generations, 0u);
-  EXPECT_EQ(a.termination, Termination::CandidateLimit);
-  ASSERT_EQ(a.front.size(), b.front.size());
-  for (std::size_t i = 0; i < a.front.size(); ++i)
-    EXPECT_EQ(a.front[i].formula, b.front[i].formula);
-  // The whole search on the seed task reaches the seed formula's error at cost 4.
-  SearchOptions full;
-  full.device = ComputeDevice::Cuda;
-  full.time_limit_s = 60;
-  full.stop_at = SearchTarget{0.00035236, 4};
-  SearchSummary s;
-  run_search(full, p, &s);
-  EXPECT_EQ(s.termination, Termination::TargetReached);
 }
 
 }  // namespace

@@ -89,7 +89,7 @@ std::size_t GpuEvaluator::rows() const { return impl_->rows; }
 std::size_t GpuEvaluator::columns() const { return impl_->columns; }
 
 std::vector<PopulationScore> GpuEvaluator::evaluate_population(
-    std::span<const Expression* const> population, LossKind loss,
+    std::span<const Expression* const> population, Loss loss,
     std::span<const LinearScaling> scaling) const {
   if (!scaling.empty() && scaling.size() != population.size())
     throw Error("GpuEvaluator: " + std::to_string(scaling.size()) + " scalings for " +

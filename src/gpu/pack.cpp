@@ -77,7 +77,7 @@ PackedPrograms pack_programs(std::span<const Expression* const> expressions,
   return p;
 }
 
-PopulationScore to_score(const RowSums& s, LossKind loss, double syy) {
+PopulationScore to_score(const RowSums& s, Loss loss, double syy) {
   PopulationScore o;
   o.loss = loss_from_sums(loss, s);
   o.finite = s.bad_prediction == 0;

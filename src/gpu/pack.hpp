@@ -38,7 +38,7 @@ PackedPrograms pack_programs(std::span<const Expression* const> expressions,
 std::vector<RowSums> emulate_population(const PopulationView& view, std::size_t programs);
 
 // What GpuEvaluator returns for a program's sums (syy: the data's, see PopulationScore).
-PopulationScore to_score(const RowSums& sums, LossKind loss, double syy);
+PopulationScore to_score(const RowSums& sums, Loss loss, double syy);
 
 // The normal-equation kernel on the CPU.
 NormalSums emulate_normal_sums(const PopulationView& view, int k, bool has_offset);

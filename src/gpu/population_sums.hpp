@@ -15,7 +15,7 @@
 #include <cstdint>
 
 #include "gpu/program.hpp"
-#include "shaderfit/search/loss.hpp"
+#include "shaderfit/eval/loss.hpp"
 
 namespace shaderfit::gpu_detail {
 
@@ -43,7 +43,7 @@ struct RowSums {
   std::uint32_t bad_target = 0;      // rows where y = 0 (rel) or y <= 0 (log)
 
   // One row: f the formula's float32 value, y the target, w > 0 its weight.
-  SF_CPU_GPU void add(float f, double y, double weight, LossKind loss, const Affine& s) {
+  SF_CPU_GPU void add(float f, double y, double weight, Loss loss, const Affine& s) {
     const double x = static_cast<double>(f);
     const double p = s.a * x + s.b;
     if (!(p - p == 0.0)) {  // NaN or infinite (isfinite without a device-specific call)
@@ -63,7 +63,7 @@ struct RowSums {
     const double ad = d < 0 ? -d : d;
     max_e = ad > max_e ? ad : max_e;
     switch (loss) {
-      case LossKind::Relative:
+      case Loss::Relative:
         if (y != 0) {
           const double r = d / y;
           we += weight * r * r;
@@ -71,7 +71,7 @@ struct RowSums {
           ++bad_target;
         }
         break;
-      case LossKind::Log:
+      case Loss::Log:
         if (y > 0) {
           const double l = log(p > 1e-30 ? p : 1e-30) - log(y);
           we += weight * l * l;
@@ -104,15 +104,16 @@ struct RowSums {
 
 // What loss_of(kind, a * f + b, y, w) gives, from the sums: +infinity when a prediction is not
 // finite, NaN when the target does not admit the loss, 0 when no row has weight.
-inline double loss_from_sums(LossKind kind, const RowSums& s) {
+inline double loss_from_sums(Loss kind, const RowSums& s) {
   if (s.bad_prediction != 0) return HUGE_VAL;
   if (!(s.w > 0)) return 0.0;
   switch (kind) {
-    case LossKind::Mse: return s.we / s.w;
-    case LossKind::Rmse: return std::sqrt(s.we / s.w);
-    case LossKind::MaxAbs: return s.max_e;
-    case LossKind::Relative:
-    case LossKind::Log: return s.bad_target != 0 ? NAN : s.we / s.w;
+    case Loss::Mse: return s.we / s.w;
+    case Loss::Rmse: return std::sqrt(s.we / s.w);
+    case Loss::MaxAbs: return s.max_e;
+    case Loss::Relative:
+    case Loss::Log: return s.bad_target != 0 ? NAN : s.we / s.w;
+    case Loss::MaxRel: return NAN;  // not a search loss (SearchOptions::is_valid)
   }
   return s.we / s.w;
 }
@@ -126,7 +127,7 @@ struct PopulationView {
   const double* y = nullptr;
   const double* w = nullptr;  // null: every row weighs 1
   std::size_t rows = 0;
-  LossKind loss = LossKind::Mse;
+  Loss loss = Loss::Mse;
 };
 
 inline std::size_t chunk_count(std::size_t rows) { return (rows + kChunkRows - 1) / kChunkRows; }

@@ -11,9 +11,9 @@
 #include "gpu/pack.hpp"
 #include "gpu/population_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/fit/linear.hpp"
-#include "shaderfit/search/loss.hpp"
 
 namespace shaderfit::gpu_detail {
 namespace {
@@ -39,8 +39,7 @@ std::vector<double> cpu_prediction(const Expression& e, const RandomColumns& in,
   return {f.begin(), f.end()};
 }
 
-constexpr LossKind kLosses[] = {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative,
-                                LossKind::Log};
+constexpr Loss kLosses[] = {Loss::Mse, Loss::Rmse, Loss::MaxAbs, Loss::Relative, Loss::Log};
 
 TEST(GpuKernelLogic, PopulationLossesMatchTheCpuPath) {
   // Three chunk counts (one partial chunk, one exact chunk plus a tail, several), weights with
@@ -59,7 +58,7 @@ TEST(GpuKernelLogic, PopulationLossesMatchTheCpuPath) {
         gpu_test::random_population(rng, 40, vars, 10, 30, OpSet::Exact, true);
     const std::vector<const Expression*> ptrs = gpu_test::pointers_to(pop);
     HostPopulation host(ptrs, in.pointers, y, w);
-    for (LossKind loss : kLosses) {
+    for (Loss loss : kLosses) {
       const std::vector<RowSums> sums = emulate_population(host.view(loss), pop.size());
       for (std::size_t i = 0; i < pop.size(); ++i) {
         const std::vector<double> f = cpu_prediction(pop[i], in, rows);
@@ -95,10 +94,10 @@ TEST(GpuKernelLogic, LinearScalingFromTheSums) {
   }
   for (std::size_t r = 0; r < rows; ++r)
     syy += weights[r] * (target[r] - swy / sw) * (target[r] - swy / sw);
-  const std::vector<RowSums> raw = emulate_population(host.view(LossKind::Mse), pop.size());
+  const std::vector<RowSums> raw = emulate_population(host.view(Loss::Mse), pop.size());
   for (std::size_t i = 0; i < pop.size(); ++i) {
     std::vector<double> f = cpu_prediction(pop[i], in, rows);
-    const PopulationScore score = to_score(raw[i], LossKind::Mse, syy);
+    const PopulationScore score = to_score(raw[i], Loss::Mse, syy);
     const LinearScaling want = fit_linear_scaling(f, target, weights);
     const LinearScaling got = score.linear_scaling();
     if (!std::isfinite(want.mse)) {
@@ -115,7 +114,7 @@ TEST(GpuKernelLogic, LinearScalingFromTheSums) {
     EXPECT_TRUE(near(got.mse, want.mse, 1e-4) || std::abs(got.mse - want.mse) < 1e-12) << i;
     host.affine.assign(pop.size(), Affine{});
     host.affine[i] = {got.a, got.b};
-    for (LossKind loss : {LossKind::Mse, LossKind::MaxAbs}) {
+    for (Loss loss : {Loss::Mse, Loss::MaxAbs}) {
       const RowSums scaled = emulate_population(host.view(loss), pop.size())[i];
       std::vector<double> p = f;
       for (double& v : p) v = got.a * v + got.b;
@@ -135,7 +134,7 @@ TEST(GpuKernelLogic, NonFiniteAndUnsuitableTargets) {
   const std::vector<const double*> cols = {x.data()};
   const std::vector<double> y = {1.0, 0.0, 3.0, 4.0};  // a zero: no relative or log loss
   HostPopulation host(pop, cols, y);
-  for (LossKind loss : kLosses) {
+  for (Loss loss : kLosses) {
     const std::vector<RowSums> s = emulate_population(host.view(loss), 2);
     std::vector<double> p = {1.0, 2.0, 3.0, 4.0};
     EXPECT_EQ(loss_from_sums(loss, s[0]), std::numeric_limits<double>::infinity());
@@ -158,11 +157,11 @@ TEST(GpuKernelLogic, AllOperatorsWithinFloat32Tolerance) {
       gpu_test::random_population(rng, 300, vars, 10, 30, OpSet::All);
   const std::vector<const Expression*> ptrs = gpu_test::pointers_to(pop);
   HostPopulation host(ptrs, in.pointers, y);
-  const std::vector<RowSums> sums = emulate_population(host.view(LossKind::Mse), pop.size());
+  const std::vector<RowSums> sums = emulate_population(host.view(Loss::Mse), pop.size());
   int far = 0, finite = 0;
   for (std::size_t i = 0; i < pop.size(); ++i) {
-    const double want = loss_of(LossKind::Mse, cpu_prediction(pop[i], in, rows), y);
-    const double got = loss_from_sums(LossKind::Mse, sums[i]);
+    const double want = loss_of(Loss::Mse, cpu_prediction(pop[i], in, rows), y);
+    const double got = loss_from_sums(Loss::Mse, sums[i]);
     finite += std::isfinite(want) ? 1 : 0;
     far += near(got, want, 1e-4) ? 0 : 1;
   }
@@ -189,7 +188,7 @@ TEST(GpuKernelLogic, NormalEquationSumsMatchPlainLoops) {
     all.push_back(&g0);
     HostPopulation host(all, in.pointers, y, w);
     for (bool offset : {false, true}) {
-      const NormalSums got = emulate_normal_sums(host.view(LossKind::Mse), 3, offset);
+      const NormalSums got = emulate_normal_sums(host.view(Loss::Mse), 3, offset);
       std::vector<std::vector<double>> g;
       for (const Expression* e : all) g.push_back(cpu_prediction(*e, in, rows));
       double jtj[3][3] = {}, jtr[3] = {}, rr = 0;

@@ -132,7 +132,7 @@ struct HostPopulation {
       for (std::size_t r = 0; r < rows; ++r) columns.push_back(static_cast<float>(c[r]));
   }
 
-  [[nodiscard]] gpu_detail::PopulationView view(LossKind loss) const {
+  [[nodiscard]] gpu_detail::PopulationView view(Loss loss) const {
     gpu_detail::PopulationView v;
     v.nodes = programs.nodes.data();
     v.offsets = programs.offsets.data();

@@ -17,13 +17,13 @@ void check(const std::string& failure) {
 }  // namespace
 
 GpuScreen::GpuScreen(std::span<const float> y, std::span<const float> w,
-                     std::span<const float> log2_y, double wyy, LossKind loss) {
+                     std::span<const float> log2_y, double wyy, Loss loss) {
   resolve_device(ComputeDevice::Cuda, {"GpuScreen"});
   const std::size_t n = y.size();
   if (n < 16 || n % 8 != 0)
     throw Error("GpuScreen: the screen rows must be a multiple of 8, at least 16");
   if (w.size() != n) throw Error("GpuScreen: the weights have another number of rows");
-  if (loss == LossKind::Log && log2_y.size() != n)
+  if (loss == Loss::Log && log2_y.size() != n)
     throw Error("GpuScreen: the log loss needs log2(y) on every screen row");
   check(create_screen_data(y.data(), w.data(), log2_y.empty() ? nullptr : log2_y.data(), n, wyy,
                            loss, &data_));

@@ -32,7 +32,7 @@ class GpuScreen {
   // y, w (and log2_y for the log loss) hold n screen rows, n a multiple of 8 and >= 16; wyy and
   // loss as in search_detail::ScreenTarget. Throws shaderfit::Error when CUDA is unavailable.
   GpuScreen(std::span<const float> y, std::span<const float> w, std::span<const float> log2_y,
-            double wyy, LossKind loss);
+            double wyy, Loss loss);
   ~GpuScreen();
   GpuScreen(const GpuScreen&) = delete;
   GpuScreen& operator=(const GpuScreen&) = delete;

@@ -1,6 +1,6 @@
 // Internal: the enumeration's column step for the GPU -- one operator over operand columns gives
 // a candidate's screen column, its dedup key and its screen loss -- as scalar SF_CPU_GPU code
-// that gives the same bits as the CPU enumerator's kernels (src/search/enum_kernels.cpp:
+// that gives the same bits as the CPU enumerator's kernels (the search's enum_kernels.cpp:
 // compute_column, column_key, column_loss), so that a GPU enumeration deduplicates exactly as
 // the CPU one. sin and cos are the exception: they call the platform's sinf/cosf (CUDA's are
 // within 2 ulp of the CPU's).
@@ -18,7 +18,7 @@
 #include <limits>
 
 #include "gpu/program.hpp"
-#include "shaderfit/search/loss.hpp"
+#include "shaderfit/eval/loss.hpp"
 
 namespace shaderfit::gpu_detail {
 
@@ -206,7 +206,7 @@ struct ScreenTargetView {
   const float* w = nullptr;
   const float* log2_y = nullptr;  // needed for the log loss only
   double wyy = 0;
-  LossKind loss = LossKind::Mse;
+  Loss loss = Loss::Mse;
   std::size_t n = 0;
 };
 
@@ -221,7 +221,7 @@ struct ScreenLane {
     vmax = x > vmax ? x : vmax;
     const float w = t.w[i];
     switch (t.loss) {
-      case LossKind::MaxAbs: {
+      case Loss::MaxAbs: {
         nan += x * 0.0f;
         const float y = t.y[i];
         const float ap = w * screen_detail::abs_bits(x - y);
@@ -230,7 +230,7 @@ struct ScreenLane {
         b = an > b ? an : b;
         break;
       }
-      case LossKind::Log: {
+      case Loss::Log: {
         nan += x * 0.0f;
         const float ly = t.log2_y[i];
         const float fp = screen_log2(x > 1e-30f ? x : 1e-30f) - ly;
@@ -252,8 +252,8 @@ struct ScreenLane {
 // The loss part of column_loss from the eight lanes, folded in lane order.
 SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
                                         const ScreenTargetView& t, ScreenResult* out) {
-  const LossKind loss = t.loss;
-  const bool squared = loss != LossKind::MaxAbs && loss != LossKind::Log;
+  const Loss loss = t.loss;
+  const bool squared = loss != Loss::MaxAbs && loss != Loss::Log;
   float mn = screen_detail::kInf, mx = -screen_detail::kInf, nans = 0;
   double p = 0, m = 0;
   for (int l = 0; l < kScreenLanes; ++l) {
@@ -263,7 +263,7 @@ SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
     nans += s.nan;
     mn = s.vmin < mn ? s.vmin : mn;
     mx = s.vmax > mx ? s.vmax : mx;
-    if (loss == LossKind::MaxAbs) {
+    if (loss == Loss::MaxAbs) {
       p = lp > p ? lp : p;
       m = ln > m ? ln : m;
     } else {
@@ -271,11 +271,11 @@ SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
       m += ln;
     }
   }
-  if (loss == LossKind::Log) {
+  if (loss == Loss::Log) {
     constexpr double kLn2Sq = 0.4804530139182014;
     p *= kLn2Sq;
     m *= kLn2Sq;
-  } else if (loss != LossKind::MaxAbs) {
+  } else if (loss != Loss::MaxAbs) {
     p = p + t.wyy < 0.0 ? 0.0 : p + t.wyy;  // std::max(p + wyy, 0.0), NaN kept
     m = m + t.wyy < 0.0 ? 0.0 : m + t.wyy;
   }

@@ -31,10 +31,10 @@ detail::FvReference function_ref(FvFunction f) {
 
 ExactComparisonRow compare_row(const FvLutOptions& o, FvVariant v, const detail::FvReference& truth,
                                std::span<const detail::CellSpec> cells) {
-  const detail::FvReference seed =
-      function_ref([](double d, double f0, double r) { return fv_schlick_smith_lh(d, f0, r); });
-  const detail::FvReference peak =
-      function_ref([](double d, double f0, double r) { return fv_schlick_smith_peak(d, f0, r); });
+  const detail::FvReference seed = function_ref(
+      [](double d, double f0, double r) { return reference::fv_schlick_smith_lh(d, f0, r); });
+  const detail::FvReference peak = function_ref(
+      [](double d, double f0, double r) { return reference::fv_schlick_smith_peak(d, f0, r); });
   const EndpointAdjustment unused;
   const std::vector<FvCell> seed_cells = detail::fit_cells(o, v, seed, cells, unused);
   const std::vector<FvCell> exact_cells = detail::fit_cells(o, v, truth, cells, unused);
@@ -80,8 +80,8 @@ ExactComparison compare_with_exact(const FvLutOptions& options, FvVariant varian
   ExactComparison c;
   c.variant = variant;
   {
-    const detail::FvReference truth =
-        function_ref([](double d, double f0, double r) { return fv_exact_dielectric(d, f0, r); });
+    const detail::FvReference truth = function_ref(
+        [](double d, double f0, double r) { return reference::fv_exact_dielectric(d, f0, r); });
     ExactComparisonRow row =
         compare_row(options, variant, truth, detail::square_grid(options.size));
     row.material = "dielectrics (grid)";

@@ -100,7 +100,7 @@ std::vector<FvCell> fit_cells(const FvLutOptions& o, FvVariant v, const FvRefere
   all.clear();
   if (p.blocks.empty()) return out;
   FixedFormOptions fo;
-  fo.loss = Loss::log;  // the seed's log2(FV / f0) = A x^2 + B x + C
+  fo.loss = Loss::Log;  // the seed's log2(FV / f0) = A x^2 + B x + C
   fo.solver = SolverKind::linear;
   fo.threads = o.threads;
   FixedFormSummary s;

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "shaderfit/lut/fv_lut.hpp"
-#include "shaderfit/lut/fv_reference.hpp"
+#include "shaderfit/reference/fv_reference.hpp"
 
 namespace shaderfit::lut::detail {
 
@@ -19,7 +19,7 @@ struct FvReference {
   FvFunction function = nullptr;
   double n = 0, k = 0;  // conductor IOR
   double operator()(double d, double f0, double r) const {
-    return kind == Kind::function ? function(d, f0, r) : fv_exact_conductor(d, n, k, r);
+    return kind == Kind::function ? function(d, f0, r) : reference::fv_exact_conductor(d, n, k, r);
   }
 };
 

@@ -95,11 +95,11 @@ double EndpointAdjustment::operator()(double roughness) const {
 FvFunction reference_function(const FvLutOptions& o) {
   if (o.function != nullptr) return o.function;
   if (o.reference == "fv-schlick-smith-lh")
-    return [](double d, double f0, double r) { return fv_schlick_smith_lh(d, f0, r); };
+    return [](double d, double f0, double r) { return reference::fv_schlick_smith_lh(d, f0, r); };
   if (o.reference == "fv-schlick-smith")
-    return [](double d, double f0, double r) { return fv_schlick_smith_peak(d, f0, r); };
+    return [](double d, double f0, double r) { return reference::fv_schlick_smith_peak(d, f0, r); };
   if (o.reference == "fv-exact")
-    return [](double d, double f0, double r) { return fv_exact_dielectric(d, f0, r); };
+    return [](double d, double f0, double r) { return reference::fv_exact_dielectric(d, f0, r); };
   return nullptr;
 }
 
@@ -156,7 +156,7 @@ EndpointAdjustment derive_endpoint_adjustment(const FvLutOptions& o) {
       "f0 * exp2((s0 + s1*u + s2*u^2 + s3*u^3) * log2(4 / (roughness^4 * f0)) * x^2)", po);
   p.blocks.push_back(std::move(b));
   FixedFormOptions fo;
-  fo.loss = Loss::log;
+  fo.loss = Loss::Log;
   fo.threads = o.threads;
   FixedFormSummary s;
   solve_fixed_form(fo, p, &s);

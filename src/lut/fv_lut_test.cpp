@@ -8,7 +8,7 @@
 #include "image/test_readers.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/lut/fv_output.hpp"
-#include "shaderfit/lut/fv_reference.hpp"
+#include "shaderfit/reference/fv_reference.hpp"
 
 namespace shaderfit::lut {
 namespace {
@@ -98,7 +98,7 @@ TEST(FvLut, FailedCellsAreReportedByCoordinates) {
   FvLutOptions o = small();
   o.size = 4;
   o.function = [](double d, double f0, double r) {
-    return f0 > 0.5 && r < 0.3 ? NAN : fv_schlick_smith_lh(d, f0, r);
+    return f0 > 0.5 && r < 0.3 ? NAN : reference::fv_schlick_smith_lh(d, f0, r);
   };
   const std::array<FvVariant, 1> v = {FvVariant::constrained};
   const FvBake b = bake_fv_luts(o, v);

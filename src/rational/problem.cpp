@@ -49,7 +49,8 @@ std::vector<double> RationalProblem::target_parameter_values() const {
   for (const std::string& name : target.parameters()) {
     auto it = std::find(parameter_names.begin(), parameter_names.end(), name);
     if (it == parameter_names.end())
-      throw Error(fmt::format("target {} needs a value for its parameter {} (--param {}=...)",
+      throw Error(fmt::format("target {} needs a value for its parameter {} "
+                              "(RationalProblem::parameter_names {}=...)",
                               target.name(), name, name),
                   {"RationalProblem::parameter_values"});
     out.push_back(parameter_values[static_cast<std::size_t>(it - parameter_names.begin())]);
@@ -73,6 +74,8 @@ bool RationalOptions::is_valid(std::string* why) const {
     if (why) *why = m;
     return false;
   };
+  if (rank_by != Loss::Rmse && rank_by != Loss::MaxAbs && rank_by != Loss::MaxRel)
+    return fail("rank_by must be rmse, max_abs or max_rel");
   if (coefficient_count < 0) return fail("coefficient_count must be 0 or more");
   if (coefficient_count > 2 * kMaxIntegerPower + 1) return fail("coefficient_count is above 33");
   if (samples < 16) return fail("samples must be at least 16");
@@ -95,13 +98,17 @@ const char* form_status_name(FormStatus s) {
   return "?";
 }
 
-double FormResult::error(ErrorMetric m) const {
-  switch (m) {
-    case ErrorMetric::Rmse: return rmse;
-    case ErrorMetric::MaxAbs: return max_abs;
-    case ErrorMetric::MaxRel: return max_rel;
+double FormResult::error(Loss by) const {
+  switch (by) {
+    case Loss::Rmse: return rmse;
+    case Loss::MaxAbs: return max_abs;
+    case Loss::MaxRel: return max_rel;
+    case Loss::Mse:
+    case Loss::Relative:
+    case Loss::Log: break;
   }
-  return rmse;
+  throw Error("forms are ranked by rmse, max_abs or max_rel, not " + std::string(loss_name(by)),
+              {"RationalOptions::rank_by"});
 }
 
 }  // namespace shaderfit::rational

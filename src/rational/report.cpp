@@ -9,13 +9,13 @@ namespace shaderfit::rational {
 
 namespace {
 
-const char* metric_name(ErrorMetric m) {
-  switch (m) {
-    case ErrorMetric::Rmse: return "RMSE";
-    case ErrorMetric::MaxAbs: return "max abs";
-    case ErrorMetric::MaxRel: return "max rel";
+const char* metric_name(Loss by) {
+  switch (by) {
+    case Loss::Rmse: return "RMSE";
+    case Loss::MaxAbs: return "max abs";
+    case Loss::MaxRel: return "max rel";
+    default: return "?";  // not a ranking (RationalOptions::is_valid)
   }
-  return "?";
 }
 
 }  // namespace

@@ -322,7 +322,7 @@ void solve(const RationalOptions& options, const RationalProblem& problem,
   summary->rank_by = options.rank_by;
   summary->results.clear();
   for (const RationalForm& f : forms) summary->results.push_back(solve_in(options, problem, ws, f));
-  const ErrorMetric by = options.rank_by;
+  const Loss by = options.rank_by;
   std::stable_sort(summary->results.begin(), summary->results.end(),
                    [by](const FormResult& a, const FormResult& b) {
                      if (a.usable() != b.usable()) return a.usable();

@@ -144,6 +144,22 @@ TEST(RationalSolve, CountMismatchAndDomainErrors) {
   }
 }
 
+TEST(RationalSolve, RanksByRmseMaxAbsOrMaxRelOnly) {
+  RationalProblem p = problem_of("exp", {}, {}, {0, 1}, {"f(0) = 1", "f(1) = 2"});
+  RationalOptions o;
+  o.rank_by = Loss::MaxRel;
+  RationalSummary s;
+  solve(o, p, &s);
+  ASSERT_FALSE(s.results.empty());
+  EXPECT_EQ(s.results.front().error(Loss::MaxRel), s.results.front().max_rel);
+  o.rank_by = Loss::Mse;
+  std::string why;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_NE(why.find("rank_by"), std::string::npos) << why;
+  EXPECT_THROW(solve(o, p, &s), Error);
+  EXPECT_THROW((void)s.results.front().error(Loss::Log), Error);
+}
+
 TEST(RationalSolve, LeastSquaresKeepsConditionsExact) {
   RationalProblem p =
       problem_of("fresnel-dielectric-f0", {"F0"}, {0.04}, {0, 1}, {"f(0) = 1", "f(1) = F0"});

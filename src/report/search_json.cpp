@@ -30,7 +30,7 @@ nlohmann::json search_options_json(const SearchOptions& o) {
                    },
                    [&](std::vector<double> O::*m) { return json(o.*m); },
                    [&](std::vector<Op> O::*) { return json(search_option_text(o, f)); },
-                   [&](LossKind O::*) { return json(search_option_text(o, f)); },
+                   [&](Loss O::*) { return json(search_option_text(o, f)); },
                    [&](CostTarget O::*) { return json(search_option_text(o, f)); },
                    [&](ComputeDevice O::*) { return json(search_option_text(o, f)); },
                    [&](auto m) { return json(o.*m); }},

@@ -65,7 +65,11 @@ Checkpoint sample_checkpoint() {
   m.cost = 4;
   m.nodes = m.expression.size();
   m.loss = 0.1;
-  m.metrics = {0.1, std::sqrt(0.1), 5e-324, std::numeric_limits<double>::quiet_NaN(), -0.0};
+  m.metrics = {.mse = 0.1,
+               .rmse = std::sqrt(0.1),
+               .max_abs = 5e-324,
+               .rel = std::numeric_limits<double>::quiet_NaN(),
+               .log = -0.0};
   m.time_s = 1.0 / 3.0;
   m.origin = SearchPhase::Enumeration;
   c.front.push_back(m);

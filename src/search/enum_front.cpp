@@ -38,7 +38,7 @@ void Enumerator::setup_full_rows() {
   f.y = padded(p.target);
   f.w.assign(f.n, 0.0f);
   f.log2_y.assign(f.n, 0.0f);
-  const LossKind loss = ctx_.options.loss;
+  const Loss loss = ctx_.options.loss;
   double sum_w = 0;
   for (std::size_t i = 0; i < rows; ++i) sum_w += p.weights.empty() ? 1.0 : p.weights[i];
   f.wyy = 0;
@@ -46,8 +46,8 @@ void Enumerator::setup_full_rows() {
     const double w = p.weights.empty() ? 1.0 : p.weights[i];
     const double y = p.target[i];
     double wi = w / sum_w;
-    if (loss == LossKind::Relative) wi = y != 0 ? wi / (y * y) : 0.0;
-    if (loss == LossKind::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
+    if (loss == Loss::Relative) wi = y != 0 ? wi / (y * y) : 0.0;
+    if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
     f.w[i] = static_cast<float>(wi);
     f.log2_y[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
     f.wyy += wi * static_cast<double>(f.y[i]) * f.y[i];
@@ -134,7 +134,7 @@ template <typename Negated>
 void Enumerator::offer_scored(Expression e, Negated negated, float screen_loss) {
   std::vector<double> f(ctx_.rows);
   ctx_.predict(e, f);
-  const LossKind kind = ctx_.options.loss;
+  const Loss kind = ctx_.options.loss;
   const auto& target = ctx_.problem.target;
   const auto& weights = ctx_.problem.weights;
   const double pos = loss_of(kind, f, target, weights);

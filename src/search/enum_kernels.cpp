@@ -223,8 +223,8 @@ SF_KERNEL void column_key(const float* v, ColumnStats* s) {
 SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnStats* s) {
   const std::size_t n = target.n;
   v8f vmin = splat(kInf), vmax = splat(-kInf), lp = {}, ln = {}, nan = {};
-  const LossKind loss = target.loss;
-  if (loss != LossKind::MaxAbs && loss != LossKind::Log) {
+  const Loss loss = target.loss;
+  if (loss != Loss::MaxAbs && loss != Loss::Log) {
     // sum w (x -+ y)^2 = sum w x^2 -+ 2 sum w x y + sum w y^2: two accumulators serve both signs.
     v8f sxx = {}, sxy = {};
     for (std::size_t i = 0; i < n; i += 8) {
@@ -236,7 +236,7 @@ SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnSta
     }
     lp = sxx - 2.0f * sxy;
     ln = sxx + 2.0f * sxy;
-  } else if (loss == LossKind::MaxAbs) {
+  } else if (loss == Loss::MaxAbs) {
     for (std::size_t i = 0; i < n; i += 8) {
       const v8f x = load(v + i), y = load(target.y + i), w = load(target.w + i);
       nan += x * 0.0f;  // NaN if any value is NaN or infinite
@@ -265,7 +265,7 @@ SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnSta
     nans += nan[l];
     mn = vmin[l] < mn ? vmin[l] : mn;
     mx = vmax[l] > mx ? vmax[l] : mx;
-    if (loss == LossKind::MaxAbs) {
+    if (loss == Loss::MaxAbs) {
       p = lp[l] > p ? lp[l] : p;
       m = ln[l] > m ? ln[l] : m;
     } else {
@@ -273,11 +273,11 @@ SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnSta
       m += ln[l];
     }
   }
-  if (loss == LossKind::Log) {
+  if (loss == Loss::Log) {
     constexpr double kLn2Sq = 0.4804530139182014;  // (ln 2)^2: log2 differences to natural log
     p *= kLn2Sq;
     m *= kLn2Sq;
-  } else if (loss != LossKind::MaxAbs) {
+  } else if (loss != Loss::MaxAbs) {
     p = std::max(p + target.wyy, 0.0);
     m = std::max(m + target.wyy, 0.0);
   }

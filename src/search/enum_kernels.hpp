@@ -13,8 +13,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/op.hpp"
-#include "shaderfit/search/loss.hpp"
 
 namespace shaderfit::search_detail {
 
@@ -46,7 +46,7 @@ struct ScreenTarget {
   const float* w = nullptr;       // for Relative: w / y^2; for MaxAbs: 1 or 0 (row selected)
   const float* log2_y = nullptr;  // log2(y), for the Log loss
   double wyy = 0;                 // sum w y^2 (squared losses expand around it)
-  LossKind loss = LossKind::Mse;
+  Loss loss = Loss::Mse;
   std::size_t n = 0;
 };
 

@@ -94,7 +94,7 @@ TEST(EnumKernels, LossOfBothSignsAndValidity) {
     lp += w[i] * (x[i] - y[i]) * (x[i] - y[i]);
     ln += w[i] * (x[i] + y[i]) * (x[i] + y[i]);
   }
-  const ScreenTarget t{y.data(), w.data(), ly.data(), wyy, LossKind::Mse, kRows};
+  const ScreenTarget t{y.data(), w.data(), ly.data(), wyy, Loss::Mse, kRows};
   const ColumnStats s = analyze_column(x.data(), t);
   EXPECT_TRUE(s.valid);
   EXPECT_NEAR(s.loss_pos, lp, 1e-5);
@@ -112,7 +112,7 @@ TEST(EnumKernels, FusedSumsInClosedFormMatchTheirColumns) {
   std::vector<float> w(kRows, 1.0f / kRows), ly(kRows, 0.0f);
   double wyy = 0;
   for (std::size_t i = 0; i < kRows; ++i) wyy += w[i] * y[i] * y[i];
-  const ScreenTarget t{y.data(), w.data(), ly.data(), wyy, LossKind::Mse, kRows};
+  const ScreenTarget t{y.data(), w.data(), ly.data(), wyy, Loss::Mse, kRows};
   FusedScreen fs;
   fs.y = y.data();
   fs.w = w.data();

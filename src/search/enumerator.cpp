@@ -62,7 +62,7 @@ void Enumerator::setup_screen(Rng& rng) {
   screen_rows_picked_ = picked;
 
   const SearchProblem& p = ctx_.problem;
-  const LossKind loss = ctx_.options.loss;
+  const Loss loss = ctx_.options.loss;
   screen_y_.resize(screen_rows_);
   screen_w_.resize(screen_rows_);
   screen_log2_y_.resize(screen_rows_);
@@ -74,12 +74,12 @@ void Enumerator::setup_screen(Rng& rng) {
     screen_y_[i] = static_cast<float>(y);
     screen_log2_y_[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
     double wi = w;
-    if (loss == LossKind::Relative) wi = y != 0 ? w / (y * y) : 0.0;
-    if (loss == LossKind::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
+    if (loss == Loss::Relative) wi = y != 0 ? w / (y * y) : 0.0;
+    if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
     screen_w_[i] = static_cast<float>(wi);
     sum_w += w;
   }
-  if (loss != LossKind::MaxAbs && sum_w > 0) {
+  if (loss != Loss::MaxAbs && sum_w > 0) {
     for (float& w : screen_w_) w = static_cast<float>(w / sum_w);
   }
   double wyy = 0;

@@ -47,7 +47,7 @@ class Evolution {
   };
   struct Candidate {  // for the front, scored on every row
     Expression expr;
-    LossMetrics metrics;
+    ErrorMetrics metrics;
   };
   struct Island {
     Rng rng;

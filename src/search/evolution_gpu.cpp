@@ -10,7 +10,7 @@ namespace shaderfit::search_detail {
 
 void Evolution::evaluate_on_gpu(std::vector<Individual>& batch, Island& island) const {
   if (batch.empty()) return;
-  const LossKind loss = ctx_.options.loss;
+  const Loss loss = ctx_.options.loss;
   std::vector<const Expression*> population;
   std::size_t nodes = 0;
   for (Individual& ind : batch) {

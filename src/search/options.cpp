@@ -105,7 +105,12 @@ const SearchOptionField kFields[] = {
      .member = &O::loss,
      .role = Role::Search,
      .help = "mse, rmse, max_abs, rel or log",
-     .choices = "mse, rmse, max_abs, rel, log"},
+     .choices = "mse, rmse, max_abs, rel, log",
+     .check =
+         [](const O& o) {
+           return o.loss == Loss::MaxRel ? std::string("must be mse, rmse, max_abs, rel or log")
+                                         : std::string();
+         }},
     {.name = "cost",
      .member = &O::cost,
      .role = Role::Search,
@@ -289,6 +294,12 @@ std::vector<std::string_view> split(std::string_view list) {
   return out;
 }
 
+// max_rel ranks rational forms; the search cannot use it.
+std::optional<Loss> search_loss_from_name(std::string_view name) {
+  const auto loss = loss_from_name(name);
+  return loss == Loss::MaxRel ? std::nullopt : loss;
+}
+
 template <class E, class FromName>
 E choice_from(const SearchOptionField& f, std::string_view text, FromName from_name) {
   const auto v = from_name(text);
@@ -299,6 +310,8 @@ E choice_from(const SearchOptionField& f, std::string_view text, FromName from_n
 }
 
 }  // namespace
+
+SearchOptions::SearchOptions() = default;
 
 std::span<const SearchOptionField> search_option_fields() { return kFields; }
 
@@ -316,7 +329,7 @@ OptionKind search_option_kind(const SearchOptionField& field) {
                  [](std::optional<SearchTarget> O::*) { return OptionKind::StopTarget; },
                  [](std::vector<double> O::*) { return OptionKind::Reals; },
                  [](std::vector<Op> O::*) { return OptionKind::Operators; },
-                 [](LossKind O::*) { return OptionKind::Choice; },
+                 [](Loss O::*) { return OptionKind::Choice; },
                  [](CostTarget O::*) { return OptionKind::Choice; },
                  [](ComputeDevice O::*) { return OptionKind::Choice; },
                  [](auto) { return OptionKind::Integer; }},
@@ -359,7 +372,7 @@ std::string search_option_text(const SearchOptions& o, const SearchOptionField& 
                    return s;
                  },
                  [&](std::vector<Op> O::*m) { return operator_list_name(o.*m); },
-                 [&](LossKind O::*m) { return std::string(loss_name(o.*m)); },
+                 [&](Loss O::*m) { return std::string(loss_name(o.*m)); },
                  [&](CostTarget O::*m) { return std::string(cost_target_name(o.*m)); },
                  [&](ComputeDevice O::*m) { return std::string(device_name(o.*m)); },
                  [&](auto m) { return std::to_string(o.*m); }},
@@ -406,7 +419,7 @@ void set_search_option(SearchOptions& o, const SearchOptionField& f, std::string
             else
               o.*m = parse_operator_list(text, {search_option_location(f)});
           },
-          [&](LossKind O::*m) { o.*m = choice_from<LossKind>(f, text, loss_from_name); },
+          [&](Loss O::*m) { o.*m = choice_from<Loss>(f, text, search_loss_from_name); },
           [&](CostTarget O::*m) { o.*m = choice_from<CostTarget>(f, text, cost_target_from_name); },
           [&](ComputeDevice O::*m) {
             o.*m = choice_from<ComputeDevice>(f, text, device_from_name);

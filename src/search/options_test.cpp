@@ -4,7 +4,7 @@
 
 #include <set>
 
-#include "shaderfit/search/loss.hpp"
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -93,53 +93,25 @@ TEST(SearchProblem, ValidationErrors) {
   EXPECT_NE(message(weights).find("sum to 0"), std::string::npos);
 }
 
-TEST(Loss, Definitions) {
-  const std::vector<double> p = {1.0, 2.0, 4.0}, t = {1.0, 1.0, 2.0}, w = {1.0, 1.0, 2.0};
-  const LossMetrics m = loss_metrics(p, t);
-  EXPECT_DOUBLE_EQ(m.mse, (0 + 1 + 4) / 3.0);
-  EXPECT_DOUBLE_EQ(m.rmse, std::sqrt(5 / 3.0));
-  EXPECT_DOUBLE_EQ(m.max_abs, 2.0);
-  EXPECT_DOUBLE_EQ(m.rel, (0 + 1 + 1) / 3.0);
-  EXPECT_NEAR(m.log, (0 + std::log(2.0) * std::log(2.0) * 2) / 3.0, 1e-15);
-  const LossMetrics mw = loss_metrics(p, t, w);
-  EXPECT_DOUBLE_EQ(mw.mse, (0 + 1 + 2 * 4) / 4.0);
-  EXPECT_EQ(loss_value(LossKind::MaxAbs, m), 2.0);
-  // Non-finite predictions make every metric infinite; a zero target leaves rel undefined.
-  EXPECT_TRUE(std::isinf(loss_metrics(std::vector<double>{1, NAN, 2}, t).mse));
-  EXPECT_TRUE(std::isnan(loss_metrics(p, std::vector<double>{0, 1, 2}).rel));
-  EXPECT_EQ(loss_from_name("max"), LossKind::MaxAbs);
-  EXPECT_EQ(loss_from_name("relative"), LossKind::Relative);
-  EXPECT_FALSE(loss_from_name("l1").has_value());
-  EXPECT_EQ(loss_name(LossKind::Log), "log");
-}
-
 TEST(Search, LossesCheckTheirTarget) {
   SearchProblem p;
   p.input_names = {"x"};
   p.inputs = {{1.0, 2.0, 3.0}};
   p.target = {0.0, 2.0, 3.0};
   SearchOptions o;
-  o.loss = LossKind::Log;
+  o.loss = Loss::Log;
   SearchSummary s;
   EXPECT_THROW(run_search(o, p, &s), Error);
-  o.loss = LossKind::Relative;
+  o.loss = Loss::Relative;
   EXPECT_THROW(run_search(o, p, &s), Error);
 }
 
-}  // namespace
-}  // namespace shaderfit
-
-namespace shaderfit {
-namespace {
-
-TEST(Loss, LossOfAgreesWithTheMetrics) {
-  const std::vector<double> p = {1.0, 2.5, 4.0, 0.5}, t = {1.5, 1.0, 2.0, 0.25},
-                            w = {1.0, 0.0, 2.0, 1.0};
-  for (LossKind k :
-       {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
-    EXPECT_DOUBLE_EQ(loss_of(k, p, t), loss_value(k, loss_metrics(p, t))) << loss_name(k);
-    EXPECT_DOUBLE_EQ(loss_of(k, p, t, w), loss_value(k, loss_metrics(p, t, w))) << loss_name(k);
-  }
+TEST(SearchOptions, MaxRelIsNotASearchLoss) {
+  SearchOptions o;
+  o.loss = Loss::MaxRel;
+  std::string why;
+  EXPECT_FALSE(o.is_valid(&why));
+  EXPECT_NE(why.find("loss"), std::string::npos) << why;
 }
 
 }  // namespace

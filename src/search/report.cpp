@@ -25,14 +25,14 @@ std::string SearchSummary::brief_report() const {
   return s + front_table(*this);
 }
 
-std::string front_member_line(const FrontMember& m, LossKind loss) {
+std::string front_member_line(const FrontMember& m, Loss loss) {
   return fmt::format("[{}] {}={:.3g} cost={:g}  {}", when(m.time_s), loss_name(loss), m.loss,
                      m.cost, m.formula);
 }
 
-std::string front_table(const SearchSummary& s, LossKind loss) {
+std::string front_table(const SearchSummary& s, Loss loss) {
   std::string out = fmt::format("{:>6} {:>5} {:>10} {:>10} {:>10} {:>10}  {}\n", "cost", "nodes",
-                                loss == LossKind::Mse ? "mse" : std::string(loss_name(loss)), "mse",
+                                loss == Loss::Mse ? "mse" : std::string(loss_name(loss)), "mse",
                                 "max_abs", "found", "formula");
   bool unstable = false;
   for (const FrontMember& m : s.front) {

@@ -85,10 +85,10 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
                 SearchSummary* summary) {
   problem.validate();
   options.validate();
-  if (options.loss == LossKind::Relative &&
+  if (options.loss == Loss::Relative &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
     throw Error("the rel loss needs a target that is never 0", {"SearchOptions::loss"});
-  if (options.loss == LossKind::Log &&
+  if (options.loss == Loss::Log &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});
 

@@ -81,11 +81,11 @@ void SearchContext::predict(const Expression& e, std::span<double> out) {
   node_evaluations.fetch_add(e.size() * rows, std::memory_order_relaxed);
 }
 
-LossMetrics SearchContext::metrics_of(std::span<const double> prediction) const {
-  return loss_metrics(prediction, problem.target, problem.weights);
+ErrorMetrics SearchContext::metrics_of(std::span<const double> prediction) const {
+  return error_metrics(prediction, problem.target, {}, problem.weights);
 }
 
-LossMetrics SearchContext::score(const Expression& e) {
+ErrorMetrics SearchContext::score(const Expression& e) {
   std::vector<double> out(rows);
   predict(e, out);
   return metrics_of(out);

@@ -55,9 +55,9 @@ class SearchContext {
 
   // e on every row (double precision; out has `rows` entries), counting its node evaluations.
   void predict(const Expression& e, std::span<double> out);
-  [[nodiscard]] LossMetrics metrics_of(std::span<const double> prediction) const;
+  [[nodiscard]] ErrorMetrics metrics_of(std::span<const double> prediction) const;
   // The loss metrics of e on every row.
-  LossMetrics score(const Expression& e);
+  ErrorMetrics score(const Expression& e);
   // Fills in a front member for e (which must be over the problem's inputs) and offers it.
   // Returns whether it entered the front. `loss_estimate` (the caller's full-data loss of e or
   // of an equivalent form, e.g. before simplification) only pre-selects: a formula that may

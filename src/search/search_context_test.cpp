@@ -28,17 +28,17 @@ SearchProblem grid_problem() {
 
 Expression formula(const char* text) { return parse_formula(text, {.variables = {"x"}}); }
 
-// The metrics loss_metrics gives, which skip rows of weight 0.
-LossMetrics weighted_metrics(const Expression& e, const SearchProblem& p) {
+// The metrics error_metrics gives, which skip rows of weight 0.
+ErrorMetrics weighted_metrics(const Expression& e, const SearchProblem& p) {
   std::vector<double> f(p.target.size());
   const double* col = p.inputs[0].data();
   evaluate(e, std::span<const double* const>(&col, 1), f, {.threads = 1});
-  return loss_metrics(f, p.target, p.weights);
+  return error_metrics(f, p.target, {}, p.weights);
 }
 
 TEST(SearchContext, NonFiniteOnAnyRowNeverEntersTheFront) {
   const SearchProblem p = grid_problem();
-  for (LossKind loss : {LossKind::Mse, LossKind::MaxAbs}) {
+  for (Loss loss : {Loss::Mse, Loss::MaxAbs}) {
     SearchOptions o;
     o.loss = loss;
     SearchContext ctx(o, p);

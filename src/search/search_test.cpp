@@ -33,7 +33,7 @@ double mse_of(const char* formula, const SearchProblem& p) {
   for (const auto& c : p.inputs) cols.push_back(c.data());
   std::vector<double> f(p.target.size());
   evaluate(e, cols, f, {.threads = 1});
-  return loss_metrics(f, p.target).mse;
+  return error_metrics(f, p.target).mse;
 }
 
 const FrontMember* best_within(const SearchSummary& s, double max_cost) {
@@ -147,8 +147,7 @@ TEST(Search, InterruptReturnsTheFrontSoFar) {
 
 TEST(Search, EveryLossRuns) {
   const SearchProblem p = seed_problem();
-  for (LossKind k :
-       {LossKind::Mse, LossKind::Rmse, LossKind::MaxAbs, LossKind::Relative, LossKind::Log}) {
+  for (Loss k : {Loss::Mse, Loss::Rmse, Loss::MaxAbs, Loss::Relative, Loss::Log}) {
     SearchOptions o;
     o.loss = k;
     o.evolve = false;

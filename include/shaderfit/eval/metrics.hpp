@@ -1,7 +1,23 @@
-// Error metrics of an approximation against a target, overall and per group of rows.
+// Error metrics of an approximation against a target, overall and per group of rows: every
+// number a loss (eval/loss.hpp) minimises or a report shows is defined here, once.
 //
-//   ErrorMetrics m = error_metrics(predicted, target);
-//   m.mse, m.rmse, m.max_abs, m.max_rel
+//   ErrorMetrics m = error_metrics(predicted, target);               // every row, unweighted
+//   ErrorMetrics g = error_metrics(predicted, target, rows, weights);  // a subset, weighted
+//   m.mse, m.rmse, m.max_abs, m.max_rel, m.rel, m.log
+//
+// Definitions. p = prediction, t = target, w = weight (1 when no weights are given). The rows
+// taken are the selected ones (all when no selection is given) with w > 0; sums run over those
+// where p is finite, in row order:
+//   mse      sum w (p - t)^2 / sum w
+//   rmse     sqrt(mse)
+//   max_abs  max |p - t|                     (weights only select rows)
+//   max_rel  max |p - t| / |t| over rows with t != 0 (weights only select rows); 0 if none
+//   rel      sum w ((p - t) / t)^2 / sum w   mean squared relative error; NaN when some t == 0
+//   log      sum w (ln p - ln t)^2 / sum w   mean squared log error (natural log); NaN when some
+//            t <= 0, and p <= 0 is scored as p = 1e-30 (a large but finite penalty)
+// A row where p is NaN or infinite counts in `nonfinite` and makes mse, rmse, max_abs, rel and
+// log +infinity (max_rel stays the largest over the finite rows). With no row taken every metric
+// is 0.
 #pragma once
 
 #include <cstddef>
@@ -13,17 +29,19 @@
 namespace shaderfit {
 
 struct ErrorMetrics {
-  std::size_t rows = 0;
-  double mse = 0;      // mean of (p - t)^2
-  double rmse = 0;     // sqrt(mse)
-  double max_abs = 0;  // max |p - t|
-  double max_rel = 0;  // max |p - t| / |t| over rows with t != 0 (0 when there are none)
-  std::size_t nonfinite = 0;  // rows where p is NaN or infinite; they make mse and max_abs infinite
+  std::size_t rows = 0;  // rows taken (selected, with weight > 0)
+  double mse = 0;
+  double rmse = 0;
+  double max_abs = 0;
+  double max_rel = 0;
+  double rel = 0;
+  double log = 0;
+  std::size_t nonfinite = 0;  // rows taken where the prediction is NaN or infinite
 };
 
-// Metrics over the rows selected by `rows` (all rows when empty). Weights, when given, weight
-// the mean squared error (normalised by their sum); the max errors ignore them.
-ErrorMetrics error_metrics(std::span<const double> predicted, std::span<const double> target,
+// The metrics over the rows selected by `rows` (indices into prediction and target; all rows
+// when empty), weighted by `weights` (empty: all 1; else one per row of prediction and target).
+ErrorMetrics error_metrics(std::span<const double> prediction, std::span<const double> target,
                            std::span<const std::size_t> rows = {},
                            std::span<const double> weights = {});
 

@@ -8,7 +8,7 @@
 //   problem.constraints.push_back(parse_constraint("C = 0", problem.formula));
 //   problem.blocks.push_back(block);  // FitBlock: columns f0 and x, the target, optional weights
 //   FixedFormOptions options;
-//   options.loss = Loss::log;         // fit log2(formula) to log2(target): linear in A, B, C
+//   options.loss = Loss::Log;         // fit log2(formula) to log2(target): linear in A, B, C
 //   FixedFormSummary summary;
 //   solve_fixed_form(options, problem, &summary);
 //   std::cout << summary.brief_report();      // summary.blocks[0].parameters = {A, B, 0}
@@ -17,7 +17,7 @@
 // with scope per_block take one value per block; global ones are shared by every block and are
 // fitted jointly with the per-block ones. Solvers: when the fitted quantity (the formula, or its
 // transform) is linear in the parameters, one constrained linear least-squares solve; otherwise
-// Levenberg-Marquardt with forward-mode Jacobians. Loss::max minimises the largest weighted
+// Levenberg-Marquardt with forward-mode Jacobians. Loss::MaxAbs minimises the largest weighted
 // residual by Lawson's iteratively reweighted least squares. Linear equality constraints are
 // eliminated (the solve runs on the remaining free parameters, so they hold exactly); nonlinear
 // ones are linearised and the iterate is projected back onto them after every step.
@@ -29,23 +29,23 @@
 #include <utility>
 #include <vector>
 
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/fit/constraint.hpp"
 
 namespace shaderfit {
-
-enum class Loss {
-  squared,  // weighted mean of (f - y)^2, in the transformed space when there is a transform
-  log,      // weighted mean of (log2 f - log2 y)^2; targets must be positive
-  max,      // max over rows of w |f - y| (minimax), in the transformed space if any
-};
 
 enum class SolverKind { automatic, linear, levenberg_marquardt };
 
 enum class ParameterScope { global, per_block };
 
 struct FixedFormOptions {
-  Loss loss = Loss::squared;
+  // What the fit minimises (eval/loss.hpp), over the residuals f - y with the block weights w:
+  //   Mse     sum w (f - y)^2 / sum w, in the transformed space when there is a transform
+  //   Log     sum w (log2 f - log2 y)^2 / sum w (the transform log2(y)); targets must be > 0
+  //   MaxAbs  max over rows of w |f - y| (weighted minimax), in the transformed space if any
+  // Other losses are refused (Error at FixedFormOptions::loss).
+  Loss loss = Loss::Mse;
   // automatic: linear least squares when the fitted quantity is linear in the parameters, else
   // Levenberg-Marquardt. linear: fail (Error) when it is not. levenberg_marquardt: always.
   SolverKind solver = SolverKind::automatic;
@@ -53,7 +53,7 @@ struct FixedFormOptions {
   double function_tolerance = 1e-12;   // stop when a step lowers the cost by less, relatively
   double parameter_tolerance = 1e-12;  // stop when a step is smaller, relative to the parameters
   double initial_lambda = 1e-3;        // damping, relative to the diagonal of J^T W J
-  int minimax_iterations = 300;        // Lawson reweighting passes for Loss::max
+  int minimax_iterations = 300;        // Lawson reweighting passes for Loss::MaxAbs
   // A design column (after scaling to unit length) whose pivot falls below this, relative to the
   // largest, is dependent on the others: the system is singular.
   double rank_tolerance = 1e-10;
@@ -64,8 +64,8 @@ struct FixedFormOptions {
   // of all blocks; larger problems are refused.
   std::size_t max_coupled_parameters = 2000;
 
-  // False, with the reason in *why, for a non-positive count or tolerance or a negative thread
-  // count.
+  // False, with the reason in *why, for a loss the fit does not minimise, a non-positive count
+  // or tolerance or a negative thread count.
   bool is_valid(std::string* why) const;
 };
 
@@ -95,7 +95,7 @@ struct FixedFormProblem {
 struct BlockResult {
   std::string label;
   std::vector<double> parameters;  // every parameter's value in this block, formula order
-  double initial_cost = 0;         // the loss at the start (Loss::max: largest weighted |residual|)
+  double initial_cost = 0;         // the loss at the start (MaxAbs: largest weighted |residual|)
   double final_cost = 0;           // and at `parameters`
   double rms = 0;                  // unweighted RMS residual, in the fitted (transformed) space
   double max_abs = 0;              // largest |residual| there
@@ -125,7 +125,7 @@ struct FixedFormSummary {
 // Fits the problem. Throws shaderfit::Error, naming the problem, for: invalid options; a formula
 // without free parameters; scopes of the wrong length; a transform with variables the formula
 // lacks; a block whose columns do not match the formula or whose weights are negative or not
-// finite (its label and row); a non-positive target under Loss::log; a constraint that names an
+// finite (its label and row); a non-positive target under Loss::Log; a constraint that names an
 // unknown parameter or lacks a variable's value; SolverKind::linear on a nonlinear problem; and,
 // when there is a single block or every block fails the same way, a constraint that contradicts
 // the others or a singular system (parameters the data and constraints do not determine).

@@ -3,9 +3,9 @@
 //
 //   GpuEvaluator gpu(columns, target);  // data uploaded once: inputs as float32, target as is
 //   std::vector<const Expression*> population = ...;  // over the same variables, in order
-//   std::vector<PopulationScore> s = gpu.evaluate_population(population, LossKind::Mse);
+//   std::vector<PopulationScore> s = gpu.evaluate_population(population, Loss::Mse);
 //   LinearScaling ab = s[0].linear_scaling();      // the best a * f + b, from the sums
-//   auto scaled = gpu.evaluate_population(population, LossKind::Mse, {&ab, 1});  // ...its loss
+//   auto scaled = gpu.evaluate_population(population, Loss::Mse, {&ab, 1});  // ...its loss
 //
 // Formulas are evaluated in float32 with the semantics of expr/op.hpp (as a shader would); the
 // sums are accumulated in float64. Results match the CPU path within float32 tolerance
@@ -19,9 +19,9 @@
 #include <span>
 #include <vector>
 
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/fit/linear.hpp"
-#include "shaderfit/search/loss.hpp"
 
 namespace shaderfit {
 
@@ -68,7 +68,7 @@ class GpuEvaluator {
   // 63 nodes has); otherwise Error.
   // `scaling` is empty or has one entry per formula (only a and b are read).
   [[nodiscard]] std::vector<PopulationScore> evaluate_population(
-      std::span<const Expression* const> population, LossKind loss,
+      std::span<const Expression* const> population, Loss loss,
       std::span<const LinearScaling> scaling = {}) const;
 
   // The normal equations of a fit linear in its coefficients; 1 <= basis.size() <= 8.

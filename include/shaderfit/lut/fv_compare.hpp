@@ -1,5 +1,5 @@
 // Beyond seed 002: how close the fitted FV gets to the ground truth, exact Fresnel x exact Smith
-// GGX visibility (lut/fv_reference.hpp), compared with Schlick x Schlick-Smith.
+// GGX visibility (reference/fv_reference.hpp), compared with Schlick x Schlick-Smith.
 //
 //   ExactComparison c = compare_with_exact(options, FvVariant::clamped);
 //   for (const auto& row : c.rows) row.exact_fit.mean_log2 ...

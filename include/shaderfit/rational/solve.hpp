@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/rational/condition.hpp"
 #include "shaderfit/rational/minimax.hpp"
@@ -42,7 +43,6 @@
 namespace shaderfit::rational {
 
 enum class Fit { None, LeastSquares, Minimax };
-enum class ErrorMetric { Rmse, MaxAbs, MaxRel };
 
 struct RationalProblem {
   Target target = Target::builtin("exp");
@@ -69,7 +69,9 @@ struct RationalOptions {
   std::vector<Transform> transforms;  // empty: x and the domain's reflection (1 - x on [0, 1])
   Fit fit = Fit::None;
   bool relative_minimax = false;  // Fit::Minimax of |error / f| instead of |error|
-  ErrorMetric rank_by = ErrorMetric::Rmse;
+  // The error the results are ranked by: Loss::Rmse, MaxAbs or MaxRel (FormResult's rmse,
+  // max_abs, max_rel); other losses are refused (Error at RationalOptions::rank_by).
+  Loss rank_by = Loss::Rmse;
   double ill_conditioned = 1e10;  // linear systems with a larger condition number are flagged
   int samples = 2049;             // uniform points for the error metrics and least squares
   MinimaxOptions minimax;
@@ -95,12 +97,13 @@ struct FormResult {
   [[nodiscard]] bool usable() const {
     return status == FormStatus::Ok || status == FormStatus::IllConditioned;
   }
-  [[nodiscard]] double error(ErrorMetric m) const;
+  // rmse, max_abs or max_rel for Loss::Rmse, MaxAbs, MaxRel; throws Error for the others.
+  [[nodiscard]] double error(Loss by) const;
 };
 
 struct RationalSummary {
   std::string variable;  // the target's variable, as the formulas use it
-  ErrorMetric rank_by = ErrorMetric::Rmse;
+  Loss rank_by = Loss::Rmse;
   std::vector<FormResult> results;  // usable forms by ascending error, then the others
   std::vector<std::size_t> pareto;  // indices of results on the error-cost front, cheapest first
 

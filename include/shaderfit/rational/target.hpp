@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/reference/builtin.hpp"
 
 namespace shaderfit::rational {
 
@@ -34,9 +35,12 @@ struct Interval {
 
 class Target {
  public:
-  // A built-in reference function by name (see builtin_target_names()). Throws shaderfit::Error
-  // naming the known names when `name` is not one of them.
-  static Target builtin(std::string_view name);
+  // A built-in reference function by name (reference/builtin.hpp, those listed as rational
+  // targets): its first argument is the variable, the others its parameters, under their
+  // symbol names. Throws shaderfit::Error naming the known names, located at `source`, when
+  // `name` is not one of them.
+  static Target builtin(std::string_view name,
+                        const std::string& source = "RationalProblem::target");
   // A formula in `variable` whose other identifiers are `parameters` (parse_formula syntax).
   // Throws shaderfit::Error with the column of a syntax error, located at `source`.
   static Target formula(std::string_view text, const std::string& variable,
@@ -64,7 +68,7 @@ class Target {
   std::string name_, variable_;
   std::vector<std::string> parameters_;
   Interval natural_domain_;
-  int builtin_ = -1;    // index into the built-in table, or -1 for a formula
+  const reference::BuiltinFunction* builtin_ = nullptr;  // or nullptr for a formula
   Expression formula_;  // variables {variable_}, parameters parameters_
 };
 

@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
+#include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/expression.hpp"
-#include "shaderfit/search/loss.hpp"
 
 namespace shaderfit {
 
@@ -32,7 +32,7 @@ struct FrontMember {
   std::string formula;    // infix that parse_formula reads (fitted constants written as numbers)
   double cost = 0;        // expression_cost(expression, options.cost)
   std::size_t nodes = 0;  // expression.size()
-  LossMetrics metrics;    // on every row of the problem
+  ErrorMetrics metrics;   // on every row of the problem
   double loss = 0;        // the metric options.loss names
   double time_s = 0;      // when it was found, seconds since the search started
   SearchPhase origin = SearchPhase::Enumeration;  // the strategy that found it

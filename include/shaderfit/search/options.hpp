@@ -26,10 +26,10 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/op.hpp"
 #include "shaderfit/gpu/device.hpp"
 #include "shaderfit/search/front_member.hpp"
-#include "shaderfit/search/loss.hpp"
 
 namespace shaderfit {
 
@@ -48,6 +48,10 @@ struct SearchTarget {
 };
 
 struct SearchOptions {
+  // Out of line (options.cpp): the defaults below are built in one place rather than in every
+  // caller (GCC 12 also warns falsely, -Wmaybe-uninitialized, on the inlined operator lists).
+  SearchOptions();
+
   // Budgets. The search stops at whichever comes first; at least the time limit is always set.
   double time_limit_s = 10.0;                  // wall clock, > 0
   std::optional<std::int64_t> max_candidates;  // formulas evaluated, > 0 when set
@@ -61,7 +65,7 @@ struct SearchOptions {
   // digits of the fit-row losses that rank individuals; front members are scored in float64.
   ComputeDevice device = ComputeDevice::Auto;
 
-  LossKind loss = LossKind::Mse;
+  Loss loss = Loss::Mse;
   CostTarget cost = CostTarget::Instructions;
 
   // Operators formulas may use (Op::IPow stands for x^2 .. x^max_power) and literal constants
@@ -137,7 +141,7 @@ using SearchOptionMember =
                  bool SearchOptions::*, std::string SearchOptions::*,
                  std::optional<std::int64_t> SearchOptions::*,
                  std::optional<SearchTarget> SearchOptions::*, std::vector<double> SearchOptions::*,
-                 std::vector<Op> SearchOptions::*, LossKind SearchOptions::*,
+                 std::vector<Op> SearchOptions::*, Loss SearchOptions::*,
                  CostTarget SearchOptions::*, ComputeDevice SearchOptions::*>;
 
 // The kinds, as a Python binding or a form would name them.

@@ -14,10 +14,10 @@ namespace shaderfit {
 
 // The front as a table: cost, nodes, every metric, when found, and the formula, marked "!" (with
 // a note below the table) when it is not stable in float32.
-std::string front_table(const SearchSummary& summary, LossKind loss = LossKind::Mse);
+std::string front_table(const SearchSummary& summary, Loss loss = Loss::Mse);
 
 // One line for a new front member, as printed while searching:
 //   "[28.1 ms] mse=3.43e-04 cost=4  r0 + (x - r0) * x^4"
-std::string front_member_line(const FrontMember& m, LossKind loss);
+std::string front_member_line(const FrontMember& m, Loss loss);
 
 }  // namespace shaderfit

@@ -1,8 +1,6 @@
 // The GPU enumeration step's shared code against the CPU enumerator's kernels
-// (src/search/enum_kernels.cpp): the same columns, keys and screen losses, bit for bit, so that
-// a GPU enumeration would deduplicate exactly as the CPU one.
-#include "gpu/screen_column.hpp"
-
+// (enum_kernels.cpp, beside this test): the same columns, keys and screen losses, bit for bit, so
+// that a GPU enumeration would deduplicate exactly as the CPU one.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -12,6 +10,7 @@
 #include <vector>
 
 #include "gpu/screen.hpp"
+#include "gpu/screen_column.hpp"
 #include "search/enum_kernels.hpp"
 #include "shaderfit/core/random.hpp"
 
@@ -63,12 +62,12 @@ struct Target {
   std::vector<float> y, w, log2_y;
   search_detail::ScreenTarget cpu;
   ScreenTargetView gpu;
-  Target(Rng& rng, std::size_t n, LossKind loss) : y(n), w(n), log2_y(n) {
+  Target(Rng& rng, std::size_t n, Loss loss) : y(n), w(n), log2_y(n) {
     double wyy = 0;
     for (std::size_t i = 0; i < n; ++i) {
       y[i] = static_cast<float>(uniform(rng, 0.05, 1.5));
-      w[i] = loss == LossKind::MaxAbs ? (bernoulli(rng, 0.9) ? 1.0f : 0.0f)
-                                      : static_cast<float>(uniform(rng, 0.1, 2.0) / n);
+      w[i] = loss == Loss::MaxAbs ? (bernoulli(rng, 0.9) ? 1.0f : 0.0f)
+                                  : static_cast<float>(uniform(rng, 0.1, 2.0) / n);
       log2_y[i] = std::log2(y[i]);
       wyy += static_cast<double>(w[i]) * y[i] * y[i];
     }
@@ -122,7 +121,7 @@ TEST(GpuKernelLogic, ColumnStepMatchesTheEnumeratorBitForBit) {
                       Op::Exp, Op::Log,  Op::Abs,   Op::Saturate, Op::Sin,  Op::Cos};
   const ColumnOp kinds[] = {ColumnOp::Unary, ColumnOp::IPow, ColumnOp::AddSub, ColumnOp::Mul,
                             ColumnOp::Div,   ColumnOp::Min,  ColumnOp::Max,    ColumnOp::Pow};
-  const LossKind losses[] = {LossKind::Mse, LossKind::Relative, LossKind::MaxAbs, LossKind::Log};
+  const Loss losses[] = {Loss::Mse, Loss::Relative, Loss::MaxAbs, Loss::Log};
   int checked = 0;
   for (int trial = 0; trial < 400; ++trial) {
     const std::size_t n = 16 * (1 + uniform_index(rng, 8));

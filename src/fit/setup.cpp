@@ -1,4 +1,4 @@
-#include "cmd_fit_blocks.hpp"
+#include "shaderfit/fit/setup.hpp"
 
 #include <fmt/format.h>
 
@@ -7,6 +7,7 @@
 #include <map>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/parse.hpp"
@@ -14,12 +15,12 @@
 #include "shaderfit/fit/builtin_reference.hpp"
 #include "shaderfit/fit/sampling.hpp"
 
-namespace shaderfit::cli {
+namespace shaderfit {
 
 namespace {
 
-[[noreturn]] void fail(const std::string& message, const char* option) {
-  throw Error(message, SourceLocation{option});
+[[noreturn]] void fail(const std::string& message, const std::string& field) {
+  throw Error(message, SourceLocation{field});
 }
 
 struct Param {
@@ -36,10 +37,11 @@ std::vector<Param> parse_params(const std::vector<std::string>& specs) {
     if (eq != std::string::npos) {
       ParseOptions po;
       po.variables = {"__none__"};
-      po.source = "--param";
+      po.source = "FitSetup::parameters";
       p.start = evaluate_scalar(parse_formula(s.substr(eq + 1), po), std::vector<double>{0.0});
     }
-    if (p.name.empty()) fail("expected NAME or NAME=START, got '" + s + "'", "--param");
+    if (p.name.empty())
+      fail("expected NAME or NAME=START, got '" + s + "'", "FitSetup::parameters");
     out.push_back(p);
   }
   return out;
@@ -47,8 +49,8 @@ std::vector<Param> parse_params(const std::vector<std::string>& specs) {
 
 std::string builtin_names() {
   std::string s;
-  for (const BuiltinReference& r : builtin_references())
-    s += (s.empty() ? "" : ", ") + std::string(r.name);
+  for (const reference::BuiltinFunction* r : builtin_references())
+    s += (s.empty() ? "" : ", ") + std::string(r->name);
   return s;
 }
 
@@ -59,31 +61,32 @@ bool looks_like_builtin_name(const std::string& s) {
          });
 }
 
-// The reference at every row of `d`: a column (--target), a built-in or a formula (--reference).
-std::vector<double> reference_values(const FitArgs& a, const Dataset& d, std::string* description) {
+// The reference at every row of `d`: a column (target), a built-in or a formula (reference).
+std::vector<double> reference_values(const FitSetup& a, const Dataset& d,
+                                     std::string* description) {
   if (!a.target.empty()) {
     *description = "column " + a.target;
     return d.numeric(a.target).values;
   }
-  if (const BuiltinReference* b = find_builtin_reference(a.reference)) {
+  if (const reference::BuiltinFunction* b = find_builtin_reference(a.reference)) {
     *description = std::string(b->name);
     return evaluate_reference(*b, d);
   }
   *description = a.reference;
   try {
-    return evaluate_on(parse_formula_on(a.reference, d, "--reference"), d);
+    return evaluate_on(parse_formula_on(a.reference, d, "FitSetup::reference"), d);
   } catch (const Error&) {
     // "fv-exat" reads as a formula with unknown names; say what the built-ins are instead.
     if (!looks_like_builtin_name(a.reference)) throw;
     fail("unknown reference '" + a.reference + "' (built-in: " + builtin_names() + ")",
-         "--reference");
+         "FitSetup::reference");
   }
 }
 
-std::vector<double> weight_values(const FitArgs& a, const Dataset& d) {
+std::vector<double> weight_values(const FitSetup& a, const Dataset& d) {
   if (a.weight.empty()) return {};
   if (const Column* c = d.find(a.weight)) return d.numeric(c->name).values;
-  return evaluate_on(parse_formula_on(a.weight, d, "--weight"), d);
+  return evaluate_on(parse_formula_on(a.weight, d, "FitSetup::weight"), d);
 }
 
 std::string label_of(const Column& c, std::size_t row) {
@@ -92,26 +95,29 @@ std::string label_of(const Column& c, std::size_t row) {
 
 }  // namespace
 
-FitSetup make_fit_setup(const FitArgs& a) {
-  FitSetup s;
-  if (a.formula.empty()) fail("no formula to fit", "formula");
+PreparedFit prepare_fit(FitSetup a) {
+  PreparedFit s;
+  if (a.formula.empty()) fail("no formula to fit", "FitSetup::formula");
   if (a.target.empty() == a.reference.empty())
-    fail(a.target.empty() ? "no reference: give --target COLUMN or --reference NAME|FORMULA"
-                          : "give either --target or --reference, not both",
-         "--target");
+    fail(a.target.empty()
+             ? "no reference: give FitSetup::target COLUMN or FitSetup::reference NAME|FORMULA"
+             : "give either FitSetup::target or FitSetup::reference, not both",
+         "FitSetup::target");
   const bool generated = !a.domain.empty();
-  const bool has_data = !a.data.path.empty() || !a.data.dataset.empty();
+  const bool has_data = a.data.has_value();
   if (generated && has_data)
-    fail("give either --domain (sampled data) or --data/--dataset, not both", "--domain");
+    fail("give either FitSetup::domain (sampled data) or FitSetup::data, not both",
+         "FitSetup::domain");
   if (!generated && !has_data)
-    fail("no data: give --data FILE.csv, --dataset NAME or --domain", "--data");
+    fail("no data: give FitSetup::data or FitSetup::domain", "FitSetup::data");
   if (!a.per_cell.empty() && a.grid.empty())
-    fail("--per-cell needs a grid: give --grid name=lo:hi:cells", "--per-cell");
+    fail("FitSetup::per_cell needs a grid: give FitSetup::grid name=lo:hi:cells",
+         "FitSetup::per_cell");
   if (!a.per_group.empty() && !a.grid.empty())
-    fail("use either --per-group or a grid, not both", "--per-group");
+    fail("use either FitSetup::per_group or a grid, not both", "FitSetup::per_group");
 
   std::vector<GridAxis> grid;
-  for (const std::string& g : a.grid) grid.push_back(parse_grid_axis(g, "--grid"));
+  for (const std::string& g : a.grid) grid.push_back(parse_grid_axis(g, "FitSetup::grid"));
   std::vector<std::string> known;
   std::unique_ptr<Dataset> data;
   std::vector<GridCell> cells;
@@ -120,28 +126,28 @@ FitSetup make_fit_setup(const FitArgs& a) {
     std::vector<SampleAxis> domain;
     for (const GridAxis& g : grid) known.push_back(g.name);
     for (const std::string& d : a.domain) {
-      domain.push_back(parse_sample_axis(d, "--domain"));
+      domain.push_back(parse_sample_axis(d, "FitSetup::domain"));
       known.push_back(domain.back().name);
     }
-    for (const std::string& t : a.defines) {
-      defines.push_back(parse_definition(t, known, "--define"));
+    for (const std::string& t : a.definitions) {
+      defines.push_back(parse_definition(t, known, "FitSetup::definitions"));
       known.push_back(defines.back().name);
     }
     Rng rng(a.rng_seed);
     cells = sample_grid(grid, domain, defines, a.random_samples, rng);
   } else {
-    data = std::make_unique<Dataset>(load_data(a.data));
-    for (const std::string& t : a.defines)
-      defines.push_back(parse_definition(t, data->names(), "--define"));
+    data = std::make_unique<Dataset>(std::move(*a.data));
+    for (const std::string& t : a.definitions)
+      defines.push_back(parse_definition(t, data->names(), "FitSetup::definitions"));
     add_definitions(*data, defines);
     known = data->names();
   }
 
   // The formula and its parameters.
-  const std::vector<Param> params = parse_params(a.params);
+  const std::vector<Param> params = parse_params(a.parameters);
   ParseOptions po;
   po.variables = known;
-  po.source = "formula";
+  po.source = "FitSetup::formula";
   for (const Param& p : params) {
     po.parameters.push_back(p.name);
     po.parameter_values.push_back(p.start);
@@ -149,49 +155,51 @@ FitSetup make_fit_setup(const FitArgs& a) {
   Expression f = parse_formula(a.formula, po);
   if (f.parameters.empty())
     fail("the formula '" + to_infix(f) +
-             "' has no free parameters to fit (name them with --param NAME[=START])",
-         "formula");
+             "' has no free parameters to fit (name them with FitSetup::parameters NAME[=START])",
+         "FitSetup::formula");
   for (std::size_t j = 0; j < f.parameters.size(); ++j) {
     const bool used = std::any_of(f.nodes.begin(), f.nodes.end(), [&](const Node& n) {
       return n.op == Op::Param && n.index == static_cast<int>(j);
     });
     if (!used)
-      fail("parameter '" + f.parameters[j] + "' does not appear in the formula", "--param");
+      fail("parameter '" + f.parameters[j] + "' does not appear in the formula",
+           "FitSetup::parameters");
   }
   f.drop_unused_variables();
   s.problem.formula = f;
 
   // Scopes.
   s.problem.scopes.assign(f.parameters.size(), ParameterScope::global);
-  auto per_block = [&](const std::string& name, const char* option) {
+  auto per_block = [&](const std::string& name, const char* field) {
     const auto it = std::find(f.parameters.begin(), f.parameters.end(), name);
     if (it == f.parameters.end())
-      fail("'" + name + "' is not a parameter (declare it with --param)", option);
+      fail("'" + name + "' is not a parameter (declare it with FitSetup::parameters)", field);
     s.problem.scopes[static_cast<std::size_t>(it - f.parameters.begin())] =
         ParameterScope::per_block;
   };
   std::string group_column;
   for (const std::string& g : a.per_group) {
     const std::size_t colon = g.find(':');
-    if (colon == std::string::npos) fail("expected PARAM:COLUMN, got '" + g + "'", "--per-group");
+    if (colon == std::string::npos)
+      fail("expected PARAM:COLUMN, got '" + g + "'", "FitSetup::per_group");
     const std::string column = g.substr(colon + 1);
     if (!group_column.empty() && column != group_column)
       fail("every per-group parameter must use the same column ('" + group_column + "' and '" +
                column + "')",
-           "--per-group");
+           "FitSetup::per_group");
     group_column = column;
-    per_block(g.substr(0, colon), "--per-group");
+    per_block(g.substr(0, colon), "FitSetup::per_group");
   }
-  for (const std::string& c : a.per_cell) per_block(c, "--per-cell");
+  for (const std::string& c : a.per_cell) per_block(c, "FitSetup::per_cell");
 
   for (std::size_t k = 0; k < a.constraints.size(); ++k)
     s.problem.constraints.push_back(
-        parse_constraint(a.constraints[k], f, "--constraint " + std::to_string(k + 1)));
+        parse_constraint(a.constraints[k], f, "FitSetup::constraints " + std::to_string(k + 1)));
   if (!a.transform.empty()) {
     ParseOptions tp;
     tp.variables = f.variables;
     tp.variables.push_back("y");
-    tp.source = "--transform";
+    tp.source = "FitSetup::transform";
     Expression t = parse_formula(a.transform, tp);
     t.drop_unused_variables();
     s.problem.transform = t;
@@ -216,7 +224,7 @@ FitSetup make_fit_setup(const FitArgs& a) {
     }
   } else {
     const Dataset& d = *data;
-    s.data_description = fmt::format("{}, {} rows", a.data.describe(), d.rows());
+    s.data_description = fmt::format("{}, {} rows", a.data_name, d.rows());
     const std::vector<double> target = reference_values(a, d, &s.reference_description);
     const std::vector<double> weights = weight_values(a, d);
     std::vector<std::pair<std::string, std::vector<std::size_t>>> groups;
@@ -279,27 +287,45 @@ FitSetup make_fit_setup(const FitArgs& a) {
     s.datasets.push_back(std::move(data));
   }
 
-  // Options.
-  FixedFormOptions& o = s.options;
-  if (a.loss == "ls" || a.loss == "squared")
-    o.loss = Loss::squared;
-  else if (a.loss == "log")
-    o.loss = Loss::log;
-  else if (a.loss == "max")
-    o.loss = Loss::max;
-  else
-    fail("unknown loss '" + a.loss + "' (ls, log, max)", "--loss");
-  if (a.solver == "auto")
-    o.solver = SolverKind::automatic;
-  else if (a.solver == "linear")
-    o.solver = SolverKind::linear;
-  else if (a.solver == "lm")
-    o.solver = SolverKind::levenberg_marquardt;
-  else
-    fail("unknown solver '" + a.solver + "' (auto, linear, lm)", "--solver");
-  o.max_iterations = a.max_iterations;
-  o.threads = a.threads;
+  s.options = a.options;
+  s.baselines = std::move(a.baselines);
   return s;
 }
 
-}  // namespace shaderfit::cli
+const char* loss_description(Loss l) {
+  return l == Loss::Mse   ? "least squares"
+         : l == Loss::Log ? "log2 error (least squares)"
+                          : "max error (minimax)";
+}
+
+std::vector<BlockComparison> compare_blocks(const PreparedFit& fit,
+                                            const FixedFormSummary& summary) {
+  std::vector<BlockComparison> out(fit.problem.blocks.size());
+  std::map<const Dataset*, std::vector<std::vector<double>>> cache;  // baseline values per data set
+  for (std::size_t b = 0; b < out.size(); ++b) {
+    const FitBlock& blk = fit.problem.blocks[b];
+    const BlockSource& src = fit.sources[b];
+    Expression e = fit.problem.formula;
+    e.parameter_values = summary.blocks[b].parameters;
+    std::vector<const double*> cols;
+    for (const auto& c : blk.columns) cols.push_back(c.data());
+    std::vector<double> v(blk.target.size());
+    if (!v.empty()) evaluate(e, std::span<const double* const>(cols), std::span<double>(v));
+    out[b].mse = error_metrics(v, blk.target).mse;
+    auto& values = cache[src.data];
+    if (values.empty())
+      for (std::size_t k = 0; k < fit.baselines.size(); ++k)
+        values.push_back(
+            evaluate_on(parse_formula_on(fit.baselines[k], *src.data,
+                                         "FitSetup::baselines " + std::to_string(k + 1)),
+                        *src.data));
+    for (const std::vector<double>& all : values) {
+      std::vector<double> picked;
+      for (std::size_t i : src.rows) picked.push_back(all[i]);
+      out[b].baseline_mse.push_back(error_metrics(picked, src.target).mse);
+    }
+  }
+  return out;
+}
+
+}  // namespace shaderfit

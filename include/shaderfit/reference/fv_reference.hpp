@@ -1,11 +1,11 @@
 // The combined Fresnel-visibility functions of seed post 002, as functions of dot(L, H) alone,
 // and the ground truth they approximate.
 //
-//   double fv = lut::fv_schlick_smith_lh(0.3, 0.04, 0.5);  // the seed's reference
-//   double gt = lut::fv_exact_dielectric(0.3, 0.04, 0.5);  // exact Fresnel x exact Smith GGX
+//   double fv = reference::fv_schlick_smith_lh(0.3, 0.04, 0.5);  // the seed's reference
+//   double gt = reference::fv_exact_dielectric(0.3, 0.04, 0.5);  // exact Fresnel x exact Smith GGX
 //
 // Arguments: l_dot_h = dot(L, H) in (0, 1]; f0 = normal-incidence reflectance; roughness, with
-// alpha = roughness^2 (reference/smith_ggx.hpp). Visibility follows smith_ggx.hpp's convention
+// alpha = roughness^2 (smith_ggx.hpp). Visibility follows smith_ggx.hpp's convention
 // (no 1/4 folded in): every FV here is f0 at dot(L, H) = 1.
 //
 // "Exact" in dot(L, H) alone: the seed's visibility is Hable's dot(L, H) form of Schlick-Smith.
@@ -22,26 +22,25 @@
 #include "shaderfit/reference/fresnel.hpp"
 #include "shaderfit/reference/smith_ggx.hpp"
 
-namespace shaderfit::lut {
+namespace shaderfit::reference {
 
 // The seed's reference: Schlick Fresnel x Hable's dot(L, H) visibility, k = alpha / 2.
 template <typename T>
 SF_CPU_GPU T fv_schlick_smith_lh(T l_dot_h, T f0, T roughness) {
-  return reference::fv_lh(l_dot_h, f0, roughness * roughness);
+  return fv_lh(l_dot_h, f0, roughness * roughness);
 }
 
 // Schlick Fresnel x Schlick-Smith visibility (k = alpha / 2) at n = h.
 template <typename T>
 SF_CPU_GPU T fv_schlick_smith_peak(T l_dot_h, T f0, T roughness) {
   const T k = roughness * roughness * T(0.5);
-  return reference::fresnel_schlick(f0, l_dot_h) *
-         reference::visibility_schlick_smith(l_dot_h, l_dot_h, k);
+  return fresnel_schlick(f0, l_dot_h) * visibility_schlick_smith(l_dot_h, l_dot_h, k);
 }
 
 // Exact height-correlated Smith GGX visibility at n = h (see above).
 template <typename T>
 SF_CPU_GPU T visibility_exact_peak(T l_dot_h, T roughness) {
-  return reference::smith_ggx_g2_height_correlated(l_dot_h, l_dot_h, roughness * roughness) /
+  return smith_ggx_g2_height_correlated(l_dot_h, l_dot_h, roughness * roughness) /
          (l_dot_h * l_dot_h);
 }
 
@@ -57,14 +56,13 @@ SF_CPU_GPU T ior_from_f0(T f0) {
 // Exact dielectric Fresnel (eta from f0) x exact visibility.
 template <typename T>
 SF_CPU_GPU T fv_exact_dielectric(T l_dot_h, T f0, T roughness) {
-  return reference::fresnel_dielectric(l_dot_h, ior_from_f0(f0)) *
-         visibility_exact_peak(l_dot_h, roughness);
+  return fresnel_dielectric(l_dot_h, ior_from_f0(f0)) * visibility_exact_peak(l_dot_h, roughness);
 }
 
 // Exact conductor Fresnel (complex IOR n + ik) x exact visibility.
 template <typename T>
 SF_CPU_GPU T fv_exact_conductor(T l_dot_h, T n, T k, T roughness) {
-  return reference::fresnel_conductor(l_dot_h, n, k) * visibility_exact_peak(l_dot_h, roughness);
+  return fresnel_conductor(l_dot_h, n, k) * visibility_exact_peak(l_dot_h, roughness);
 }
 
-}  // namespace shaderfit::lut
+}  // namespace shaderfit::reference

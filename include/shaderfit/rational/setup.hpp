@@ -1,0 +1,51 @@
+// Building a rational-approximation problem from a description in text: the target (a built-in
+// or a formula), its parameters (one of which may take several values: a sweep), the domain,
+// the conditions, and the forms to solve. What `shaderfit rational` runs; docs/rational.md
+// describes each field's syntax.
+//
+//   RationalSetup setup;
+//   setup.target = "fresnel-dielectric-f0";
+//   setup.parameters = {"F0=0.04,0.5"};
+//   setup.forms = {"5/0"};
+//   setup.transforms = {"1 - cos"};
+//   setup.conditions = {"f(0)=1", "f(1)=F0", "f'(1)=0"};
+//   PreparedRational r = prepare_rational(setup);
+//   RationalSummary summary;
+//   solve(r.options, r.problem, &summary);  // at F0 = 0.04; r.sweep_values holds 0.04, 0.5
+//
+// Bad input throws shaderfit::Error located at the field ("RationalSetup::conditions", with the
+// 1-based position of a list entry as the line).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "shaderfit/rational/solve.hpp"
+
+namespace shaderfit::rational {
+
+struct RationalSetup {
+  std::string target;                   // a built-in name or a formula in `variable`
+  std::string variable = "x";           // of a formula target
+  std::string domain;                   // "LO,HI"; empty: the target's natural domain
+  std::vector<std::string> conditions;  // f(a)=v, f'(a)=v, f^(k)(a)=v, int(a,b)=v
+  std::vector<std::string> forms;       // "m/n", each in every transform
+  std::vector<std::string> transforms;  // the forms' variable, affine in the target's variable
+  std::vector<std::string> parameters;  // NAME=V1[,V2...]; at most one takes several values
+  int count = 0;                        // RationalOptions::coefficient_count (not with forms)
+  Fit fit = Fit::None;
+  bool relative_minimax = false;
+  Loss rank_by = Loss::Rmse;
+};
+
+struct PreparedRational {
+  RationalProblem problem;  // parameter values: the first of each parameter's values
+  RationalOptions options;
+  int sweep = -1;                    // the parameter that takes several values, or -1
+  std::vector<double> sweep_values;  // its values ({0} without a sweep)
+  std::size_t transform_count = 1;   // problem.forms holds each form this many times in a row
+};
+
+PreparedRational prepare_rational(const RationalSetup& setup);
+
+}  // namespace shaderfit::rational

@@ -1,0 +1,81 @@
+// The JSON documents of the fit, eval, cost and rational commands, written in one place. Each
+// function returns the document as the command prints it (two-space indent, no final newline);
+// the schemas are documented in docs/fit.md (shaderfit.fit/1), docs/eval-json.md
+// (shaderfit.eval/1), docs/cost-model.md (shaderfit.cost/1) and docs/rational.md
+// (shaderfit.rational/1).
+//
+//   PreparedFit fit = prepare_fit(std::move(setup));
+//   FixedFormSummary summary;
+//   solve_fixed_form(fit.options, fit.problem, &summary);
+//   std::string text = fit_json(fit, summary, compare_blocks(fit, summary));
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/eval/metrics.hpp"
+#include "shaderfit/expr/expression.hpp"
+#include "shaderfit/fit/setup.hpp"
+#include "shaderfit/rational/parametric.hpp"
+#include "shaderfit/rational/solve.hpp"
+
+namespace shaderfit {
+
+// shaderfit.fit/1: the fit, its options, and per block the parameters, costs and comparisons.
+std::string fit_json(const PreparedFit& fit, const FixedFormSummary& summary,
+                     const std::vector<BlockComparison>& comparisons);
+
+// What `shaderfit eval` measured: formulas on a data set, overall and per group.
+struct EvalGroupResult {
+  std::string column, label;
+  ErrorMetrics metrics;
+};
+
+struct EvalFormulaResult {
+  std::string input;    // as the user wrote it
+  std::string formula;  // as shaderfit prints it
+  bool baseline = false;
+  ErrorMetrics all;
+  std::vector<EvalGroupResult> groups;  // the same groups, in the same order, for every formula
+};
+
+struct EvalReport {
+  std::string data;  // names the data ("fresnel-seed (seed 1)")
+  std::size_t rows = 0;
+  std::string target;
+  bool float32 = false;
+  std::vector<std::string> groups;         // the grouping columns
+  std::vector<EvalFormulaResult> results;  // the baseline first, when there is one
+};
+
+// shaderfit.eval/1; metrics of candidates carry their change against the baseline.
+std::string eval_json(const EvalReport& report);
+
+// shaderfit.cost/1: the counts per target and the listing of `shown`.
+std::string cost_json(const Expression& formula, std::span<const InstructionCost> costs,
+                      const InstructionCost& shown);
+
+// What `shaderfit rational` found: one run per value of the swept parameter (or one run), and
+// the coefficients' laws over the sweep.
+struct RationalRun {
+  std::vector<double> parameter_values;  // in the order of RationalReport::parameter_names
+  rational::RationalSummary summary;
+};
+
+struct RationalReport {
+  std::string target, variable;
+  rational::Interval domain;
+  std::string fit;  // "none", "lsq" or "minimax"
+  std::vector<std::string> conditions;
+  std::vector<std::string> parameter_names;
+  std::vector<RationalRun> runs;
+  std::vector<rational::ParametricLaw> laws;  // empty without a sweep over a range
+};
+
+// shaderfit.rational/1.
+std::string rational_json(const RationalReport& report);
+
+}  // namespace shaderfit
