@@ -29,24 +29,6 @@ namespace {
 
 constexpr std::size_t kBlock = 64;
 
-// A block of rows as one number, for apply_ipow's squaring chain over whole blocks (the chain's
-// loop outside the row loop, the same operations per row as on a double).
-struct RowBlock {
-  double v[kBlock];
-  RowBlock() = default;
-  explicit RowBlock(double x) { std::fill(v, v + kBlock, x); }
-};
-SF_ALWAYS_INLINE RowBlock operator*(const RowBlock& a, const RowBlock& b) {
-  RowBlock r;
-  for (std::size_t i = 0; i < kBlock; ++i) r.v[i] = a.v[i] * b.v[i];
-  return r;
-}
-SF_ALWAYS_INLINE RowBlock operator/(const RowBlock& a, const RowBlock& b) {
-  RowBlock r;
-  for (std::size_t i = 0; i < kBlock; ++i) r.v[i] = a.v[i] / b.v[i];
-  return r;
-}
-
 struct Dual {
   const double* v;     // kBlock values: an input column, or `own`
   double* own;         // this slot's value buffer
@@ -73,6 +55,19 @@ SF_ALWAYS_INLINE void with_op(Op op, F&& f, std::index_sequence<I...> /*ops*/) {
 template <typename F>
 SF_ALWAYS_INLINE void with_op(Op op, F&& f) {
   with_op(op, std::forward<F>(f), std::make_index_sequence<kOpCount>());
+}
+
+// Calls f(std::integral_constant<int, k>) for the runtime IPow exponent k.
+template <typename F, int... K>
+SF_ALWAYS_INLINE void with_exponent(int k, F&& f, std::integer_sequence<int, K...> /*ks*/) {
+  (void)((k == K + kMinIntegerPower &&
+          (f(std::integral_constant<int, K + kMinIntegerPower>{}), true)) ||
+         ...);
+}
+template <typename F>
+SF_ALWAYS_INLINE void with_exponent(int k, F&& f) {
+  with_exponent(k, std::forward<F>(f),
+                std::make_integer_sequence<int, kMaxIntegerPower - kMinIntegerPower + 1>());
 }
 
 // The Numbers policy (expr/forward.hpp) of one block: rows [r0, r0 + nb).
@@ -107,14 +102,13 @@ struct DualBlocks {
         double* r = a.own;
         double g[kBlock];
         if constexpr (op == Op::IPow) {
-          RowBlock xb(0.0);
-          std::copy(x, x + nb, xb.v);
-          if (a.mask != 0) {
-            const RowBlock gb = ipow_derivative(xb, n.index);
-            std::copy(gb.v, gb.v + nb, g);
-          }
-          const RowBlock rb = apply_ipow(xb, n.index);
-          std::copy(rb.v, rb.v + nb, r);
+          // The exponent fixed at compile time: the squaring chain unrolls, the rows vectorise.
+          with_exponent(n.index, [&](auto kc) SF_LAMBDA_INLINE {
+            constexpr int k = decltype(kc)::value;
+            if (a.mask != 0)
+              for (std::size_t i = 0; i < nb; ++i) g[i] = ipow_derivative(x[i], k);
+            for (std::size_t i = 0; i < nb; ++i) r[i] = apply_ipow(x[i], k);
+          });
         } else {
           for (std::size_t i = 0; i < nb; ++i) {
             const double xi = x[i];
