@@ -114,7 +114,7 @@ class BlockResiduals final : public LeastSquaresProblem {
     for (std::size_t i = 0; i < rows; ++i) sw_(static_cast<Index>(i)) = std::sqrt(w[i]);
   }
 
-  void linearize(std::span<const double> p, NormalEquations* out) override {
+  void linearize(std::span<const double> p, LeastSquaresLinearization* out) override {
     const std::size_t rows = c_.b.rows(), n = p.size();
     Linearization L;
     shaderfit::fit_detail::linearize(c_.m, c_.b, p, &L);

@@ -207,7 +207,7 @@ struct Coupled {
   struct Residuals final : LeastSquaresProblem {
     explicit Residuals(Coupled& joint) : c(joint), con(joint.constrained()) {}
 
-    void linearize(std::span<const double> xs, NormalEquations* out) override {
+    void linearize(std::span<const double> xs, LeastSquaresLinearization* out) override {
       const Eigen::Map<const Eigen::VectorXd> x(xs.data(), static_cast<Index>(xs.size()));
       Eigen::MatrixXd H;
       Eigen::VectorXd g;

@@ -81,7 +81,7 @@ class FitResiduals final : public LeastSquaresProblem {
  public:
   FitResiduals(const FitProblem& p, Expression& e) : p_(p), e_(e) {}
 
-  void linearize(std::span<const double> x, NormalEquations* out) override {
+  void linearize(std::span<const double> x, LeastSquaresLinearization* out) override {
     const std::size_t rows = p_.target.size(), np = e_.parameters.size();
     const auto n = static_cast<Eigen::Index>(np);
     e_.parameter_values.assign(x.begin(), x.end());

@@ -48,7 +48,7 @@ void levenberg_marquardt(const LeastSquaresOptions& o, LeastSquaresProblem& prob
   std::string why;
   if (!o.is_valid(&why)) throw Error(why, {"LeastSquaresOptions"});
   LeastSquaresSummary s;
-  NormalEquations ne;
+  LeastSquaresLinearization ne;
   problem.linearize(*x, &ne);
   double cost = std::isnan(ne.cost) ? problem.cost(*x) : ne.cost;
   s.initial_cost = cost;

@@ -62,7 +62,7 @@ class Residuals final : public LeastSquaresProblem {
  public:
   Residuals(const Fn& r, const Fn* g) : r_(r), g_(g) {}
 
-  void linearize(std::span<const double> xs, NormalEquations* out) override {
+  void linearize(std::span<const double> xs, LeastSquaresLinearization* out) override {
     const Eigen::Map<const Eigen::VectorXd> xm(xs.data(), static_cast<Eigen::Index>(xs.size()));
     const Eigen::VectorXd x = xm;
     const Eigen::VectorXd r = r_(x);

@@ -53,7 +53,7 @@ enum class LeastSquaresTermination : std::uint8_t {
 std::string_view termination_name(LeastSquaresTermination t);
 
 // The normal equations of the linearised problem at x, in the step's coordinates (n of them).
-struct NormalEquations {
+struct LeastSquaresLinearization {
   std::size_t n = 0;
   std::vector<double> h;  // n x n, column-major: J^T W J
   std::vector<double> g;  // n: J^T W r
@@ -66,7 +66,7 @@ class LeastSquaresProblem {
  public:
   virtual ~LeastSquaresProblem() = default;
   // The normal equations at x.
-  virtual void linearize(std::span<const double> x, NormalEquations* out) = 0;
+  virtual void linearize(std::span<const double> x, LeastSquaresLinearization* out) = 0;
   // The cost at x (a trial point); +inf or NaN when not finite.
   virtual double cost(std::span<const double> x) = 0;
   // The trial point for the step dz (normal-equation coordinates) from x, and `moved`, the step
