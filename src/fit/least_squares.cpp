@@ -13,11 +13,14 @@ bool LeastSquaresOptions::is_valid(std::string* why) const {
     if (why != nullptr) *why = m;
     return false;
   };
-  if (max_iterations < 1) return fail("max_iterations must be at least 1");
-  if (max_tries < 1) return fail("max_tries must be at least 1");
-  if (!(function_tolerance >= 0) || !(parameter_tolerance >= 0))
-    return fail("tolerances must not be negative");
-  if (!(initial_lambda > 0) || !(min_lambda > 0)) return fail("lambda must be positive");
+  if (max_iterations < 1) return fail("LeastSquaresOptions::max_iterations must be at least 1");
+  if (max_tries < 1) return fail("LeastSquaresOptions::max_tries must be at least 1");
+  if (!(function_tolerance >= 0))
+    return fail("LeastSquaresOptions::function_tolerance must not be negative");
+  if (!(parameter_tolerance >= 0))
+    return fail("LeastSquaresOptions::parameter_tolerance must not be negative");
+  if (!(initial_lambda > 0)) return fail("LeastSquaresOptions::initial_lambda must be positive");
+  if (!(min_lambda > 0)) return fail("LeastSquaresOptions::min_lambda must be positive");
   return true;
 }
 

@@ -124,8 +124,8 @@ Eigen::VectorXd constrained_least_squares(const Eigen::MatrixXd& a, const Eigen:
   return xp + z * y;
 }
 
-NonlinearOutcome constrained_gauss_newton(const NonlinearSystem& sys, Eigen::VectorXd x,
-                                          int max_iterations) {
+NonlinearOutcome nonlinear_least_squares(const NonlinearSystem& sys, Eigen::VectorXd x,
+                                         int max_iterations) {
   NonlinearOutcome out;
   const bool has_g = call(sys.constraints, x).size() > 0;
   const bool has_r = call(sys.residuals, x).size() > 0;

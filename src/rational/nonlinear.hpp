@@ -28,8 +28,8 @@ struct NonlinearOutcome {
   double condition_number = 0;  // of the constraint Jacobian at the solution (0 if none)
 };
 
-NonlinearOutcome constrained_gauss_newton(const NonlinearSystem& system, Eigen::VectorXd x0,
-                                          int max_iterations = 100);
+NonlinearOutcome nonlinear_least_squares(const NonlinearSystem& system, Eigen::VectorXd x0,
+                                         int max_iterations = 100);
 
 // min |A x - b| subject to E x = d (E may have no rows), by the null space of E.
 Eigen::VectorXd constrained_least_squares(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
