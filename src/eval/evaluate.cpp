@@ -8,6 +8,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/expr/forward.hpp"
 
 namespace shaderfit {
 
@@ -173,38 +174,8 @@ void evaluate(const Expression& e, std::span<const double* const> columns, std::
 }
 
 double evaluate_scalar(const Expression& e, std::span<const double> variables) {
-  const std::size_t max_depth = eval_detail::check_expression(e, variables.size());
-  std::vector<double> stack;
-  stack.reserve(max_depth);
-  for (const Node& n : e.nodes) {
-    const auto idx = static_cast<std::size_t>(n.index);
-    switch (arity(n.op)) {
-      case 0:
-        stack.push_back(n.op == Op::Var     ? variables[idx]
-                        : n.op == Op::Param ? e.parameter_values[idx]
-                                            : n.value);
-        break;
-      case 1:
-        stack.back() =
-            n.op == Op::IPow ? apply_ipow(stack.back(), n.index) : apply_unary(n.op, stack.back());
-        break;
-      case 2: {
-        const double b = stack.back();
-        stack.pop_back();
-        stack.back() = apply_binary(n.op, stack.back(), b);
-        break;
-      }
-      default: {
-        const double c = stack.back();
-        stack.pop_back();
-        const double b = stack.back();
-        stack.pop_back();
-        stack.back() = apply_fma(stack.back(), b, c);
-        break;
-      }
-    }
-  }
-  return stack.back();
+  eval_detail::check_expression(e, variables.size());
+  return evaluate_at<double>(e, variables, e.parameter_values);
 }
 
 }  // namespace shaderfit

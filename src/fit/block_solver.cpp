@@ -103,6 +103,71 @@ Failure linear_solve(Context& c, std::span<const double> w, std::vector<double>*
   return {};
 }
 
+// The block's weighted residuals for the solver: normal equations on the constraints' tangent
+// space (all parameters without constraints), steps mapped back and projected onto nonlinear
+// constraints.
+class BlockResiduals final : public LeastSquaresProblem {
+ public:
+  BlockResiduals(const Context& c, std::span<const double> w) : c_(c), w_(w) {
+    const std::size_t rows = c.b.rows();
+    sw_.resize(static_cast<Index>(rows));
+    for (std::size_t i = 0; i < rows; ++i) sw_(static_cast<Index>(i)) = std::sqrt(w[i]);
+  }
+
+  void linearize(std::span<const double> p, LeastSquaresLinearization* out) override {
+    const std::size_t rows = c_.b.rows(), n = p.size();
+    Linearization L;
+    shaderfit::fit_detail::linearize(c_.m, c_.b, p, &L);
+    if (constrained()) {
+      if (Failure f = eliminate_at(c_, p, true, &e_)) {
+        failure_ = std::move(f);  // ends the iterations (non-finite normal equations)
+        out->n = 1;
+        out->h.assign(1, std::numeric_limits<double>::quiet_NaN());
+        out->g.assign(1, 0.0);
+        return;
+      }
+    } else if (e_.Z.rows() == 0) {
+      e_.Z = Eigen::MatrixXd::Identity(static_cast<Index>(n), static_cast<Index>(n));
+    }
+    const Eigen::Map<const Eigen::MatrixXd> J(L.jacobian.data(), static_cast<Index>(rows),
+                                              static_cast<Index>(n));
+    Eigen::VectorXd r(static_cast<Index>(rows));
+    for (std::size_t i = 0; i < rows; ++i)
+      r(static_cast<Index>(i)) = sw_(static_cast<Index>(i)) * (L.values[i] - c_.b.target[i]);
+    const Eigen::MatrixXd Jz = sw_.asDiagonal() * (J * e_.Z);
+    const Eigen::MatrixXd H = Jz.transpose() * Jz;
+    const Eigen::VectorXd g = Jz.transpose() * r;
+    out->n = static_cast<std::size_t>(H.rows());
+    out->h.assign(H.data(), H.data() + H.size());
+    out->g.assign(g.data(), g.data() + g.size());
+  }
+
+  double cost(std::span<const double> p) override { return weighted_cost(c_, w_, p); }
+
+  bool step(std::span<const double> p, std::span<const double> dz, std::vector<double>* trial,
+            std::vector<double>* moved) override {
+    const Eigen::VectorXd dp =
+        e_.Z * Eigen::Map<const Eigen::VectorXd>(dz.data(), static_cast<Index>(dz.size()));
+    trial->assign(p.begin(), p.end());
+    for (std::size_t j = 0; j < p.size(); ++j) (*trial)[j] += dp(static_cast<Index>(j));
+    if (constrained() && project(c_.m, c_.b, c_.o, trial)) return false;
+    moved->resize(p.size());
+    for (std::size_t j = 0; j < p.size(); ++j) (*moved)[j] = (*trial)[j] - p[j];
+    return true;
+  }
+
+  [[nodiscard]] const Failure& failure() const { return failure_; }
+
+ private:
+  bool constrained() const { return !c_.b.constraints.empty(); }
+
+  const Context& c_;
+  std::span<const double> w_;
+  Eigen::VectorXd sw_;
+  Elimination e_;
+  Failure failure_;
+};
+
 Failure levenberg_marquardt(Context& c, std::span<const double> w, std::vector<double>* p) {
   const std::size_t rows = c.b.rows(), n = p->size();
   const bool constrained = !c.b.constraints.empty();
@@ -111,76 +176,18 @@ Failure levenberg_marquardt(Context& c, std::span<const double> w, std::vector<d
     if (Failure f = eliminate_at(c, *p, false, &e)) return f;
     if (Failure f = project(c.m, c.b, c.o, p)) return f;
   }
-  double cost = weighted_cost(c, w, *p);
-  if (!std::isfinite(cost))
+  if (!std::isfinite(weighted_cost(c, w, *p)))
     return {FailureKind::nonfinite, "the fitted values are not finite at the starting parameters"};
-  double lambda = c.o.initial_lambda;
-  c.termination = "max iterations";
+  BlockResiduals residuals(c, w);
+  LeastSquaresSummary ls;
+  shaderfit::levenberg_marquardt(lm_options(c.o), residuals, p, &ls);
+  c.iterations += ls.iterations;
+  c.termination = termination_name(ls.termination);
+  if (residuals.failure()) return residuals.failure();
   Linearization L;
   Eigen::VectorXd sw(static_cast<Index>(rows));
   for (std::size_t i = 0; i < rows; ++i) sw(static_cast<Index>(i)) = std::sqrt(w[i]);
   Elimination e;
-  for (int it = 0; it < c.o.max_iterations; ++it) {
-    ++c.iterations;
-    if (cost == 0) {
-      c.termination = "zero residual";
-      break;
-    }
-    linearize(c.m, c.b, *p, &L);
-    if (constrained) {
-      if (Failure f = eliminate_at(c, *p, true, &e)) return f;
-    } else if (e.Z.rows() == 0) {
-      e.Z = Eigen::MatrixXd::Identity(static_cast<Index>(n), static_cast<Index>(n));
-      for (std::size_t j = 0; j < n; ++j) e.free.push_back(static_cast<int>(j));
-    }
-    const Eigen::Map<const Eigen::MatrixXd> J(L.jacobian.data(), static_cast<Index>(rows),
-                                              static_cast<Index>(n));
-    Eigen::VectorXd r(static_cast<Index>(rows));
-    for (std::size_t i = 0; i < rows; ++i)
-      r(static_cast<Index>(i)) = sw(static_cast<Index>(i)) * (L.values[i] - c.b.target[i]);
-    const Eigen::MatrixXd Jz = sw.asDiagonal() * (J * e.Z);
-    const Eigen::MatrixXd H = Jz.transpose() * Jz;
-    const Eigen::VectorXd g = Jz.transpose() * r;
-    if (!H.allFinite() || !g.allFinite()) {
-      c.termination = "non-finite jacobian";
-      break;
-    }
-    bool improved = false;
-    for (int tries = 0; tries < 12 && !improved; ++tries) {
-      Eigen::MatrixXd Hd = H;
-      for (Index k = 0; k < Hd.rows(); ++k) Hd(k, k) += lambda * std::max(H(k, k), 1e-12);
-      const Eigen::VectorXd dp = e.Z * Hd.ldlt().solve(-g);
-      std::vector<double> trial(*p);
-      for (std::size_t j = 0; j < n; ++j) trial[j] += dp(static_cast<Index>(j));
-      const bool feasible = !constrained || !project(c.m, c.b, c.o, &trial);
-      const double next =
-          feasible ? weighted_cost(c, w, trial) : std::numeric_limits<double>::infinity();
-      if (next < cost) {
-        double step = 0, size = 0;
-        for (std::size_t j = 0; j < n; ++j) {
-          step += (trial[j] - (*p)[j]) * (trial[j] - (*p)[j]);
-          size += (*p)[j] * (*p)[j];
-        }
-        const double decrease = (cost - next) / cost;
-        *p = std::move(trial);
-        cost = next;
-        lambda = std::max(lambda / 10, 1e-15);
-        improved = true;
-        if (decrease < c.o.function_tolerance)
-          c.termination = "function tolerance";
-        else if (std::sqrt(step) <
-                 c.o.parameter_tolerance * (std::sqrt(size) + c.o.parameter_tolerance))
-          c.termination = "parameter tolerance";
-      } else {
-        lambda *= 10;
-      }
-    }
-    if (!improved) {
-      c.termination = "no improving step";
-      break;
-    }
-    if (c.termination != "max iterations") break;
-  }
   // A parameter the data do not determine at the solution makes the system singular.
   linearize(c.m, c.b, *p, &L);
   if (constrained) {

@@ -202,6 +202,56 @@ struct Coupled {
     return {};
   }
 
+  // The joint residuals for the solver: normal equations on the constraints' tangent space,
+  // steps mapped back and projected onto the constraints.
+  struct Residuals final : LeastSquaresProblem {
+    explicit Residuals(Coupled& joint) : c(joint), con(joint.constrained()) {}
+
+    void linearize(std::span<const double> xs, LeastSquaresLinearization* out) override {
+      const Eigen::Map<const Eigen::VectorXd> x(xs.data(), static_cast<Index>(xs.size()));
+      Eigen::MatrixXd H;
+      Eigen::VectorXd g;
+      c.assemble(x, &H, &g);
+      if (con) {
+        if (Failure f = c.eliminate_at(x, true, &e)) {
+          failure = std::move(f);  // ends the iterations (non-finite normal equations)
+          out->n = 1;
+          out->h.assign(1, std::numeric_limits<double>::quiet_NaN());
+          out->g.assign(1, 0.0);
+          return;
+        }
+      } else {
+        e.Z = Eigen::MatrixXd::Identity(x.size(), x.size());
+      }
+      const Eigen::MatrixXd Hr = e.Z.transpose() * H * e.Z;
+      const Eigen::VectorXd gr = e.Z.transpose() * g;
+      out->n = static_cast<std::size_t>(Hr.rows());
+      out->h.assign(Hr.data(), Hr.data() + Hr.size());
+      out->g.assign(gr.data(), gr.data() + gr.size());
+    }
+
+    double cost(std::span<const double> xs) override {
+      return c.cost(Eigen::Map<const Eigen::VectorXd>(xs.data(), static_cast<Index>(xs.size())));
+    }
+
+    bool step(std::span<const double> xs, std::span<const double> dz, std::vector<double>* trial,
+              std::vector<double>* moved) override {
+      const Eigen::Map<const Eigen::VectorXd> x(xs.data(), static_cast<Index>(xs.size()));
+      Eigen::VectorXd t =
+          x + e.Z * Eigen::Map<const Eigen::VectorXd>(dz.data(), static_cast<Index>(dz.size()));
+      if (con && c.project(&t)) return false;
+      trial->assign(t.data(), t.data() + t.size());
+      moved->resize(xs.size());
+      for (std::size_t j = 0; j < xs.size(); ++j) (*moved)[j] = (*trial)[j] - xs[j];
+      return true;
+    }
+
+    Coupled& c;
+    bool con;
+    Elimination e;
+    Failure failure;
+  };
+
   Failure levenberg_marquardt(Eigen::VectorXd* x) {
     const bool con = constrained();
     Elimination e;
@@ -209,51 +259,20 @@ struct Coupled {
       if (Failure f = eliminate_at(*x, false, &e)) return f;
       if (Failure f = project(x)) return f;
     }
-    double cost_now = cost(*x);
-    if (!std::isfinite(cost_now))
+    if (!std::isfinite(cost(*x)))
       return {FailureKind::nonfinite,
               "the fitted values are not finite at the starting parameters"};
-    double lambda = o.initial_lambda;
-    termination = "max iterations";
+    Residuals residuals(*this);
+    std::vector<double> xs(x->data(), x->data() + x->size());
+    LeastSquaresSummary ls;
+    shaderfit::levenberg_marquardt(lm_options(o), residuals, &xs, &ls);
+    *x = Eigen::Map<const Eigen::VectorXd>(xs.data(), x->size());
+    iterations += ls.iterations;
+    termination = termination_name(ls.termination);
+    if (residuals.failure) return residuals.failure;
     Eigen::MatrixXd H;
     Eigen::VectorXd g;
     const auto size = static_cast<Index>(lay.size);
-    for (int it = 0; it < o.max_iterations && cost_now > 0; ++it) {
-      ++iterations;
-      assemble(*x, &H, &g);
-      if (con) {
-        if (Failure f = eliminate_at(*x, true, &e)) return f;
-      } else {
-        e.Z = Eigen::MatrixXd::Identity(size, size);
-      }
-      const Eigen::MatrixXd Hr = e.Z.transpose() * H * e.Z;
-      const Eigen::VectorXd gr = e.Z.transpose() * g;
-      bool improved = false;
-      for (int tries = 0; tries < 12 && !improved; ++tries) {
-        Eigen::MatrixXd Hd = Hr;
-        for (Index k = 0; k < Hd.rows(); ++k) Hd(k, k) += lambda * std::max(Hr(k, k), 1e-12);
-        const Eigen::VectorXd dx = e.Z * Hd.ldlt().solve(-gr);
-        Eigen::VectorXd trial = *x + dx;
-        const bool feasible = !con || !project(&trial);
-        const double next = feasible ? cost(trial) : std::numeric_limits<double>::infinity();
-        if (next < cost_now) {
-          const double decrease = (cost_now - next) / cost_now;
-          const double step = (trial - *x).norm(), scale = x->norm();
-          *x = trial;
-          cost_now = next;
-          lambda = std::max(lambda / 10, 1e-15);
-          improved = true;
-          if (decrease < o.function_tolerance)
-            termination = "function tolerance";
-          else if (step < o.parameter_tolerance * (scale + o.parameter_tolerance))
-            termination = "parameter tolerance";
-        } else {
-          lambda *= 10;
-        }
-      }
-      if (!improved) termination = "no improving step";
-      if (termination != "max iterations") break;
-    }
     assemble(*x, &H, &g);
     if (con) {
       if (Failure f = eliminate_at(*x, true, &e)) return f;

@@ -7,6 +7,7 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/fit/least_squares.hpp"
 #include "shaderfit/fit/linear.hpp"
 
 namespace shaderfit {
@@ -74,82 +75,67 @@ void fit_linear(const FitProblem& p, Expression& e, FitSummary* s) {
   s->termination = "linear";
 }
 
+// The weighted residuals f(p) - y of the formula. The cost of a linearisation is computed from
+// the values of the Jacobian's evaluator, that of a trial from the value evaluator.
+class FitResiduals final : public LeastSquaresProblem {
+ public:
+  FitResiduals(const FitProblem& p, Expression& e) : p_(p), e_(e) {}
+
+  void linearize(std::span<const double> x, LeastSquaresLinearization* out) override {
+    const std::size_t rows = p_.target.size(), np = e_.parameters.size();
+    const auto n = static_cast<Eigen::Index>(np);
+    e_.parameter_values.assign(x.begin(), x.end());
+    evaluate(p_, e_, cur_);
+    // Normal equations of the weighted problem: J^T W J and J^T W r.
+    const Eigen::Map<const Eigen::MatrixXd> jac(cur_.jacobian.data(),
+                                                static_cast<Eigen::Index>(rows), n);
+    residual_.resize(static_cast<Eigen::Index>(rows));
+    for (std::size_t i = 0; i < rows; ++i) residual_[i] = cur_.values[i] - p_.target[i];
+    if (p_.weights.empty()) {
+      jtj_.noalias() = jac.transpose() * jac;
+      jtr_.noalias() = jac.transpose() * residual_;
+    } else {
+      const Eigen::Map<const Eigen::VectorXd> w(p_.weights.data(), static_cast<Eigen::Index>(rows));
+      weighted_ = jac.array().colwise() * w.array();
+      jtj_.noalias() = weighted_.transpose() * jac;
+      jtr_.noalias() = weighted_.transpose() * residual_;
+    }
+    out->n = np;
+    out->h.assign(jtj_.data(), jtj_.data() + jtj_.size());
+    out->g.assign(jtr_.data(), jtr_.data() + jtr_.size());
+    out->cost = cur_.cost;
+  }
+
+  double cost(std::span<const double> x) override {
+    e_.parameter_values.assign(x.begin(), x.end());
+    return cost_at(p_, e_, trial_values_);
+  }
+
+ private:
+  const FitProblem& p_;
+  Expression& e_;
+  Evaluation cur_;
+  std::vector<double> trial_values_;
+  Eigen::VectorXd residual_, jtr_;
+  Eigen::MatrixXd weighted_, jtj_;
+};
+
 void fit_levenberg_marquardt(const FitOptions& o, const FitProblem& p, Expression& e,
                              FitSummary* s) {
-  const std::size_t rows = p.target.size(), np = e.parameters.size();
-  const auto n = static_cast<Eigen::Index>(np);
-  Evaluation cur;
-  evaluate(p, e, cur);
-  std::vector<double> trial_values;
-  Eigen::VectorXd residual(static_cast<Eigen::Index>(rows));
-  Eigen::MatrixXd weighted;
-  double lambda = o.initial_lambda;
-  s->termination = "max iterations";
-  for (int it = 0; it < o.max_iterations; ++it) {
-    s->iterations = it + 1;
-    if (!std::isfinite(cur.cost)) {
-      s->termination = "non-finite cost";
-      break;
-    }
-    // Normal equations of the weighted problem: (J^T W J + lambda diag) dp = -J^T W r.
-    const Eigen::Map<const Eigen::MatrixXd> jac(cur.jacobian.data(),
-                                                static_cast<Eigen::Index>(rows), n);
-    for (std::size_t i = 0; i < rows; ++i) residual[i] = cur.values[i] - p.target[i];
-    Eigen::MatrixXd jtj;
-    Eigen::VectorXd jtr;
-    if (p.weights.empty()) {
-      jtj.noalias() = jac.transpose() * jac;
-      jtr.noalias() = jac.transpose() * residual;
-    } else {
-      const Eigen::Map<const Eigen::VectorXd> w(p.weights.data(), static_cast<Eigen::Index>(rows));
-      weighted = jac.array().colwise() * w.array();
-      jtj.noalias() = weighted.transpose() * jac;
-      jtr.noalias() = weighted.transpose() * residual;
-    }
-    if (!jtj.allFinite() || !jtr.allFinite()) {
-      s->termination = "non-finite jacobian";
-      break;
-    }
-    bool improved = false;
-    const std::vector<double> here = e.parameter_values;
-    for (int tries = 0; tries < 10 && !improved; ++tries) {
-      Eigen::MatrixXd m = jtj;
-      for (Eigen::Index k = 0; k < n; ++k) m(k, k) += lambda * std::max(jtj(k, k), 1e-12);
-      const Eigen::VectorXd dp = m.ldlt().solve(-jtr);
-      double step = 0, size = 0;
-      for (std::size_t k = 0; k < np; ++k) {
-        e.parameter_values[k] = here[k] + dp(static_cast<Eigen::Index>(k));
-        step += dp(static_cast<Eigen::Index>(k)) * dp(static_cast<Eigen::Index>(k));
-        size += here[k] * here[k];
-      }
-      const double trial_cost = cost_at(p, e, trial_values);
-      if (trial_cost < cur.cost) {
-        const double decrease = (cur.cost - trial_cost) / std::max(cur.cost, 1e-300);
-        if (it + 1 < o.max_iterations) {
-          evaluate(p, e, cur);  // the Jacobian for the next step
-        } else {
-          cur.cost = trial_cost;
-        }
-        lambda = std::max(lambda / 10, 1e-12);
-        improved = true;
-        if (decrease < o.function_tolerance)
-          s->termination = "function tolerance";
-        else if (std::sqrt(step) <
-                 o.parameter_tolerance * (std::sqrt(size) + o.parameter_tolerance))
-          s->termination = "parameter tolerance";
-      } else {
-        lambda *= 10;
-        e.parameter_values = here;
-      }
-    }
-    if (!improved) {
-      s->termination = "no improving step";
-      break;
-    }
-    if (s->termination != "max iterations") break;
-  }
-  s->parameters = e.parameter_values;
-  s->final_cost = cur.cost;
+  LeastSquaresOptions lo;
+  lo.max_iterations = o.max_iterations;
+  lo.function_tolerance = o.function_tolerance;
+  lo.parameter_tolerance = o.parameter_tolerance;
+  lo.initial_lambda = o.initial_lambda;
+  FitResiduals residuals(p, e);
+  std::vector<double> x = e.parameter_values;
+  LeastSquaresSummary ls;
+  levenberg_marquardt(lo, residuals, &x, &ls);
+  e.parameter_values = x;
+  s->parameters = std::move(x);
+  s->final_cost = ls.final_cost;
+  s->iterations = ls.iterations;
+  s->termination = termination_name(ls.termination);
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "shaderfit/fit/fixed_form.hpp"
+#include "shaderfit/fit/least_squares.hpp"
 
 namespace shaderfit::fit_detail {
 
@@ -98,6 +99,9 @@ Failure solve_design(const Eigen::MatrixXd& A, const Eigen::VectorXd& b,
 Failure solve_normal(const Eigen::MatrixXd& H, const Eigen::VectorXd& rhs,
                      std::span<const std::string> column_names, double rank_tolerance,
                      Eigen::VectorXd* q);
+
+// The Levenberg-Marquardt settings of the block and coupled solvers.
+LeastSquaresOptions lm_options(const FixedFormOptions& o);
 
 // Moves p onto the constraints (Gauss-Newton on c(p) = 0, minimum-norm steps). Failure when
 // they cannot be met.

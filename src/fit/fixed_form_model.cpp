@@ -10,6 +10,18 @@
 
 namespace shaderfit::fit_detail {
 
+LeastSquaresOptions lm_options(const FixedFormOptions& o) {
+  LeastSquaresOptions lo;
+  lo.max_iterations = o.max_iterations;
+  lo.function_tolerance = o.function_tolerance;
+  lo.parameter_tolerance = o.parameter_tolerance;
+  lo.initial_lambda = o.initial_lambda;
+  lo.min_lambda = 1e-15;
+  lo.max_tries = 12;
+  lo.stop_at_zero_cost = true;
+  return lo;
+}
+
 void linearize(const Model& m, const PreparedBlock& b, std::span<const double> p,
                Linearization* out) {
   Expression e = m.fitted;

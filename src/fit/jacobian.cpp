@@ -1,20 +1,27 @@
-// Forward-mode differentiation of an expression with respect to its parameters.
+// Forward-mode differentiation of an expression with respect to its parameters: the postfix walk
+// of expr/forward.hpp over dual numbers in a batch-of-rows layout.
 //
-// A postfix interpreter over blocks of rows: every stack entry holds a block of values and, for
-// the parameters it depends on (a bit mask), a block of partial derivatives per parameter. The
-// operator is dispatched once per node and block, never per row; inputs are read in place.
+// A number is a block of kBlock rows: their values and, for the parameters it depends on (a bit
+// mask), a block of partial derivatives per parameter. Each operator's value and local partials
+// are expr/op.hpp's definitions, applied row by row with the operator fixed at compile time (one
+// loop per operator, dispatched once per node and block, never per row); the chain rule then
+// touches only the parameters in the mask. Inputs are read in place.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/forward.hpp"
 #include "shaderfit/fit/fit.hpp"
 
 // Compiled for AVX2 and the baseline ISA, picked at load time (the row loops vectorise); the
 // helpers are always inlined so that each clone compiles them for its own ISA.
 #define SF_JACOBIAN_KERNEL __attribute__((target_clones("avx2", "default")))
 #define SF_ALWAYS_INLINE inline __attribute__((always_inline))
+#define SF_LAMBDA_INLINE __attribute__((always_inline))
 
 namespace shaderfit {
 
@@ -22,55 +29,12 @@ namespace {
 
 constexpr std::size_t kBlock = 64;
 
-struct Entry {
+struct Dual {
   const double* v;     // kBlock values: an input column, or `own`
   double* own;         // this slot's value buffer
   double* d;           // partials: kBlock per parameter, valid where `mask` has the bit
   std::uint64_t mask;  // parameters with a (possibly) nonzero partial
 };
-
-// dy/dx of a unary op at x, given y = op(x) (the ops without a loop of their own below).
-SF_ALWAYS_INLINE double unary_derivative(Op op, double x, double y) {
-  constexpr double kLn2 = 0.6931471805599453;
-  switch (op) {
-    case Op::Rsqrt: return -0.5 * y / x;
-    case Op::Rcp: return -y * y;
-    case Op::Exp2: return kLn2 * y;
-    case Op::Log2: return 1.0 / (kLn2 * x);
-    case Op::Exp: return y;
-    case Op::Log: return 1.0 / x;
-    case Op::Abs: return x > 0 ? 1.0 : (x < 0 ? -1.0 : 0.0);
-    case Op::Saturate: return x > 0 && x < 1 ? 1.0 : 0.0;
-    case Op::Sin: return std::cos(x);
-    case Op::Cos: return -std::sin(x);
-    default: return 0.0;
-  }
-}
-
-// out = x^k over a block, by the squaring chain of apply_ipow (the same operations in the same
-// order, so the same bits), with the chain's loop outside the row loop.
-SF_ALWAYS_INLINE void ipow_block(const double* x, int k, double* out, std::size_t n) {
-  const bool inverse = k < 0;
-  unsigned e = static_cast<unsigned>(inverse ? -k : k);
-  double base[kBlock];
-  std::copy(x, x + n, base);
-  bool first = true;
-  while (e != 0) {
-    if (e & 1u) {
-      if (first)
-        std::copy(base, base + n, out);
-      else
-        for (std::size_t i = 0; i < n; ++i) out[i] *= base[i];
-      first = false;
-    }
-    e >>= 1u;
-    if (e != 0)
-      for (std::size_t i = 0; i < n; ++i) base[i] *= base[i];
-  }
-  if (first) std::fill(out, out + n, 1.0);
-  if (inverse)
-    for (std::size_t i = 0; i < n; ++i) out[i] = 1.0 / out[i];
-}
 
 template <typename F>
 SF_ALWAYS_INLINE void for_each_bit(std::uint64_t mask, F f) {
@@ -80,6 +44,137 @@ SF_ALWAYS_INLINE void for_each_bit(std::uint64_t mask, F f) {
     mask &= mask - 1;
   }
 }
+
+// Calls f(std::integral_constant<Op, op>) for the runtime `op`.
+template <typename F, std::size_t... I>
+SF_ALWAYS_INLINE void with_op(Op op, F&& f, std::index_sequence<I...> /*ops*/) {
+  (void)((op == static_cast<Op>(I) &&
+          (f(std::integral_constant<Op, static_cast<Op>(I)>{}), true)) ||
+         ...);
+}
+template <typename F>
+SF_ALWAYS_INLINE void with_op(Op op, F&& f) {
+  with_op(op, std::forward<F>(f), std::make_index_sequence<kOpCount>());
+}
+
+// Calls f(std::integral_constant<int, k>) for the runtime IPow exponent k.
+template <typename F, int... K>
+SF_ALWAYS_INLINE void with_exponent(int k, F&& f, std::integer_sequence<int, K...> /*ks*/) {
+  (void)((k == K + kMinIntegerPower &&
+          (f(std::integral_constant<int, K + kMinIntegerPower>{}), true)) ||
+         ...);
+}
+template <typename F>
+SF_ALWAYS_INLINE void with_exponent(int k, F&& f) {
+  with_exponent(k, std::forward<F>(f),
+                std::make_integer_sequence<int, kMaxIntegerPower - kMinIntegerPower + 1>());
+}
+
+// The Numbers policy (expr/forward.hpp) of one block: rows [r0, r0 + nb).
+struct DualBlocks {
+  using value_type = Dual;
+  const Expression& e;
+  std::span<const double* const> columns;
+  double* storage;  // (1 + parameters) * kBlock doubles per stack depth
+  std::size_t np = 0, r0 = 0, nb = 0;
+
+  SF_ALWAYS_INLINE Dual leaf(const Node& n, std::size_t depth) const {
+    double* base = storage + depth * (1 + np) * kBlock;
+    Dual t{base, base, base + kBlock, 0};
+    if (n.op == Op::Var) {
+      t.v = columns[static_cast<std::size_t>(n.index)] + r0;
+    } else if (n.op == Op::Param) {
+      const auto j = static_cast<std::size_t>(n.index);
+      std::fill(t.own, t.own + nb, e.parameter_values[j]);
+      std::fill(t.d + j * kBlock, t.d + j * kBlock + nb, 1.0);
+      t.mask = std::uint64_t{1} << j;
+    } else {
+      std::fill(t.own, t.own + nb, n.value);
+    }
+    return t;
+  }
+
+  SF_ALWAYS_INLINE void unary(const Node& n, Dual& a) const {
+    with_op(n.op, [&](auto kop) SF_LAMBDA_INLINE {
+      constexpr Op op = decltype(kop)::value;
+      if constexpr (arity(op) == 1) {
+        const double* x = a.v;
+        double* r = a.own;
+        double g[kBlock];
+        if constexpr (op == Op::IPow) {
+          // The exponent fixed at compile time: the squaring chain unrolls, the rows vectorise.
+          with_exponent(n.index, [&](auto kc) SF_LAMBDA_INLINE {
+            constexpr int k = decltype(kc)::value;
+            if (a.mask != 0)
+              for (std::size_t i = 0; i < nb; ++i) g[i] = ipow_derivative(x[i], k);
+            for (std::size_t i = 0; i < nb; ++i) r[i] = apply_ipow(x[i], k);
+          });
+        } else {
+          for (std::size_t i = 0; i < nb; ++i) {
+            const double xi = x[i];
+            r[i] = apply_unary(op, xi);
+            g[i] = unary_derivative(op, xi, r[i]);
+          }
+        }
+        for_each_bit(a.mask, [&](std::size_t j) {
+          double* da = a.d + j * kBlock;
+          for (std::size_t i = 0; i < nb; ++i) da[i] *= g[i];
+        });
+        a.v = a.own;
+      }
+    });
+  }
+
+  SF_ALWAYS_INLINE void binary(Op o, Dual& a, const Dual& b) const {
+    with_op(o, [&](auto kop) SF_LAMBDA_INLINE {
+      constexpr Op op = decltype(kop)::value;
+      if constexpr (arity(op) == 2) {
+        double ga[kBlock], gb[kBlock];
+        const double* x = a.v;
+        const double* y = b.v;
+        double* r = a.own;
+        for (std::size_t i = 0; i < nb; ++i) {
+          const double ri = apply_binary(op, x[i], y[i]);
+          const BinaryPartials<double> p = binary_partials(op, x[i], y[i], ri);
+          ga[i] = p.da;
+          gb[i] = p.db;
+          r[i] = ri;
+        }
+        for_each_bit(a.mask | b.mask, [&](std::size_t j) {
+          double* da = a.d + j * kBlock;
+          const double* db = b.d + j * kBlock;
+          const bool in_a = (a.mask >> j) & 1u, in_b = (b.mask >> j) & 1u;
+          if (in_a && in_b) {
+            for (std::size_t i = 0; i < nb; ++i) da[i] = da[i] * ga[i] + db[i] * gb[i];
+          } else if (in_a) {
+            for (std::size_t i = 0; i < nb; ++i) da[i] *= ga[i];
+          } else {
+            for (std::size_t i = 0; i < nb; ++i) da[i] = db[i] * gb[i];
+          }
+        });
+        a.mask |= b.mask;
+        a.v = a.own;
+      }
+    });
+  }
+
+  // fma(a, b, c): partials b, a and 1 (op.hpp).
+  SF_ALWAYS_INLINE void ternary(Op /*fma*/, Dual& a, const Dual& b, const Dual& c) const {
+    for_each_bit(a.mask | b.mask | c.mask, [&](std::size_t j) {
+      double* da = a.d + j * kBlock;
+      const bool in_a = (a.mask >> j) & 1u, in_b = (b.mask >> j) & 1u, in_c = (c.mask >> j) & 1u;
+      for (std::size_t i = 0; i < nb; ++i) {
+        const double pa = in_a ? da[i] * b.v[i] : 0.0;
+        const double pb = in_b ? b.d[j * kBlock + i] * a.v[i] : 0.0;
+        const double pc = in_c ? c.d[j * kBlock + i] : 0.0;
+        da[i] = pa + pb + pc;
+      }
+    });
+    for (std::size_t i = 0; i < nb; ++i) a.own[i] = apply_fma(a.v[i], b.v[i], c.v[i]);
+    a.mask |= b.mask | c.mask;
+    a.v = a.own;
+  }
+};
 
 }  // namespace
 
@@ -95,190 +190,17 @@ SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e,
   if (np > 64) throw Error("evaluate_with_jacobian: at most 64 parameters");
   if (values.size() < rows || jacobian.size() < rows * np)
     throw Error("evaluate_with_jacobian: output too small");
-  const std::size_t depth = e.nodes.size();
   thread_local std::vector<double> storage;
-  storage.resize(depth * (1 + np) * kBlock);
-  std::vector<Entry> stack;
-  stack.reserve(depth);
+  thread_local std::vector<Dual> stack;
+  storage.resize(e.nodes.size() * (1 + np) * kBlock);
+  stack.reserve(e.nodes.size());
+  DualBlocks blocks{e, columns, storage.data(), np};
 
   for (std::size_t r0 = 0; r0 < rows; r0 += kBlock) {
-    const std::size_t nb = std::min(kBlock, rows - r0);
-    stack.clear();
-    auto push = [&]() -> Entry& {
-      double* base = storage.data() + stack.size() * (1 + np) * kBlock;
-      stack.push_back({base, base, base + kBlock, 0});
-      return stack.back();
-    };
-    for (const Node& n : e.nodes) {
-      switch (n.op) {
-        case Op::Const: {
-          Entry& t = push();
-          std::fill(t.own, t.own + nb, n.value);
-          break;
-        }
-        case Op::Var: {
-          Entry& t = push();
-          t.v = columns[static_cast<std::size_t>(n.index)] + r0;
-          break;
-        }
-        case Op::Param: {
-          Entry& t = push();
-          const auto j = static_cast<std::size_t>(n.index);
-          std::fill(t.own, t.own + nb, e.parameter_values[j]);
-          std::fill(t.d + j * kBlock, t.d + j * kBlock + nb, 1.0);
-          t.mask = std::uint64_t{1} << j;
-          break;
-        }
-        case Op::Add:
-        case Op::Sub:
-        case Op::Mul:
-        case Op::Div:
-        case Op::Min:
-        case Op::Max:
-        case Op::Pow: {
-          const Entry b = stack.back();
-          stack.pop_back();
-          Entry& a = stack.back();
-          // r = a op b into a's own buffer, with ga = dr/da and gb = dr/db; one loop per op.
-          double ga[kBlock], gb[kBlock];
-          const double* x = a.v;
-          const double* y = b.v;
-          double* r = a.own;
-          switch (n.op) {
-            case Op::Add:
-              for (std::size_t i = 0; i < nb; ++i) {
-                r[i] = x[i] + y[i];
-                ga[i] = 1;
-                gb[i] = 1;
-              }
-              break;
-            case Op::Sub:
-              for (std::size_t i = 0; i < nb; ++i) {
-                r[i] = x[i] - y[i];
-                ga[i] = 1;
-                gb[i] = -1;
-              }
-              break;
-            case Op::Mul:
-              for (std::size_t i = 0; i < nb; ++i) {
-                ga[i] = y[i];
-                gb[i] = x[i];
-                r[i] = x[i] * y[i];
-              }
-              break;
-            case Op::Div:
-              for (std::size_t i = 0; i < nb; ++i) {
-                const double q = x[i] / y[i];
-                ga[i] = 1 / y[i];
-                gb[i] = -q / y[i];
-                r[i] = q;
-              }
-              break;
-            case Op::Min:
-              for (std::size_t i = 0; i < nb; ++i) {
-                ga[i] = x[i] <= y[i] ? 1 : 0;
-                gb[i] = 1 - ga[i];
-                r[i] = std::fmin(x[i], y[i]);
-              }
-              break;
-            case Op::Max:
-              for (std::size_t i = 0; i < nb; ++i) {
-                ga[i] = x[i] >= y[i] ? 1 : 0;
-                gb[i] = 1 - ga[i];
-                r[i] = std::fmax(x[i], y[i]);
-              }
-              break;
-            default:  // pow = exp2(y log2 x)
-              for (std::size_t i = 0; i < nb; ++i) {
-                const double p = apply_binary(Op::Pow, x[i], y[i]);
-                ga[i] = y[i] * p / x[i];
-                gb[i] = p * std::log(x[i]);
-                r[i] = p;
-              }
-              break;
-          }
-          for_each_bit(a.mask | b.mask, [&](std::size_t j) {
-            double* da = a.d + j * kBlock;
-            const double* db = b.d + j * kBlock;
-            const bool in_a = (a.mask >> j) & 1u, in_b = (b.mask >> j) & 1u;
-            if (in_a && in_b) {
-              for (std::size_t i = 0; i < nb; ++i) da[i] = da[i] * ga[i] + db[i] * gb[i];
-            } else if (in_a) {
-              for (std::size_t i = 0; i < nb; ++i) da[i] *= ga[i];
-            } else {
-              for (std::size_t i = 0; i < nb; ++i) da[i] = db[i] * gb[i];
-            }
-          });
-          a.mask |= b.mask;
-          a.v = a.own;
-          break;
-        }
-        case Op::Fma: {
-          const Entry c = stack.back();
-          stack.pop_back();
-          const Entry b = stack.back();
-          stack.pop_back();
-          Entry& a = stack.back();
-          for_each_bit(a.mask | b.mask | c.mask, [&](std::size_t j) {
-            double* da = a.d + j * kBlock;
-            const bool in_a = (a.mask >> j) & 1u, in_b = (b.mask >> j) & 1u,
-                       in_c = (c.mask >> j) & 1u;
-            for (std::size_t i = 0; i < nb; ++i) {
-              const double pa = in_a ? da[i] * b.v[i] : 0.0;
-              const double pb = in_b ? b.d[j * kBlock + i] * a.v[i] : 0.0;
-              const double pc = in_c ? c.d[j * kBlock + i] : 0.0;
-              da[i] = pa + pb + pc;
-            }
-          });
-          for (std::size_t i = 0; i < nb; ++i) a.own[i] = a.v[i] * b.v[i] + c.v[i];
-          a.mask |= b.mask | c.mask;
-          a.v = a.own;
-          break;
-        }
-        default: {  // unary: values into the own buffer, then dr/da per row; one loop per op
-          Entry& a = stack.back();
-          const int k = n.index;
-          const double* x = a.v;
-          double* r = a.own;
-          double g[kBlock];
-          switch (n.op) {
-            case Op::Neg:
-              for (std::size_t i = 0; i < nb; ++i) {
-                r[i] = -x[i];
-                g[i] = -1;
-              }
-              break;
-            case Op::IPow:
-              if (a.mask != 0) {
-                ipow_block(x, k - 1, g, nb);  // x^(k-1), then scaled by k below
-                for (std::size_t i = 0; i < nb; ++i) g[i] *= k;
-              }
-              ipow_block(x, k, r, nb);
-              break;
-            case Op::Sqrt:
-              for (std::size_t i = 0; i < nb; ++i) {
-                r[i] = std::sqrt(x[i]);
-                g[i] = 0.5 / r[i];
-              }
-              break;
-            default:
-              for (std::size_t i = 0; i < nb; ++i) {
-                const double xi = x[i];
-                r[i] = apply_unary(n.op, xi);
-                g[i] = unary_derivative(n.op, xi, r[i]);
-              }
-              break;
-          }
-          for_each_bit(a.mask, [&](std::size_t j) {
-            double* da = a.d + j * kBlock;
-            for (std::size_t i = 0; i < nb; ++i) da[i] *= g[i];
-          });
-          a.v = a.own;
-          break;
-        }
-      }
-    }
-    const Entry& top = stack.back();
+    blocks.r0 = r0;
+    blocks.nb = std::min(kBlock, rows - r0);
+    const std::size_t nb = blocks.nb;
+    const Dual top = evaluate_forward(e, blocks, stack);
     std::copy(top.v, top.v + nb, values.data() + r0);
     for (std::size_t j = 0; j < np; ++j) {
       double* out = jacobian.data() + j * rows + r0;

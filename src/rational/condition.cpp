@@ -5,8 +5,8 @@
 #include <cmath>
 #include <system_error>
 
-#include "rational/jet.hpp"
-#include "rational/jet_eval.hpp"
+#include "shaderfit/expr/forward.hpp"
+#include "shaderfit/expr/jet.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/rational/target.hpp"
@@ -89,7 +89,7 @@ Expression parse_part(const Cursor& cur, std::string_view part, std::size_t offs
 // A point or bound: a formula without names.
 double parse_constant(const Cursor& cur, std::string_view part, std::size_t offset) {
   const Expression e = parse_part(cur, part, offset, {});
-  const double v = detail::evaluate_jet(e, Jet(0.0), {}).value();
+  const double v = evaluate_at(e, Jet(0.0), {}).value();
   if (!std::isfinite(v)) cur.fail("the point is not a finite number", offset);
   return v;
 }

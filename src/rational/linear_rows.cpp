@@ -2,9 +2,9 @@
 
 #include <cmath>
 
-#include "rational/jet.hpp"
-#include "rational/jet_eval.hpp"
 #include "rational/quadrature.hpp"
+#include "shaderfit/expr/forward.hpp"
+#include "shaderfit/expr/jet.hpp"
 
 namespace shaderfit::rational::detail {
 
@@ -60,7 +60,7 @@ std::vector<ResolvedCondition> resolve_conditions(const RationalProblem& problem
       r.value = r.integral ? problem.target.integral(c.a, c.b, tp)
                            : problem.target.derivatives(c.a, c.order, tp).back();
     } else {
-      r.value = evaluate_jet(c.value, Jet(0.0), problem.parameter_values).value();
+      r.value = evaluate_at(c.value, Jet(0.0), problem.parameter_values).value();
     }
     r.taylor = r.integral ? r.value : r.value / factorial(r.order);
     out.push_back(r);

@@ -2,20 +2,22 @@
 
 #include <cmath>
 #include <limits>
+#include <span>
+#include <vector>
+
+#include "shaderfit/fit/least_squares.hpp"
 
 namespace shaderfit::rational::detail {
 
 namespace {
 
-constexpr double kMu = 1e8;  // weight of the constraints in the merit function
+using Fn = std::function<Eigen::VectorXd(const Eigen::VectorXd&)>;
 
-Eigen::VectorXd call(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
-                     const Eigen::VectorXd& x) {
-  return f ? f(x) : Eigen::VectorXd();
-}
+constexpr double kFeasible = 1e-9;  // |g| <= kFeasible (1 + |x|): the constraints are met
 
-Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
-                         const Eigen::VectorXd& x, Eigen::Index rows) {
+Eigen::VectorXd call(const Fn& f, const Eigen::VectorXd& x) { return f ? f(x) : Eigen::VectorXd(); }
+
+Eigen::MatrixXd jacobian(const Fn& f, const Eigen::VectorXd& x, Eigen::Index rows) {
   Eigen::MatrixXd j(rows, x.size());
   if (rows == 0) return j;
   for (Eigen::Index i = 0; i < x.size(); ++i) {
@@ -28,10 +30,80 @@ Eigen::MatrixXd jacobian(const std::function<Eigen::VectorXd(const Eigen::Vector
   return j;
 }
 
-double merit(const Eigen::VectorXd& g, const Eigen::VectorXd& r) {
-  const double m = kMu * g.squaredNorm() + r.squaredNorm();
-  return std::isfinite(m) ? m : std::numeric_limits<double>::infinity();
+// The SVD of g's Jacobian at x and its numerical rank.
+struct ConstraintSvd {
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd;
+  Eigen::Index rank = 0;
+  ConstraintSvd(const Fn& g, const Eigen::VectorXd& x, Eigen::Index rows)
+      : svd(jacobian(g, x, rows), Eigen::ComputeFullV | Eigen::ComputeThinU) {
+    const auto& s = svd.singularValues();
+    while (rank < s.size() && s(rank) > 1e-13 * s(0)) ++rank;
+  }
+};
+
+// Minimum-norm Newton steps from *x onto g = 0; false when they end with the constraints unmet.
+bool project(const Fn& g, Eigen::VectorXd* x) {
+  Eigen::VectorXd gx = g(*x);
+  for (int it = 0; it < 50 && gx.allFinite(); ++it) {
+    if (gx.norm() <= 1e-12 * (1.0 + x->norm())) break;
+    const ConstraintSvd c(g, *x, gx.size());
+    Eigen::VectorXd step = Eigen::VectorXd::Zero(x->size());
+    for (Eigen::Index i = 0; i < c.rank; ++i)
+      step -= c.svd.matrixV().col(i) * (c.svd.matrixU().col(i).dot(gx) / c.svd.singularValues()(i));
+    *x += step;
+    gx = g(*x);
+    if (step.norm() <= 1e-15 * (1.0 + x->norm())) break;
+  }
+  return gx.allFinite() && gx.norm() <= kFeasible * (1.0 + x->norm());
 }
+
+// |r(x)|^2 for the solver; with constraints g, on their tangent space with steps projected back.
+class Residuals final : public LeastSquaresProblem {
+ public:
+  Residuals(const Fn& r, const Fn* g) : r_(r), g_(g) {}
+
+  void linearize(std::span<const double> xs, LeastSquaresLinearization* out) override {
+    const Eigen::Map<const Eigen::VectorXd> xm(xs.data(), static_cast<Eigen::Index>(xs.size()));
+    const Eigen::VectorXd x = xm;
+    const Eigen::VectorXd r = r_(x);
+    const Eigen::Index n = x.size();
+    z_ = Eigen::MatrixXd::Identity(n, n);
+    if (g_ != nullptr) {
+      const ConstraintSvd c(*g_, x, (*g_)(x).size());
+      z_ = c.svd.matrixV().rightCols(n - c.rank);
+    }
+    const Eigen::MatrixXd a = jacobian(r_, x, r.size()) * z_;
+    const Eigen::MatrixXd h = a.transpose() * a;
+    const Eigen::VectorXd grad = a.transpose() * r;
+    out->n = static_cast<std::size_t>(h.rows());
+    out->h.assign(h.data(), h.data() + h.size());
+    out->g.assign(grad.data(), grad.data() + grad.size());
+  }
+
+  double cost(std::span<const double> xs) override {
+    const Eigen::VectorXd x =
+        Eigen::Map<const Eigen::VectorXd>(xs.data(), static_cast<Eigen::Index>(xs.size()));
+    const double c = r_(x).squaredNorm();
+    return std::isfinite(c) ? c : std::numeric_limits<double>::infinity();
+  }
+
+  bool step(std::span<const double> xs, std::span<const double> dz, std::vector<double>* trial,
+            std::vector<double>* moved) override {
+    const Eigen::Map<const Eigen::VectorXd> x(xs.data(), static_cast<Eigen::Index>(xs.size()));
+    Eigen::VectorXd t =
+        x + z_ * Eigen::Map<const Eigen::VectorXd>(dz.data(), static_cast<Eigen::Index>(dz.size()));
+    if (g_ != nullptr && !project(*g_, &t)) return false;
+    trial->assign(t.data(), t.data() + t.size());
+    moved->resize(xs.size());
+    for (std::size_t j = 0; j < xs.size(); ++j) (*moved)[j] = (*trial)[j] - xs[j];
+    return true;
+  }
+
+ private:
+  const Fn& r_;
+  const Fn* g_;
+  Eigen::MatrixXd z_;
+};
 
 }  // namespace
 
@@ -52,75 +124,40 @@ Eigen::VectorXd constrained_least_squares(const Eigen::MatrixXd& a, const Eigen:
   return xp + z * y;
 }
 
-NonlinearOutcome constrained_gauss_newton(const NonlinearSystem& sys, Eigen::VectorXd x,
-                                          int max_iterations) {
+NonlinearOutcome nonlinear_least_squares(const NonlinearSystem& sys, Eigen::VectorXd x,
+                                         int max_iterations) {
   NonlinearOutcome out;
-  const Eigen::Index n = x.size();
-  Eigen::VectorXd g = call(sys.constraints, x), r = call(sys.residuals, x);
-  double phi = merit(g, r);
-  double lambda = 1e-6;
-  for (int it = 0; it < max_iterations; ++it) {
-    out.iterations = it + 1;
-    const Eigen::MatrixXd jg = jacobian(sys.constraints, x, g.size());
-    const Eigen::MatrixXd jr = jacobian(sys.residuals, x, r.size());
-    Eigen::VectorXd step = Eigen::VectorXd::Zero(n);
-    Eigen::MatrixXd z = Eigen::MatrixXd::Identity(n, n);
-    if (g.size() > 0) {
-      Eigen::JacobiSVD<Eigen::MatrixXd> svd(jg, Eigen::ComputeFullV | Eigen::ComputeThinU);
-      const auto& s = svd.singularValues();
-      Eigen::Index rank = 0;
-      while (rank < s.size() && s(rank) > 1e-13 * s(0)) ++rank;
-      for (Eigen::Index i = 0; i < rank; ++i)
-        step -= svd.matrixV().col(i) * (svd.matrixU().col(i).dot(g) / s(i));
-      z = svd.matrixV().rightCols(n - rank);
-    }
-    if (r.size() > 0 && z.cols() > 0) {
-      const Eigen::MatrixXd a = jr * z;
-      const Eigen::VectorXd b = -(r + jr * step);
-      Eigen::MatrixXd normal = a.transpose() * a;
-      normal.diagonal().array() += lambda * (1.0 + normal.diagonal().array());
-      step += z * normal.ldlt().solve(a.transpose() * b);
-    }
-    // Backtrack until the merit decreases.
-    double alpha = 1.0;
-    bool accepted = false;
-    Eigen::VectorXd xn, gn, rn;
-    for (int k = 0; k < 40; ++k, alpha *= 0.5) {
-      xn = x + alpha * step;
-      gn = call(sys.constraints, xn);
-      rn = call(sys.residuals, xn);
-      const double phin = merit(gn, rn);
-      if (phin < phi) {
-        accepted = true;
-        phi = phin;
-        break;
-      }
-    }
-    if (!accepted) {
-      if (lambda < 1e6 && r.size() > 0) {
-        lambda *= 100;
-        continue;
-      }
-      break;
-    }
-    lambda = std::max(lambda / 10, 1e-12);
-    const double moved = (alpha * step).norm();
-    x = xn;
-    g = gn;
-    r = rn;
-    if (moved <= 1e-14 * (1.0 + x.norm())) break;
-  }
+  const bool has_g = call(sys.constraints, x).size() > 0;
+  const bool has_r = call(sys.residuals, x).size() > 0;
+  LeastSquaresOptions lo;
+  lo.max_iterations = max_iterations;
+  lo.function_tolerance = 0;
+  lo.parameter_tolerance = 1e-14;
+  lo.initial_lambda = 1e-6;
+  lo.stop_at_zero_cost = true;
+  auto run = [&](const Fn& residuals, const Fn* constraints) {
+    Residuals problem(residuals, constraints);
+    std::vector<double> xs(x.data(), x.data() + x.size());
+    LeastSquaresSummary summary;
+    levenberg_marquardt(lo, problem, &xs, &summary);
+    x = Eigen::Map<const Eigen::VectorXd>(xs.data(), x.size());
+    out.iterations += summary.iterations;
+  };
+  if (has_g) run(sys.constraints, nullptr);
+  if (has_r && (!has_g || project(sys.constraints, &x)))
+    run(sys.residuals, has_g ? &sys.constraints : nullptr);
+  const Eigen::VectorXd g = call(sys.constraints, x), r = call(sys.residuals, x);
   out.x = x;
   out.constraint_norm = g.size() ? g.norm() : 0.0;
   out.residual_norm = r.size() ? r.norm() : 0.0;
-  out.converged = out.constraint_norm <= 1e-9 * (1.0 + x.norm());
+  out.converged = out.constraint_norm <= kFeasible * (1.0 + x.norm());
   if (g.size() > 0) {
     const Eigen::MatrixXd jg = jacobian(sys.constraints, x, g.size());
     Eigen::JacobiSVD<Eigen::MatrixXd> svd(jg);
     const auto& s = svd.singularValues();
     out.condition_number =
         s(s.size() - 1) > 0 ? s(0) / s(s.size() - 1) : std::numeric_limits<double>::infinity();
-    out.rank_deficient = g.size() >= n && s(s.size() - 1) <= 1e-12 * s(0);
+    out.rank_deficient = g.size() >= x.size() && s(s.size() - 1) <= 1e-12 * s(0);
   }
   return out;
 }

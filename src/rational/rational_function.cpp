@@ -6,9 +6,9 @@
 #include <cmath>
 #include <system_error>
 
-#include "rational/jet.hpp"
-#include "rational/jet_eval.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/forward.hpp"
+#include "shaderfit/expr/jet.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/expr/simplify.hpp"
@@ -83,7 +83,7 @@ Transform Transform::parse(std::string_view text, const std::string& variable,
   opts.variables = {variable};
   opts.source = source;
   const Expression e = parse_formula(text, opts);
-  auto at = [&](double x) { return detail::evaluate_jet(e, Jet(x), {}).value(); };
+  auto at = [&](double x) { return evaluate_at(e, Jet(x), {}).value(); };
   const double f0 = at(0.0), f1 = at(1.0), f2 = at(2.0), fh = at(-0.5);
   const double scale = f1 - f0;
   const double tol = 1e-12 * (1 + std::abs(f0) + std::abs(scale));

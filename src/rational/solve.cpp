@@ -148,7 +148,7 @@ void solve_exact(FormResult& res, const RationalOptions& options, const Workspac
   if (!all_linear) {
     detail::NonlinearSystem sys;
     sys.constraints = [&](const Eigen::VectorXd& c) { return condition_residuals(form, ws, c); };
-    take_nonlinear(res, detail::constrained_gauss_newton(sys, linearised_start(form, ws, rows)),
+    take_nonlinear(res, detail::nonlinear_least_squares(sys, linearised_start(form, ws, rows)),
                    form, options, true);
     return;
   }
@@ -192,7 +192,7 @@ void solve_least_squares(FormResult& res, const RationalOptions& options, const 
     sys.residuals = [&](const Eigen::VectorXd& c) { return sample_residuals(form, ws, c); };
     start = linearised_start(form, ws, rows);
   }
-  const detail::NonlinearOutcome o = detail::constrained_gauss_newton(sys, start);
+  const detail::NonlinearOutcome o = detail::nonlinear_least_squares(sys, start);
   if (over) {
     res.rational = detail::rational_from(form, o.x);
     res.status = FormStatus::Ok;

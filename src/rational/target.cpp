@@ -3,10 +3,10 @@
 #include <array>
 #include <string>
 
-#include "rational/jet.hpp"
-#include "rational/jet_eval.hpp"
 #include "rational/quadrature.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/forward.hpp"
+#include "shaderfit/expr/jet.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/reference/builtin_evaluate.hpp"
 
@@ -82,7 +82,7 @@ Target Target::formula(std::string_view text, const std::string& variable,
 
 double Target::value(double x, std::span<const double> params) const {
   if (builtin_) return eval_builtin(*builtin_, x, params);
-  return detail::evaluate_jet(formula_, Jet(x), params).value();
+  return evaluate_at(formula_, Jet(x), params).value();
 }
 
 std::vector<double> Target::derivatives(double x, int order, std::span<const double> params) const {
@@ -90,8 +90,7 @@ std::vector<double> Target::derivatives(double x, int order, std::span<const dou
     throw Error("derivative order " + std::to_string(order) + " outside [0, " +
                 std::to_string(kMaxDerivativeOrder) + "]");
   const Jet v = Jet::variable(x, order);
-  const Jet r =
-      builtin_ ? eval_builtin(*builtin_, v, params) : detail::evaluate_jet(formula_, v, params);
+  const Jet r = builtin_ ? eval_builtin(*builtin_, v, params) : evaluate_at(formula_, v, params);
   std::vector<double> out(static_cast<std::size_t>(order) + 1);
   for (int k = 0; k <= order; ++k) out[static_cast<std::size_t>(k)] = r.derivative(k);
   return out;

@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "rational/jet.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/jet.hpp"
 #include "shaderfit/reference/fresnel.hpp"
 #include "shaderfit/reference/smith_ggx.hpp"
 

@@ -1,3 +1,6 @@
+// v8f helpers (and op.hpp's apply_ipow on v8f) are always inlined: no v8f crosses a call.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 #include "search/enum_kernels.hpp"
 
 #include <algorithm>
@@ -11,8 +14,6 @@
 #define SF_KERNEL __attribute__((target_clones("avx2", "default")))
 // Helpers are always inlined, so each clone compiles them for its own ISA.
 #define SF_INLINE inline __attribute__((always_inline))
-
-#pragma GCC diagnostic ignored "-Wpsabi"  // v8f helpers never cross a call boundary
 
 namespace shaderfit::search_detail {
 
@@ -93,22 +94,6 @@ SF_INLINE v8f vlog2(v8f x) {
   return select(x > 0.0f, y, select(x == 0.0f, y, splat(kNaN)));
 }
 
-SF_INLINE v8f vipow(v8f x, int k) {
-  const bool inverse = k < 0;
-  unsigned n = static_cast<unsigned>(inverse ? -k : k);
-  v8f result = splat(1.0f), base = x;
-  bool first = true;
-  while (n != 0) {
-    if (n & 1u) {
-      result = first ? base : result * base;
-      first = false;
-    }
-    n >>= 1u;
-    if (n != 0) base = base * base;
-  }
-  return inverse ? 1.0f / result : result;
-}
-
 SF_INLINE v8f vunary(Op op, v8f a) {
   switch (op) {
     case Op::Sqrt: return vsqrt(a);
@@ -139,7 +124,8 @@ SF_KERNEL void compute_column(EKind kind, Op unary, int k, const float* a, const
       for (std::size_t i = 0; i < n; i += 8) store(out + i, vunary(unary, load(a + i) * sa));
       return;
     case EKind::IPow:
-      for (std::size_t i = 0; i < n; i += 8) store(out + i, vipow(load(a + i), k));
+      for (std::size_t i = 0; i < n; i += 8)
+        store(out + i, apply_ipow(load(a + i), k, splat(1.0f)));
       return;
     case EKind::AddSub:
     case EKind::FusedAdd:

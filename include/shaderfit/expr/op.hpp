@@ -1,7 +1,13 @@
-// The operators of shaderfit expressions, their arity and names, and their scalar meaning.
+// The operators of shaderfit expressions, their arity and names, their meaning and their first
+// derivatives: the one statement of what each operator computes.
 //
 // Every backend (CPU evaluator, search, GPU, code generation) computes what `apply_unary`,
-// `apply_binary` and `apply_ipow` below define; the SIMD and GPU paths are tested against them.
+// `apply_binary`, `apply_ipow` and `apply_fma` below define; the SIMD and GPU paths are tested
+// against them. They are templates on the number type: the scalar evaluator instantiates them on
+// float and double, the search's vector kernels on vectors, and forward-mode differentiation on
+// Taylor jets (expr/jet.hpp, through expr/forward.hpp), whose arithmetic and elementary functions
+// are found by argument-dependent lookup. The Jacobian evaluator pairs each value with the first
+// derivatives defined beside it (`unary_derivative`, `binary_partials`, `ipow_derivative`).
 #pragma once
 
 #include <cmath>
@@ -9,6 +15,14 @@
 #include <string_view>
 
 #include "shaderfit/core.hpp"
+
+// The definitions below are always inlined: callers compiled for a wider ISA (the Jacobian's and
+// the search's target clones) then compute them with their own vector instructions.
+#if defined(__CUDACC__)
+#define SF_OP_INLINE SF_CPU_GPU __forceinline__
+#else
+#define SF_OP_INLINE SF_CPU_GPU inline __attribute__((always_inline))
+#endif
 
 namespace shaderfit {
 
@@ -75,11 +89,12 @@ constexpr bool is_leaf(Op op) { return arity(op) == 0; }
 Op op_from_name(std::string_view name);
 
 // x^k by repeated squaring, as the generated shader code computes it; k < 0 gives 1 / x^-k.
+// `one` is T's 1 (given explicitly by number types without a conversion from int: vectors).
 template <typename T>
-SF_CPU_GPU inline T apply_ipow(T x, int k) {
+SF_OP_INLINE T apply_ipow(T x, int k, T one = T(1)) {
   const bool inverse = k < 0;
   unsigned n = static_cast<unsigned>(inverse ? -k : k);
-  T result = T(1);
+  T result = one;
   T base = x;
   bool first = true;
   while (n != 0) {
@@ -90,11 +105,11 @@ SF_CPU_GPU inline T apply_ipow(T x, int k) {
     n >>= 1u;
     if (n != 0) base = base * base;
   }
-  return inverse ? T(1) / result : result;
+  return inverse ? one / result : result;
 }
 
 template <typename T>
-SF_CPU_GPU inline T apply_unary(Op op, T a) {
+SF_OP_INLINE T apply_unary(Op op, T a) {
   using std::abs, std::cos, std::exp, std::exp2, std::log, std::log2, std::sin, std::sqrt;
   switch (op) {
     case Op::Neg: return -a;
@@ -114,7 +129,7 @@ SF_CPU_GPU inline T apply_unary(Op op, T a) {
 }
 
 template <typename T>
-SF_CPU_GPU inline T apply_binary(Op op, T a, T b) {
+SF_OP_INLINE T apply_binary(Op op, T a, T b) {
   using std::exp2, std::fmax, std::fmin, std::log2;
   switch (op) {
     case Op::Add: return a + b;
@@ -129,8 +144,67 @@ SF_CPU_GPU inline T apply_binary(Op op, T a, T b) {
 }
 
 template <typename T>
-SF_CPU_GPU inline T apply_fma(T a, T b, T c) {
+SF_OP_INLINE T apply_fma(T a, T b, T c) {
   return a * b + c;
 }
+
+// d apply_unary(op, a) / da, given y = apply_unary(op, a). Kinks (abs at 0, saturate at 0 and 1)
+// take the derivative 0.
+template <typename T>
+SF_OP_INLINE T unary_derivative(Op op, T a, T y) {
+  using std::cos, std::sin;
+  constexpr double kLn2 = 0.6931471805599453;
+  switch (op) {
+    case Op::Neg: return T(-1);
+    case Op::Sqrt: return T(0.5) / y;
+    case Op::Rsqrt: return T(-0.5) * y / a;
+    case Op::Rcp: return -y * y;
+    case Op::Exp2: return T(kLn2) * y;
+    case Op::Log2: return T(1) / (T(kLn2) * a);
+    case Op::Exp: return y;
+    case Op::Log: return T(1) / a;
+    case Op::Abs: return a > T(0) ? T(1) : (a < T(0) ? T(-1) : T(0));
+    case Op::Saturate: return a > T(0) && a < T(1) ? T(1) : T(0);
+    case Op::Sin: return cos(a);
+    case Op::Cos: return -sin(a);
+    default: return a / T(0) * T(0);  // NaN: not a unary operator (IPow: ipow_derivative)
+  }
+}
+
+// d apply_ipow(a, k) / da = k a^(k-1), the power by the same squaring chain.
+template <typename T>
+SF_OP_INLINE T ipow_derivative(T a, int k, T one = T(1)) {
+  return apply_ipow(a, k - 1, one) * T(k);
+}
+
+// The partial derivatives of apply_binary(op, a, b) in a and in b, given y = apply_binary(op,
+// a, b). min and max take a's branch on a tie.
+template <typename T>
+struct BinaryPartials {
+  T da, db;
+};
+
+template <typename T>
+SF_OP_INLINE BinaryPartials<T> binary_partials(Op op, T a, T b, T y) {
+  using std::log;
+  switch (op) {
+    case Op::Add: return {T(1), T(1)};
+    case Op::Sub: return {T(1), T(-1)};
+    case Op::Mul: return {b, a};
+    case Op::Div: return {T(1) / b, -y / b};
+    case Op::Min: {
+      const T in_a = a <= b ? T(1) : T(0);
+      return {in_a, T(1) - in_a};
+    }
+    case Op::Max: {
+      const T in_a = a >= b ? T(1) : T(0);
+      return {in_a, T(1) - in_a};
+    }
+    case Op::Pow: return {b * y / a, y * log(a)};
+    default: return {a / T(0) * T(0), a / T(0) * T(0)};  // NaN: not a binary operator
+  }
+}
+
+// The partials of apply_fma(a, b, c) in a, b and c are b, a and 1.
 
 }  // namespace shaderfit

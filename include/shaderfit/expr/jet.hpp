@@ -1,23 +1,23 @@
-// Truncated Taylor series ("jets") for exact derivatives of any order up to kMaxOrder.
+// Truncated Taylor series ("jets") for exact derivatives of any order up to kMaxJetOrder.
 //
 // A Jet holds the Taylor coefficients c_0..c_{n-1} of a function at a point: c_k = f^(k)(a) / k!.
 // Arithmetic and the elementary functions follow the usual power-series recurrences, so evaluating
 // a formula (or a reference template such as fresnel_dielectric<Jet>) on the jet of the identity
 // at a, Jet::variable(a, n), gives every derivative up to order n - 1 to rounding error: no step
-// size, no cancellation, unlike finite differences (which the Target keeps for black-box
-// callables only). Comparisons look at the value c_0 only, so branches follow the branch taken
-// at the point itself.
+// size, no cancellation, unlike finite differences. Expressions are evaluated on jets by
+// expr/forward.hpp, with the operators' meaning from expr/op.hpp. Comparisons look at the value
+// c_0 only, so branches (min, max, abs, saturate) follow the branch taken at the point itself.
 #pragma once
 
 #include <array>
 #include <cmath>
 
-namespace shaderfit::rational {
+namespace shaderfit {
 
-inline constexpr int kMaxOrder = 24;  // highest derivative order a jet carries
+inline constexpr int kMaxJetOrder = 24;  // highest derivative order a jet carries
 
 struct Jet {
-  std::array<double, kMaxOrder + 1> c{};
+  std::array<double, kMaxJetOrder + 1> c{};
   int n = 1;  // coefficients in use; a constant has n = 1
 
   Jet() = default;
@@ -176,5 +176,8 @@ inline Jet atan(const Jet& a) {
   return integrate_series(d, std::atan(a.c[0]), a.n);
 }
 inline Jet abs(const Jet& a) { return a.c[0] < 0 ? -a : a; }
+// min and max by the value; a tie takes the first argument.
+inline Jet fmin(const Jet& a, const Jet& b) { return b.c[0] < a.c[0] ? b : a; }
+inline Jet fmax(const Jet& a, const Jet& b) { return b.c[0] > a.c[0] ? b : a; }
 
-}  // namespace shaderfit::rational
+}  // namespace shaderfit

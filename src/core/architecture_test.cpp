@@ -1,0 +1,129 @@
+// docs/architecture.md lists each area and the areas it may include; this test holds the code to
+// that list, so the map and the code cannot drift apart: every area of src/ and include/shaderfit/
+// is listed, the listed arrows form no cycle, and no library file (tests and their helpers aside)
+// includes an area its own may not.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+using Arrows = std::map<std::string, std::set<std::string>>;
+
+const fs::path kRoot = SHADERFIT_SOURCE_DIR;
+
+// The first fenced block after the heading "## Areas": lines "area: other other ...".
+Arrows read_arrows() {
+  std::ifstream doc(kRoot / "docs" / "architecture.md");
+  Arrows arrows;
+  std::string line;
+  bool in_section = false, in_block = false;
+  while (std::getline(doc, line)) {
+    if (!in_section) {
+      in_section = line.rfind("## Areas", 0) == 0;
+      continue;
+    }
+    if (line.rfind("```", 0) == 0) {
+      if (in_block) break;
+      in_block = true;
+      continue;
+    }
+    if (!in_block) continue;
+    const auto colon = line.find(':');
+    if (colon == std::string::npos) continue;
+    std::istringstream names(line.substr(colon + 1));
+    auto& to = arrows[line.substr(0, colon)];
+    for (std::string n; names >> n;) to.insert(n);
+  }
+  return arrows;
+}
+
+std::set<std::string> area_folders() {
+  std::set<std::string> out;
+  for (const fs::path& dir : {kRoot / "src", kRoot / "include" / "shaderfit"})
+    for (const auto& e : fs::directory_iterator(dir))
+      if (e.is_directory()) out.insert(e.path().filename().string());
+  return out;
+}
+
+bool is_test_code(const fs::path& p) {
+  const std::string name = p.filename().string();
+  return name.find("_test.") != std::string::npos || name.find("test_") != std::string::npos;
+}
+
+TEST(Architecture, EveryAreaIsOnTheMap) {
+  const Arrows arrows = read_arrows();
+  ASSERT_FALSE(arrows.empty()) << "no area list in docs/architecture.md (## Areas, first block)";
+  for (const std::string& a : area_folders())
+    EXPECT_TRUE(arrows.count(a)) << "area '" << a << "' is not in docs/architecture.md";
+  for (const auto& [from, to] : arrows) {
+    EXPECT_TRUE(area_folders().count(from)) << "docs/architecture.md lists no such area: " << from;
+    for (const std::string& t : to)
+      EXPECT_TRUE(arrows.count(t)) << from << " may include '" << t << "', which is not listed";
+  }
+}
+
+TEST(Architecture, TheMapHasNoCycle) {
+  const Arrows arrows = read_arrows();
+  std::map<std::string, int> state;  // 1: on the current path, 2: done
+  std::vector<std::string> path;
+  std::function<void(const std::string&)> visit = [&](const std::string& a) {
+    if (state[a] == 2) return;
+    path.push_back(a);
+    if (state[a] == 1) {
+      std::string cycle;
+      for (const auto& p : path) cycle += (cycle.empty() ? "" : " -> ") + p;
+      ADD_FAILURE() << "cycle between areas: " << cycle;
+      path.pop_back();
+      return;
+    }
+    state[a] = 1;
+    if (auto it = arrows.find(a); it != arrows.end())
+      for (const std::string& b : it->second) visit(b);
+    state[a] = 2;
+    path.pop_back();
+  };
+  for (const auto& [a, to] : arrows) visit(a);
+}
+
+TEST(Architecture, LibraryIncludesFollowTheMap) {
+  const Arrows arrows = read_arrows();
+  const std::set<std::string> areas = area_folders();
+  // "shaderfit/<area>/..." (public) or "<area>/..." (internal, under src/).
+  const std::regex include_line(R"re(^\s*#\s*include\s+"(?:shaderfit/)?([a-z_]+)/)re");
+  int checked = 0;
+  for (const fs::path& dir : {kRoot / "src", kRoot / "include" / "shaderfit"}) {
+    for (const auto& e : fs::recursive_directory_iterator(dir)) {
+      if (!e.is_regular_file() || is_test_code(e.path())) continue;
+      const fs::path rel = e.path().lexically_relative(dir);
+      if (rel.begin() == rel.end() || std::next(rel.begin()) == rel.end()) continue;  // top level
+      const std::string from = rel.begin()->string();
+      const auto allowed = arrows.find(from);
+      std::ifstream f(e.path());
+      std::string line;
+      for (int n = 1; std::getline(f, line); ++n) {
+        std::smatch m;
+        if (!std::regex_search(line, m, include_line)) continue;
+        const std::string to = m[1];
+        if (to == from || !areas.count(to)) continue;
+        ++checked;
+        EXPECT_TRUE(allowed != arrows.end() && allowed->second.count(to))
+            << e.path().lexically_relative(kRoot).string() << ":" << n << ": " << from
+            << " includes " << to << ", which docs/architecture.md does not allow";
+      }
+    }
+  }
+  EXPECT_GT(checked, 0);
+}
+
+}  // namespace
