@@ -4,7 +4,6 @@
 
 #include <iostream>
 
-#include "field_flags.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/search/options.hpp"
 
@@ -12,9 +11,15 @@ namespace shaderfit::cli {
 
 namespace {
 
-// Library locations and the flags that set them, for errors that reach run_cli with the
-// library's location (fit and rational translate theirs with with_flags, field_flags.hpp).
-// Search options not listed take --<field name> (search_option_flag).
+// A library location (a field such as "FitSetup::grid", or a concept such as "Material") and
+// the flag that sets it.
+struct FieldFlag {
+  std::string_view field;
+  std::string_view flag;
+};
+
+// The one table of library locations and the flags that set them, for every command. Search
+// options not listed take --<field name> (search_option_flag).
 constexpr FieldFlag kFlags[] = {
     // shaderfit search: historical names.
     {"SearchOptions::time_limit_s", "--time"},
@@ -27,6 +32,39 @@ constexpr FieldFlag kFlags[] = {
     {"SearchOptions::checkpoint_path", "--checkpoint"},
     {"SearchOptions::checkpoint_interval_s", "--checkpoint-every"},
     {"SearchOptions::resume_path", "--resume"},
+    {"SearchReportOptions::choose", "--choose"},
+    // shaderfit fit.
+    {"FitSetup::random_samples", "--random-samples"},
+    {"FitSetup::definitions", "--define"},
+    {"FitSetup::constraints", "--constraint"},
+    {"FitSetup::parameters", "--param"},
+    {"FitSetup::reference", "--reference"},
+    {"FitSetup::transform", "--transform"},
+    {"FitSetup::baselines", "--baseline"},
+    {"FitSetup::per_group", "--per-group"},
+    {"FitSetup::per_cell", "--per-cell"},
+    {"FitSetup::rng_seed", "--rng-seed"},
+    {"FitSetup::formula", "formula"},
+    {"FitSetup::domain", "--domain"},
+    {"FitSetup::target", "--target"},
+    {"FitSetup::weight", "--weight"},
+    {"FitSetup::grid", "--grid"},
+    {"FitSetup::data", "--data"},
+    // shaderfit rational.
+    {"RationalProblem::parameter_values", "--param"},
+    {"RationalProblem::parameter_names", "--param"},
+    {"RationalProblem::conditions", "--cond"},
+    {"RationalProblem::target", "--target"},
+    {"RationalProblem::domain", "--domain"},
+    {"RationalSetup::conditions", "--cond"},
+    {"RationalSetup::parameters", "--param"},
+    {"RationalSetup::transforms", "--transform"},
+    {"RationalSetup::target", "--target"},
+    {"RationalSetup::domain", "--domain"},
+    {"RationalSetup::count", "--count"},
+    {"RationalSetup::forms", "--form"},
+    {"RationalForm", "--form"},
+    {"Transform", "--transform"},
     // Other commands.
     {"ComputeDevice", "--device"},
     {"CodegenOptions::name", "--name"},
@@ -40,21 +78,31 @@ constexpr FieldFlag kFlags[] = {
     {"fresnel_sweep::materials", "--material"},
     {"fresnel_sweep::angles", "--angles"},
     {"compare_with_exact", "--compare-exact"},
-    {"RationalProblem::conditions", "--cond"},
-    {"RationalForm", "--form"},
-    {"Transform", "--transform"},
-    {"SearchReportOptions::choose", "--choose"},
 };
 
 constexpr std::string_view kSearchOptions = "SearchOptions::";
 
-// e.what() with the library's location replaced by its flag.
+// The message with every field the table names ("declare it with FitSetup::parameters")
+// written as its flag. Only qualified names (Type::field) are replaced: a bare concept such as
+// "Material" is also an ordinary word.
+std::string message_in_flags(std::string text) {
+  for (const FieldFlag& f : kFlags) {
+    if (f.field.find("::") == std::string_view::npos) continue;
+    for (std::size_t at = text.find(f.field); at != std::string::npos;
+         at = text.find(f.field, at + f.flag.size()))
+      text.replace(at, f.field.size(), f.flag);
+  }
+  return text;
+}
+
+// e.what() with the library's location and the fields in its message written as flags.
 std::string error_text(const shaderfit::Error& e) {
-  const std::string flag = flag_for_location(e.where().source);
-  if (flag.empty()) return e.what();
   SourceLocation where = e.where();
-  where.source = flag;
-  return where.to_string() + ": " + e.message();
+  const std::string flag = flag_for_location(where.source);
+  // A location with more than the field ("FitSetup::constraints 1": the first constraint) keeps
+  // the rest.
+  where.source = flag.empty() ? message_in_flags(where.source) : flag;
+  return shaderfit::Error(message_in_flags(e.message()), where).what();
 }
 
 void print_error(std::ostream& err, const std::string& text) {

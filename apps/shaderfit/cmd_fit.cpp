@@ -9,7 +9,6 @@
 #include <ostream>
 
 #include "data_source.hpp"
-#include "field_flags.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -39,27 +38,6 @@ struct FitArgs {
   int max_iterations = 100;
   int threads = 0;
 };
-
-// ---- FitSetup's fields and the flags that set them (for the CLI's one field -> flag table) ----
-constexpr FieldFlag kFitFlags[] = {
-    {"FitSetup::random_samples", "--random-samples"},
-    {"FitSetup::definitions", "--define"},
-    {"FitSetup::constraints", "--constraint"},
-    {"FitSetup::parameters", "--param"},
-    {"FitSetup::reference", "--reference"},
-    {"FitSetup::transform", "--transform"},
-    {"FitSetup::baselines", "--baseline"},
-    {"FitSetup::per_group", "--per-group"},
-    {"FitSetup::per_cell", "--per-cell"},
-    {"FitSetup::rng_seed", "--rng-seed"},
-    {"FitSetup::formula", "formula"},
-    {"FitSetup::domain", "--domain"},
-    {"FitSetup::target", "--target"},
-    {"FitSetup::weight", "--weight"},
-    {"FitSetup::grid", "--grid"},
-    {"FitSetup::data", "--data"},
-};
-// ----
 
 [[noreturn]] void fail(const std::string& message, const char* option) {
   throw Error(message, SourceLocation{option});
@@ -180,12 +158,10 @@ void write_file(const std::string& path, const std::string& text, const char* op
 }
 
 void run_fit(const FitArgs& a, Context& ctx) {
-  const PreparedFit s = with_flags(kFitFlags, [&] { return prepare_fit(to_setup(a)); });
+  const PreparedFit s = prepare_fit(to_setup(a));
   FixedFormSummary sum;
-  const std::vector<BlockComparison> reports = with_flags(kFitFlags, [&] {
-    solve_fixed_form(s.options, s.problem, &sum);
-    return compare_blocks(s, sum);
-  });
+  solve_fixed_form(s.options, s.problem, &sum);
+  const std::vector<BlockComparison> reports = compare_blocks(s, sum);
   if (!a.table_path.empty()) write_file(a.table_path, table_csv(sum, reports), "--table");
   if (a.json_path == "-") {
     ctx.out << fit_json(s, sum, reports) << '\n';

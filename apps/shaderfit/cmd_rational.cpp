@@ -6,7 +6,6 @@
 #include <memory>
 #include <ostream>
 
-#include "field_flags.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -26,23 +25,6 @@ struct RationalArgs {
   int count = 0;
   bool minimax = false, relative = false, list_targets = false;
 };
-
-// ---- RationalSetup's and RationalProblem's fields and the flags that set them (for the CLI's one
-// field -> flag table) ----
-constexpr FieldFlag kRationalFlags[] = {
-    {"RationalProblem::parameter_values", "--param"},
-    {"RationalProblem::parameter_names", "--param"},
-    {"RationalSetup::conditions", "--cond"},
-    {"RationalSetup::parameters", "--param"},
-    {"RationalSetup::transforms", "--transform"},
-    {"RationalProblem::target", "--target"},
-    {"RationalProblem::domain", "--domain"},
-    {"RationalSetup::target", "--target"},
-    {"RationalSetup::domain", "--domain"},
-    {"RationalSetup::count", "--count"},
-    {"RationalSetup::forms", "--form"},
-};
-// ----
 
 RationalSetup to_setup(const RationalArgs& a) {
   RationalSetup s;
@@ -75,8 +57,7 @@ void run_rational(const RationalArgs& a, Context& ctx) {
     for (const std::string& t : Target::builtin_target_names()) ctx.out << t << '\n';
     return;
   }
-  PreparedRational prepared =
-      with_flags(kRationalFlags, [&] { return prepare_rational(to_setup(a)); });
+  PreparedRational prepared = prepare_rational(to_setup(a));
   RationalProblem& problem = prepared.problem;
   const RationalOptions& options = prepared.options;
   const std::vector<std::string>& names = problem.parameter_names;
@@ -96,7 +77,7 @@ void run_rational(const RationalArgs& a, Context& ctx) {
   for (double v : values) {
     if (sweep >= 0) problem.parameter_values[static_cast<std::size_t>(sweep)] = v;
     RationalSummary summary;
-    with_flags(kRationalFlags, [&] { solve(options, problem, &summary); });
+    solve(options, problem, &summary);
     for (std::size_t i = 0; i < problem.forms.size(); ++i)
       for (const FormResult& r : summary.results)
         if (r.form == problem.forms[i] && r.status == FormStatus::PoleInDomain)
@@ -127,9 +108,7 @@ void run_rational(const RationalArgs& a, Context& ctx) {
     const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
     if (*lo < *hi) {
       const std::string& pname = names[static_cast<std::size_t>(sweep)];
-      report.laws = with_flags(kRationalFlags, [&] {
-        return parametric_laws(options, problem, pname, {*lo, *hi}, forms);
-      });
+      report.laws = parametric_laws(options, problem, pname, {*lo, *hi}, forms);
       if (!to_stdout)
         ctx.out << "coefficients as functions of " << pname << " on [" << format_number(*lo) << ", "
                 << format_number(*hi) << "]:\n";
