@@ -2,18 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/overloaded.hpp"
+
 namespace shaderfit {
-
-namespace {
-
-template <class... F>
-struct Overloaded : F... {
-  using F::operator()...;
-};
-template <class... F>
-Overloaded(F...) -> Overloaded<F...>;
-
-}  // namespace
 
 nlohmann::json search_options_json(const SearchOptions& o) {
   using nlohmann::json;

@@ -10,16 +10,11 @@
 #include <limits>
 #include <type_traits>
 
+#include "core/overloaded.hpp"
+
 namespace shaderfit {
 
 namespace {
-
-template <class... F>
-struct Overloaded : F... {
-  using F::operator()...;
-};
-template <class... F>
-Overloaded(F...) -> Overloaded<F...>;
 
 constexpr Op kSearchable[] = {Op::Add,  Op::Sub,   Op::Mul, Op::Div,      Op::IPow,
                               Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2,     Op::Log2,
