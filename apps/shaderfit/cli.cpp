@@ -63,6 +63,8 @@ constexpr FieldFlag kFlags[] = {
     {"RationalSetup::domain", "--domain"},
     {"RationalSetup::count", "--count"},
     {"RationalSetup::forms", "--form"},
+    {"RationalOptions::fit = Fit::LeastSquares", "--fit lsq"},
+    {"Fit::Minimax", "--minimax"},
     {"RationalForm", "--form"},
     {"Transform", "--transform"},
     // Other commands.

@@ -1,7 +1,9 @@
 // shaderfit core: read this header first.
 //
 // It fixes the scalar types, the one host/device macro, and forward-declares the main types of
-// every area, so that headers can name each other without including each other.
+// every area, so that headers can name each other without including each other. The map of the
+// areas, what each may include and where to add an operator, loss, option or language is
+// docs/architecture.md.
 //
 //   #include <shaderfit/core.hpp>
 //   shaderfit::Expression e = shaderfit::parse_formula("r0 + (x - r0) * x^4", {"r0", "x"});

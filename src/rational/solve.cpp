@@ -212,7 +212,7 @@ void solve_minimax(FormResult& res, const RationalOptions& options, const Ration
     const Condition& c = *ws.conditions[nonlinear.front()].source;
     throw Error(
         fmt::format("condition '{}' is not linear in the coefficients of form {}, so a minimax fit "
-                    "cannot keep it exact (use --fit lsq)",
+                    "cannot keep it exact (use RationalOptions::fit = Fit::LeastSquares)",
                     c.text, res.form.name(problem.target.variable())),
         c.where);
   }
@@ -267,13 +267,13 @@ FormResult solve_in(const RationalOptions& options, const RationalProblem& probl
   if (options.fit == Fit::None && conds > count)
     throw Error(
         fmt::format("{} but form {} has only {}: drop {} or meet them in the least-squares sense "
-                    "with --fit lsq",
+                    "with RationalOptions::fit = Fit::LeastSquares",
                     plural(conds, "condition"), name, plural(count, "coefficient"), conds - count),
         conditions_location(problem));
   if (options.fit == Fit::None && conds < count)
     throw Error(
         fmt::format("form {} has {} but there {} {}: add {} or fit the rest to the reference "
-                    "with --fit lsq or --minimax",
+                    "with RationalOptions::fit = Fit::LeastSquares or Fit::Minimax",
                     name, plural(count, "coefficient"), conds == 1 ? "is" : "are",
                     plural(conds, "condition"), count - conds),
         conditions_location(problem));
