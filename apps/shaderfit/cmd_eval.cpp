@@ -28,28 +28,6 @@ struct EvalArgs {
   bool float32 = false;
 };
 
-std::string label_of(const Column& c, std::size_t row) {
-  return c.numeric() ? format_number(c.values[row]) : c.labels[row];
-}
-
-EvalFormulaResult evaluate_formula(const std::string& text, const std::string& source, const Dataset& d,
-                                   std::span<const double> target, const EvalArgs& a) {
-  EvalFormulaResult r;
-  r.input = text;
-  Expression e = parse_formula_on(text, d, source);
-  r.formula = to_infix(e);
-  const std::vector<double> p = a.float32 ? evaluate_on_f32(e, d) : evaluate_on(e, d);
-  r.all = error_metrics(p, target);
-  for (const std::string& g : a.groups) {
-    const Column& col = d.column(g);
-    std::vector<std::string> labels(d.rows());
-    for (std::size_t i = 0; i < d.rows(); ++i) labels[i] = label_of(col, i);
-    for (const auto& [label, rows] : group_rows(labels))
-      r.groups.push_back({g, label, error_metrics(p, target, rows)});
-  }
-  return r;
-}
-
 void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& results, const EvalArgs& a,
                  const Dataset& d) {
   out << fmt::format("shaderfit eval: {}, {} rows, target {}{}\n", a.data.describe(), d.rows(),
@@ -93,11 +71,12 @@ void run_eval(EvalArgs& a, Context& ctx) {
 
   std::vector<EvalFormulaResult> results;
   if (!a.baseline.empty()) {
-    results.push_back(evaluate_formula(a.baseline, "--baseline", d, target, a));
+    results.push_back(evaluate_formula_on(a.baseline, "--baseline", d, target, a.groups, a.float32));
     results.back().baseline = true;
   }
   for (std::size_t i = 0; i < a.formulas.size(); ++i) {
-    results.push_back(evaluate_formula(a.formulas[i], "formula " + std::to_string(i + 1), d, target, a));
+    results.push_back(evaluate_formula_on(a.formulas[i], "formula " + std::to_string(i + 1), d, target, a.groups,
+                                          a.float32));
   }
 
   if (a.json_path == "-") {

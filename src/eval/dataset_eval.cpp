@@ -3,6 +3,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/data/dataset.hpp"
 #include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
 
 namespace shaderfit {
 
@@ -27,7 +28,8 @@ std::vector<const double*> bind(const Expression& e, const Dataset& data) {
 
 }  // namespace
 
-std::vector<double> evaluate_on(const Expression& e, const Dataset& data, const EvalOptions& options) {
+std::vector<double> evaluate_on(const Expression& e, const Dataset& data,
+                                const EvalOptions& options) {
   const std::vector<const double*> cols = bind(e, data);
   std::vector<double> out(data.rows());
   evaluate(e, std::span<const double* const>(cols), std::span<double>(out), options);
@@ -47,6 +49,26 @@ std::vector<double> evaluate_on_f32(const Expression& e, const Dataset& data,
   std::vector<float> out32(n);
   evaluate(e, std::span<const float* const>(cols), std::span<float>(out32), options);
   return std::vector<double>(out32.begin(), out32.end());
+}
+
+EvalFormulaResult evaluate_formula_on(std::string_view text, const std::string& source,
+                                      const Dataset& data, std::span<const double> target,
+                                      std::span<const std::string> groups, bool float32) {
+  EvalFormulaResult r;
+  r.input = std::string(text);
+  const Expression e = parse_formula_on(text, data, source);
+  r.formula = to_infix(e);
+  const std::vector<double> p = float32 ? evaluate_on_f32(e, data) : evaluate_on(e, data);
+  r.all = error_metrics(p, target);
+  for (const std::string& g : groups) {
+    const Column& col = data.column(g);
+    std::vector<std::string> labels(data.rows());
+    for (std::size_t i = 0; i < data.rows(); ++i)
+      labels[i] = col.numeric() ? format_number(col.values[i]) : col.labels[i];
+    for (const auto& [label, rows] : group_rows(labels))
+      r.groups.push_back({g, label, error_metrics(p, target, rows)});
+  }
+  return r;
 }
 
 }  // namespace shaderfit

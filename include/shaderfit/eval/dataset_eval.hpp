@@ -6,11 +6,13 @@
 //   std::vector<double> r = evaluate_on(e, d);
 #pragma once
 
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/expression.hpp"
 
 namespace shaderfit {
@@ -26,10 +28,32 @@ Expression parse_formula_on(std::string_view text, const Dataset& data,
 
 // Evaluates e on every row of `data`; its variables are looked up by name among the numeric
 // columns (shaderfit::Error when one is missing or not numeric).
-std::vector<double> evaluate_on(const Expression& e, const Dataset& data, const EvalOptions& options = {});
+std::vector<double> evaluate_on(const Expression& e, const Dataset& data,
+                                const EvalOptions& options = {});
 
 // The same in float32: inputs rounded to float, evaluated in float, widened back.
 std::vector<double> evaluate_on_f32(const Expression& e, const Dataset& data,
                                     const EvalOptions& options = {});
+
+// A formula's errors on a data set, overall and per group (what `shaderfit eval` reports).
+struct EvalGroupResult {
+  std::string column, label;
+  ErrorMetrics metrics;
+};
+
+struct EvalFormulaResult {
+  std::string input;    // as the user wrote it
+  std::string formula;  // as shaderfit prints it
+  bool baseline = false;
+  ErrorMetrics all;
+  std::vector<EvalGroupResult> groups;  // per column of `groups`, its labels in sorted order
+};
+
+// Parses `text` on `data` (parse_formula_on, errors located at `source`), evaluates it in
+// float64 or, with `float32`, as a shader would, and measures it against `target` on every row
+// and on the rows of each value of each column in `groups` (numeric values by format_number).
+EvalFormulaResult evaluate_formula_on(std::string_view text, const std::string& source,
+                                      const Dataset& data, std::span<const double> target,
+                                      std::span<const std::string> groups, bool float32);
 
 }  // namespace shaderfit

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "shaderfit/cost/instruction_model.hpp"
-#include "shaderfit/eval/metrics.hpp"
+#include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/fit/setup.hpp"
 #include "shaderfit/rational/parametric.hpp"
@@ -29,19 +29,6 @@ std::string fit_json(const PreparedFit& fit, const FixedFormSummary& summary,
                      const std::vector<BlockComparison>& comparisons);
 
 // What `shaderfit eval` measured: formulas on a data set, overall and per group.
-struct EvalGroupResult {
-  std::string column, label;
-  ErrorMetrics metrics;
-};
-
-struct EvalFormulaResult {
-  std::string input;    // as the user wrote it
-  std::string formula;  // as shaderfit prints it
-  bool baseline = false;
-  ErrorMetrics all;
-  std::vector<EvalGroupResult> groups;  // the same groups, in the same order, for every formula
-};
-
 struct EvalReport {
   std::string data;  // names the data ("fresnel-seed (seed 1)")
   std::size_t rows = 0;
