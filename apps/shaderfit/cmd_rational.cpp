@@ -52,89 +52,55 @@ RationalSetup to_setup(const RationalArgs& a) {
   return s;
 }
 
+// The runs and the laws as text, each run under a heading with its parameter values.
+void print_report(std::ostream& out, const RationalReport& report) {
+  const std::string& var = report.variable;
+  for (const RationalRun& run : report.runs) {
+    std::string head =
+        fmt::format("shaderfit rational: {} on {} in [{}, {}]", report.target, var,
+                    format_number(report.domain.lo), format_number(report.domain.hi));
+    for (std::size_t i = 0; i < report.parameter_names.size(); ++i)
+      head += fmt::format("{} {} = {}", i ? "," : ";", report.parameter_names[i],
+                          format_number(run.parameter_values[i]));
+    out << head << '\n';
+    for (const std::string& c : report.conditions) out << "  condition: " << c << '\n';
+    out << run.summary.full_report() << run.summary.brief_report() << "\n\n";
+  }
+  if (report.swept_parameter.empty()) return;
+  const std::string& pname = report.swept_parameter;
+  out << "coefficients as functions of " << pname << " on [" << format_number(report.sweep_range.lo)
+      << ", " << format_number(report.sweep_range.hi) << "]:\n";
+  for (const ParametricLaw& l : report.laws) {
+    out << "  " << l.form.name(var) << ": ";
+    if (!l.usable) {
+      out << "not usable over the range (" << l.note << ")\n";
+    } else if (l.all_rational) {
+      out << "rational in " << pname << ": " << l.formula << '\n';
+    } else {
+      std::string missing;
+      for (const CoefficientLaw& c : l.coefficients)
+        if (!c.found) missing += (missing.empty() ? "" : ", ") + c.coefficient;
+      out << "not rational in " << pname << " (" << missing << ")\n";
+    }
+    if (l.usable)
+      for (const CoefficientLaw& c : l.coefficients)
+        if (c.found && c.law != "0") out << "      " << c.coefficient << " = " << c.law << '\n';
+  }
+}
+
 void run_rational(const RationalArgs& a, Context& ctx) {
   if (a.list_targets) {
     for (const std::string& t : Target::builtin_target_names()) ctx.out << t << '\n';
     return;
   }
   PreparedRational prepared = prepare_rational(to_setup(a));
-  RationalProblem& problem = prepared.problem;
-  const RationalOptions& options = prepared.options;
-  const std::vector<std::string>& names = problem.parameter_names;
-  const int sweep = prepared.sweep;
-  const std::vector<double>& values = prepared.sweep_values;
-  const std::string& var = problem.target.variable();
-
-  RationalReport report;
-  report.target = problem.target.name();
-  report.variable = var;
-  report.domain = problem.domain;
-  report.fit = a.minimax ? "minimax" : a.fit;
-  for (const Condition& c : problem.conditions) report.conditions.push_back(c.text);
-  report.parameter_names = names;
-  const bool to_stdout = a.json_path == "-";
-  std::vector<RationalForm> forms;
-  for (double v : values) {
-    if (sweep >= 0) problem.parameter_values[static_cast<std::size_t>(sweep)] = v;
-    RationalSummary summary;
-    solve(options, problem, &summary);
-    for (std::size_t i = 0; i < problem.forms.size(); ++i)
-      for (const FormResult& r : summary.results)
-        if (r.form == problem.forms[i] && r.status == FormStatus::PoleInDomain)
-          throw Error("form " + r.form.name(var) + ": " + r.message,
-                      {"--form", static_cast<int>(i / prepared.transform_count) + 1, 1});
-    if (summary.results.empty() || !summary.results.front().usable()) {
-      const FormResult& r = summary.results.front();
-      if (!problem.forms.empty())
-        throw Error(fmt::format("form {} is {}: {}", r.form.name(var), form_status_name(r.status),
-                                r.message),
-                    {"--form"});
-    }
-    if (forms.empty())
-      for (const FormResult& r : summary.results) forms.push_back(r.form);
-    report.runs.push_back({problem.parameter_values, summary});
-    if (to_stdout) continue;
-    std::string head =
-        fmt::format("shaderfit rational: {} on {} in [{}, {}]", problem.target.name(), var,
-                    format_number(problem.domain.lo), format_number(problem.domain.hi));
-    for (std::size_t i = 0; i < names.size(); ++i)
-      head += fmt::format("{} {} = {}", i ? "," : ";", names[i],
-                          format_number(problem.parameter_values[i]));
-    ctx.out << head << '\n';
-    for (const Condition& c : problem.conditions) ctx.out << "  condition: " << c.text << '\n';
-    ctx.out << summary.full_report() << summary.brief_report() << "\n\n";
-  }
-  if (sweep >= 0) {
-    const auto [lo, hi] = std::minmax_element(values.begin(), values.end());
-    if (*lo < *hi) {
-      const std::string& pname = names[static_cast<std::size_t>(sweep)];
-      report.laws = parametric_laws(options, problem, pname, {*lo, *hi}, forms);
-      if (!to_stdout)
-        ctx.out << "coefficients as functions of " << pname << " on [" << format_number(*lo) << ", "
-                << format_number(*hi) << "]:\n";
-      for (const ParametricLaw& l : report.laws) {
-        if (to_stdout) continue;
-        ctx.out << "  " << l.form.name(var) << ": ";
-        if (!l.usable)
-          ctx.out << "not usable over the range (" << l.note << ")\n";
-        else if (l.all_rational)
-          ctx.out << "rational in " << pname << ": " << l.formula << '\n';
-        else {
-          std::string missing;
-          for (const CoefficientLaw& c : l.coefficients)
-            if (!c.found) missing += (missing.empty() ? "" : ", ") + c.coefficient;
-          ctx.out << "not rational in " << pname << " (" << missing << ")\n";
-        }
-        if (l.usable)
-          for (const CoefficientLaw& c : l.coefficients)
-            if (c.found && c.law != "0")
-              ctx.out << "      " << c.coefficient << " = " << c.law << '\n';
-      }
-    }
-  }
-  if (to_stdout) {
+  const RationalReport report = solve_prepared(prepared);
+  if (a.json_path == "-") {
     ctx.out << rational_json(report) << '\n';
-  } else if (!a.json_path.empty()) {
+    return;
+  }
+  print_report(ctx.out, report);
+  if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", {"--json"});
     f << rational_json(report) << '\n';

@@ -1,5 +1,7 @@
 #include "shaderfit/rational/setup.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -145,6 +147,59 @@ PreparedRational prepare_rational(const RationalSetup& a) {
   out.sweep_values = out.sweep >= 0 ? params[static_cast<std::size_t>(out.sweep)].values
                                     : std::vector<double>{0.0};
   return out;
+}
+
+std::string_view fit_name(Fit fit) {
+  switch (fit) {
+    case Fit::None: return "none";
+    case Fit::LeastSquares: return "lsq";
+    case Fit::Minimax: return "minimax";
+  }
+  return "none";
+}
+
+RationalReport solve_prepared(PreparedRational& prepared) {
+  RationalProblem& problem = prepared.problem;
+  const std::string& var = problem.target.variable();
+  RationalReport report;
+  report.target = problem.target.name();
+  report.variable = var;
+  report.domain = problem.domain;
+  report.fit = prepared.options.fit;
+  for (const Condition& c : problem.conditions) report.conditions.push_back(c.text);
+  report.parameter_names = problem.parameter_names;
+  std::vector<RationalForm> forms;
+  for (double v : prepared.sweep_values) {
+    if (prepared.sweep >= 0) problem.parameter_values[static_cast<std::size_t>(prepared.sweep)] = v;
+    RationalSummary summary;
+    solve(prepared.options, problem, &summary);
+    for (std::size_t i = 0; i < problem.forms.size(); ++i)
+      for (const FormResult& r : summary.results)
+        if (r.form == problem.forms[i] && r.status == FormStatus::PoleInDomain)
+          throw Error(
+              "form " + r.form.name(var) + ": " + r.message,
+              {"RationalSetup::forms", static_cast<int>(i / prepared.transform_count) + 1, 1});
+    if (!problem.forms.empty() && !summary.results.empty() && !summary.results.front().usable()) {
+      const FormResult& r = summary.results.front();
+      throw Error(
+          fmt::format("form {} is {}: {}", r.form.name(var), form_status_name(r.status), r.message),
+          {"RationalSetup::forms"});
+    }
+    if (forms.empty())
+      for (const FormResult& r : summary.results) forms.push_back(r.form);
+    report.runs.push_back({problem.parameter_values, std::move(summary)});
+  }
+  if (prepared.sweep >= 0) {
+    const auto [lo, hi] =
+        std::minmax_element(prepared.sweep_values.begin(), prepared.sweep_values.end());
+    if (*lo < *hi) {
+      report.swept_parameter = problem.parameter_names[static_cast<std::size_t>(prepared.sweep)];
+      report.sweep_range = {*lo, *hi};
+      report.laws = parametric_laws(prepared.options, problem, report.swept_parameter,
+                                    report.sweep_range, forms);
+    }
+  }
+  return report;
 }
 
 }  // namespace shaderfit::rational

@@ -149,15 +149,15 @@ std::string cost_json(const Expression& e, std::span<const InstructionCost> cost
   return j.dump(2);
 }
 
-std::string rational_json(const RationalReport& report) {
+std::string rational_json(const rational::RationalReport& report) {
   json j;
   j["schema"] = "shaderfit.rational/1";
   j["target"] = report.target;
   j["variable"] = report.variable;
   j["domain"] = {report.domain.lo, report.domain.hi};
-  j["fit"] = report.fit;
+  j["fit"] = std::string(rational::fit_name(report.fit));
   for (const std::string& c : report.conditions) j["conditions"].push_back(c);
-  for (const RationalRun& r : report.runs) {
+  for (const rational::RationalRun& r : report.runs) {
     json run;
     for (std::size_t i = 0; i < report.parameter_names.size(); ++i)
       run["parameters"][report.parameter_names[i]] = r.parameter_values[i];

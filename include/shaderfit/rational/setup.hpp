@@ -10,16 +10,18 @@
 //   setup.transforms = {"1 - cos"};
 //   setup.conditions = {"f(0)=1", "f(1)=F0", "f'(1)=0"};
 //   PreparedRational r = prepare_rational(setup);
-//   RationalSummary summary;
-//   solve(r.options, r.problem, &summary);  // at F0 = 0.04; r.sweep_values holds 0.04, 0.5
+//   RationalReport report = solve_prepared(r);  // a run at F0 = 0.04 and one at 0.5, and how
+//                                               // each coefficient varies with F0
 //
 // Bad input throws shaderfit::Error located at the field ("RationalSetup::conditions", with the
 // 1-based position of a list entry as the line).
 #pragma once
 
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "shaderfit/rational/parametric.hpp"
 #include "shaderfit/rational/solve.hpp"
 
 namespace shaderfit::rational {
@@ -47,5 +49,36 @@ struct PreparedRational {
 };
 
 PreparedRational prepare_rational(const RationalSetup& setup);
+
+// What a prepared problem gives: one run per value of the swept parameter (or one run), and the
+// coefficients' laws over the sweep.
+struct RationalRun {
+  std::vector<double> parameter_values;  // in the order of RationalReport::parameter_names
+  RationalSummary summary;
+};
+
+struct RationalReport {
+  std::string target, variable;
+  Interval domain;
+  Fit fit = Fit::None;
+  std::vector<std::string> conditions;
+  std::vector<std::string> parameter_names;
+  std::vector<RationalRun> runs;
+  // With a sweep over a range: the swept parameter, the range, and each form's coefficients
+  // as functions of it.
+  std::string swept_parameter;
+  Interval sweep_range;
+  std::vector<ParametricLaw> laws;
+};
+
+// "none", "lsq", "minimax": the names RationalSetup's text and the JSON use.
+std::string_view fit_name(Fit fit);
+
+// Solves the prepared problem at each sweep value (prepared.problem's parameter values end at
+// the last), then fits the coefficients' laws when the sweep spans a range. Throws
+// shaderfit::Error located at RationalSetup::forms (line: the form's position) when a form the
+// setup names explicitly has a pole in the domain, or when the best of the named forms is not
+// usable (singular, ill-conditioned, not converged).
+RationalReport solve_prepared(PreparedRational& prepared);
 
 }  // namespace shaderfit::rational

@@ -19,8 +19,7 @@
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/fit/setup.hpp"
-#include "shaderfit/rational/parametric.hpp"
-#include "shaderfit/rational/solve.hpp"
+#include "shaderfit/rational/setup.hpp"
 
 namespace shaderfit {
 
@@ -45,24 +44,7 @@ std::string eval_json(const EvalReport& report);
 std::string cost_json(const Expression& formula, std::span<const InstructionCost> costs,
                       const InstructionCost& shown);
 
-// What `shaderfit rational` found: one run per value of the swept parameter (or one run), and
-// the coefficients' laws over the sweep.
-struct RationalRun {
-  std::vector<double> parameter_values;  // in the order of RationalReport::parameter_names
-  rational::RationalSummary summary;
-};
-
-struct RationalReport {
-  std::string target, variable;
-  rational::Interval domain;
-  std::string fit;  // "none", "lsq" or "minimax"
-  std::vector<std::string> conditions;
-  std::vector<std::string> parameter_names;
-  std::vector<RationalRun> runs;
-  std::vector<rational::ParametricLaw> laws;  // empty without a sweep over a range
-};
-
 // shaderfit.rational/1.
-std::string rational_json(const RationalReport& report);
+std::string rational_json(const rational::RationalReport& report);
 
 }  // namespace shaderfit
