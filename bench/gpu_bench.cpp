@@ -31,6 +31,7 @@
 #include "gpu/population_test_util.hpp"
 #include "gpu/screen.hpp"
 #include "search/enum_kernels.hpp"
+#include "seed_task.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/evaluate.hpp"
@@ -38,7 +39,6 @@
 #include "shaderfit/gpu/device.hpp"
 #include "shaderfit/gpu/evaluator.hpp"
 #include "shaderfit/search/search.hpp"
-#include "seed_task.hpp"
 
 namespace {
 

@@ -26,13 +26,16 @@ struct CodegenArgs {
 
 std::vector<std::string> describe(const Expression& e) {
   return {to_infix(e), fmt::format("cost model: {} SASS, {} PTX, {} generic instructions",
-                                   instruction_count(e, InstructionTarget::Sass), instruction_count(e, InstructionTarget::Ptx),
+                                   instruction_count(e, InstructionTarget::Sass),
+                                   instruction_count(e, InstructionTarget::Ptx),
                                    instruction_count(e, InstructionTarget::Generic))};
 }
 
 void run_codegen(const CodegenArgs& a, Context& ctx) {
   const auto lang = language_from_name(a.lang);
-  if (!lang) throw Error("unknown language '" + a.lang + "' (known: glsl, hlsl, cuda, cpp, metal)", SourceLocation{"--lang"});
+  if (!lang)
+    throw Error("unknown language '" + a.lang + "' (known: glsl, hlsl, cuda, cpp, metal)",
+                SourceLocation{"--lang"});
   if (a.formula.empty() == a.front_path.empty()) {
     throw Error("give either a formula or --front FILE.json", SourceLocation{"codegen"});
   }
@@ -62,14 +65,26 @@ void run_codegen(const CodegenArgs& a, Context& ctx) {
 
 void register_codegen_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<CodegenArgs>();
-  CLI::App* cmd = app.add_subcommand("codegen", "Print a formula (or a search front) as a GLSL, HLSL, CUDA, C++ or Metal function");
+  CLI::App* cmd = app.add_subcommand(
+      "codegen",
+      "Print a formula (or a search front) as a GLSL, HLSL, CUDA, C++ or Metal function");
   cmd->add_option("--lang", args->lang, "glsl, hlsl, cuda, cpp or metal")->required();
-  cmd->add_option("--name", args->name, "function name (a front's members get NAME_0, NAME_1, ...)");
-  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")->delimiter(',')->allow_extra_args(false);
-  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")->delimiter(',')->allow_extra_args(false);
-  cmd->add_option("--front", args->front_path, "a JSON file with a \"front\" list of {\"formula\": ...} members");
-  cmd->add_option("formula", args->formula, "the formula; every identifier is an input unless --inputs/--params say otherwise");
-  cmd->footer("Example:\n  shaderfit codegen --lang glsl --name fresnel 'r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4'");
+  cmd->add_option("--name", args->name,
+                  "function name (a front's members get NAME_0, NAME_1, ...)");
+  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  cmd->add_option("--front", args->front_path,
+                  "a JSON file with a \"front\" list of {\"formula\": ...} members");
+  cmd->add_option(
+      "formula", args->formula,
+      "the formula; every identifier is an input unless --inputs/--params say otherwise");
+  cmd->footer(
+      "Example:\n  shaderfit codegen --lang glsl --name fresnel 'r0 + (1 - cos_theta - r0) * (1 - "
+      "cos_theta)^4'");
   cmd->callback([args, &ctx] { run_codegen(*args, ctx); });
 }
 

@@ -24,11 +24,14 @@ struct CostArgs {
   std::string json_path;
 };
 
-constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic};
+constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx,
+                                          InstructionTarget::Generic};
 
 void run_cost(const CostArgs& a, Context& ctx) {
   const auto target = instruction_target_from_name(a.target);
-  if (!target) throw Error("unknown target '" + a.target + "' (known: sass, ptx, generic)", SourceLocation{"--target"});
+  if (!target)
+    throw Error("unknown target '" + a.target + "' (known: sass, ptx, generic)",
+                SourceLocation{"--target"});
   ParseOptions po;
   po.variables = a.inputs;
   po.parameters = a.params;
@@ -42,13 +45,18 @@ void run_cost(const CostArgs& a, Context& ctx) {
   }
   ctx.out << "formula: " << to_infix(e) << '\n';
   ctx.out << "inputs: " << fmt::format("{}", fmt::join(e.variables, ", "));
-  if (!e.parameters.empty()) ctx.out << "; parameters: " << fmt::format("{}", fmt::join(e.parameters, ", "));
-  ctx.out << fmt::format("\n\n{:<8} {:>12} {:>5} {:>7} {:>5} {:>9}\n", "target", "instructions", "fp32", "minmax", "mufu", "weighted");
+  if (!e.parameters.empty())
+    ctx.out << "; parameters: " << fmt::format("{}", fmt::join(e.parameters, ", "));
+  ctx.out << fmt::format("\n\n{:<8} {:>12} {:>5} {:>7} {:>5} {:>9}\n", "target", "instructions",
+                         "fp32", "minmax", "mufu", "weighted");
   for (const InstructionCost& c : costs) {
-    ctx.out << fmt::format("{:<8} {:>12} {:>5} {:>7} {:>5} {:>9g}\n", instruction_target_name(c.target), c.instructions,
-                           c.fp32, c.minmax, c.mufu, c.weighted);
+    ctx.out << fmt::format("{:<8} {:>12} {:>5} {:>7} {:>5} {:>9g}\n",
+                           instruction_target_name(c.target), c.instructions, c.fp32, c.minmax,
+                           c.mufu, c.weighted);
   }
-  ctx.out << "\n" << instruction_target_name(shown.target) << " listing:\n" << format_listing(shown);
+  ctx.out << "\n"
+          << instruction_target_name(shown.target) << " listing:\n"
+          << format_listing(shown);
   if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
@@ -60,13 +68,21 @@ void run_cost(const CostArgs& a, Context& ctx) {
 
 void register_cost_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<CostArgs>();
-  CLI::App* cmd = app.add_subcommand("cost", "GPU instruction count of a formula per target, with the instruction listing");
-  cmd->add_option("formula", args->formula, "the formula; every identifier is an input unless --inputs/--params say otherwise")
+  CLI::App* cmd = app.add_subcommand(
+      "cost", "GPU instruction count of a formula per target, with the instruction listing");
+  cmd->add_option(
+         "formula", args->formula,
+         "the formula; every identifier is an input unless --inputs/--params say otherwise")
       ->required();
   cmd->add_option("--target", args->target, "listing to print: sass (default), ptx or generic");
-  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")->delimiter(',')->allow_extra_args(false);
-  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")->delimiter(',')->allow_extra_args(false);
-  cmd->add_option("--json", args->json_path, "write the counts and listing as JSON to PATH ('-' for stdout)");
+  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  cmd->add_option("--json", args->json_path,
+                  "write the counts and listing as JSON to PATH ('-' for stdout)");
   cmd->footer("Example:\n  shaderfit cost 'r0 + (1 - r0) * (1 - cos_theta)^5'");
   cmd->callback([args, &ctx] { run_cost(*args, ctx); });
 }

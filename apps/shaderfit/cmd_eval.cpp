@@ -28,22 +28,26 @@ struct EvalArgs {
   bool float32 = false;
 };
 
-void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& results, const EvalArgs& a,
-                 const Dataset& d) {
+void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& results,
+                 const EvalArgs& a, const Dataset& d) {
   out << fmt::format("shaderfit eval: {}, {} rows, target {}{}\n", a.data.describe(), d.rows(),
                      a.target, a.float32 ? ", float32" : "");
   const EvalFormulaResult* base = results.front().baseline ? &results.front() : nullptr;
   int number = 0;
   for (const EvalFormulaResult& r : results) {
-    out << '\n' << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number)) << r.formula << '\n';
-    out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE", "RMSE",
-                       "max abs", "max rel", base && !r.baseline ? "  MSE vs baseline" : "");
+    out << '\n'
+        << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number)) << r.formula
+        << '\n';
+    out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE",
+                       "RMSE", "max abs", "max rel",
+                       base && !r.baseline ? "  MSE vs baseline" : "");
     auto row = [&](const std::string& name, const ErrorMetrics& m, const ErrorMetrics* b) {
       std::string change;
       if (b) change = fmt::format("  {:>+15.1f}%", 100.0 * relative_change(m.mse, b->mse));
-      out << fmt::format("  {:<28} {:>6} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}{}\n", name, m.rows, m.mse,
-                         m.rmse, m.max_abs, m.max_rel, change);
-      if (m.nonfinite) out << fmt::format("  {:<28} {} rows are NaN or infinite\n", "", m.nonfinite);
+      out << fmt::format("  {:<28} {:>6} {:>11.4e} {:>11.4e} {:>11.4e} {:>11.4e}{}\n", name, m.rows,
+                         m.mse, m.rmse, m.max_abs, m.max_rel, change);
+      if (m.nonfinite)
+        out << fmt::format("  {:<28} {} rows are NaN or infinite\n", "", m.nonfinite);
     };
     const bool compare = base && !r.baseline;
     row("all", r.all, compare ? &base->all : nullptr);
@@ -71,12 +75,13 @@ void run_eval(EvalArgs& a, Context& ctx) {
 
   std::vector<EvalFormulaResult> results;
   if (!a.baseline.empty()) {
-    results.push_back(evaluate_formula_on(a.baseline, "--baseline", d, target, a.groups, a.float32));
+    results.push_back(
+        evaluate_formula_on(a.baseline, "--baseline", d, target, a.groups, a.float32));
     results.back().baseline = true;
   }
   for (std::size_t i = 0; i < a.formulas.size(); ++i) {
-    results.push_back(evaluate_formula_on(a.formulas[i], "formula " + std::to_string(i + 1), d, target, a.groups,
-                                          a.float32));
+    results.push_back(evaluate_formula_on(a.formulas[i], "formula " + std::to_string(i + 1), d,
+                                          target, a.groups, a.float32));
   }
 
   if (a.json_path == "-") {
@@ -95,17 +100,20 @@ void run_eval(EvalArgs& a, Context& ctx) {
 
 void register_eval_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<EvalArgs>();
-  CLI::App* cmd = app.add_subcommand("eval", "Error metrics of formulas on a data set, per group, against a baseline");
+  CLI::App* cmd = app.add_subcommand(
+      "eval", "Error metrics of formulas on a data set, per group, against a baseline");
   add_data_options(cmd, args->data, true);
   cmd->add_option("--target", args->target, "column the formulas approximate")->required();
-  cmd->add_option("--group", args->groups, "column(s) whose values split the rows into groups (repeat or comma-separate)")
+  cmd->add_option("--group", args->groups,
+                  "column(s) whose values split the rows into groups (repeat or comma-separate)")
       ->delimiter(',')
       ->allow_extra_args(false)
       ->each([args](const std::string&) { args->groups_given = true; });
   cmd->add_option("--baseline", args->baseline, "formula the others are compared with");
   cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
   cmd->add_flag("--float32", args->float32, "evaluate in float32, as a shader would");
-  cmd->add_option("formulas", args->formulas, "formulas over the data's column names, e.g. 'r0 + (x - r0)*x^4'");
+  cmd->add_option("formulas", args->formulas,
+                  "formulas over the data's column names, e.g. 'r0 + (x - r0)*x^4'");
   cmd->footer(
       "Example:\n  shaderfit eval --dataset fresnel-seed --seed 1 --target R \\\n"
       "    --baseline 'r0 + (1 - r0)*x^5' 'r0 + (x - r0)*x^4'");

@@ -16,13 +16,13 @@
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
-#include "shaderfit/expr/print.hpp"
-#include "shaderfit/plot/chart.hpp"
-#include "shaderfit/plot/sphere.hpp"
-#include "shaderfit/fit/fit.hpp"
-#include "shaderfit/expr/parse.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
+#include "shaderfit/fit/fit.hpp"
+#include "shaderfit/plot/chart.hpp"
+#include "shaderfit/plot/sphere.hpp"
 #include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit::cli {
@@ -66,9 +66,10 @@ struct CommonArgs {
 
 void add_common(CLI::App* cmd, CommonArgs& c) {
   add_data_options(cmd, c.data, false);
-  cmd->add_option("--material", c.materials,
-                  "sweep these materials over 0..90 degrees instead of --data: 1.5, 0.3+3i, aluminium, "
-                  "gold, or 'seed' for the seed 001 set")
+  cmd->add_option(
+         "--material", c.materials,
+         "sweep these materials over 0..90 degrees instead of --data: 1.5, 0.3+3i, aluminium, "
+         "gold, or 'seed' for the seed 001 set")
       ->delimiter(';')
       ->allow_extra_args(false);
   cmd->add_option("--angles", c.angles, "angles per material in a sweep (default 181)");
@@ -79,7 +80,8 @@ void add_common(CLI::App* cmd, CommonArgs& c) {
 Dataset load(const CommonArgs& c) {
   if (c.materials.empty()) return load_data(c.data);
   if (!c.data.path.empty() || !c.data.dataset.empty()) {
-    throw Error("give either --material or --data/--dataset, not both", SourceLocation{"--material"});
+    throw Error("give either --material or --data/--dataset, not both",
+                SourceLocation{"--material"});
   }
   std::vector<Material> m;
   for (const std::string& s : c.materials) {
@@ -124,7 +126,8 @@ void run_curves(CurveArgs& a, Context& ctx) {
     std::iota(groups[""].begin(), groups[""].end(), std::size_t{0});
   } else {
     const Column& g = d.column(a.group);
-    for (std::size_t r = 0; r < d.rows(); ++r) groups[g.numeric() ? format_number(g.values[r]) : g.labels[r]].push_back(r);
+    for (std::size_t r = 0; r < d.rows(); ++r)
+      groups[g.numeric() ? format_number(g.values[r]) : g.labels[r]].push_back(r);
   }
 
   // Each formula's values; with --fit, its parameters are fitted on each group's rows first and
@@ -140,8 +143,8 @@ void run_curves(CurveArgs& a, Context& ctx) {
     po.source = "formula " + std::to_string(i + 1);
     Expression e = parse_formula(f.text, po);
     e.drop_unused_variables();
-    const bool has_params =
-        std::any_of(e.nodes.begin(), e.nodes.end(), [](const Node& n) { return n.op == Op::Param; });
+    const bool has_params = std::any_of(e.nodes.begin(), e.nodes.end(),
+                                        [](const Node& n) { return n.op == Op::Param; });
     std::vector<double> v(d.rows(), NAN);
     std::vector<const double*> cols;
     for (const std::string& name : e.variables) cols.push_back(d.numeric(name).values.data());
@@ -172,7 +175,8 @@ void run_curves(CurveArgs& a, Context& ctx) {
     }
     values.push_back({f, v});
   }
-  if (a.errors && values.empty()) throw Error("--errors needs at least one formula", SourceLocation{"--errors"});
+  if (a.errors && values.empty())
+    throw Error("--errors needs at least one formula", SourceLocation{"--errors"});
 
   Chart chart;
   chart.title = a.common.title;
@@ -183,7 +187,8 @@ void run_curves(CurveArgs& a, Context& ctx) {
   chart.log_y = a.log_y;
   const bool many = groups.size() > 1;
   for (auto& [name, rows] : groups) {
-    std::sort(rows.begin(), rows.end(), [&](std::size_t p, std::size_t q) { return xs[p] < xs[q]; });
+    std::sort(rows.begin(), rows.end(),
+              [&](std::size_t p, std::size_t q) { return xs[p] < xs[q]; });
     auto series = [&](const std::string& label, const std::vector<double>& v, bool minus_target) {
       Series s;
       s.style = a.points ? Series::Style::Points : Series::Style::Lines;
@@ -202,7 +207,8 @@ void run_curves(CurveArgs& a, Context& ctx) {
     for (std::size_t i = 0; i < values.size(); ++i) {
       const auto& [f, v] = values[i];
       const auto note = fitted_note.find({i, name});
-      const std::string label = note == fitted_note.end() ? f.label : f.label + " (" + note->second + ")";
+      const std::string label =
+          note == fitted_note.end() ? f.label : f.label + " (" + note->second + ")";
       chart.series.push_back(series(label, v, a.errors));
     }
   }
@@ -236,7 +242,8 @@ void run_front(FrontArgs& a, Context& ctx) {
     const FrontMember& m = read.member;
     const double e = metric ? loss_value(*metric, m.metrics) : m.loss;
     if (std::isnan(m.cost) || std::isnan(e))
-      throw Error("front member without 'cost' or '" + a.metric + "'", SourceLocation{a.front_path});
+      throw Error("front member without 'cost' or '" + a.metric + "'",
+                  SourceLocation{a.front_path});
     pts.push_back({m.cost, e});
   }
   std::sort(pts.begin(), pts.end());
@@ -262,12 +269,13 @@ void run_front(FrontArgs& a, Context& ctx) {
       const std::vector<double> p = evaluate_on(e, d);
       double sum = 0;
       for (std::size_t r = 0; r < y.size(); ++r) sum += (p[r] - y[r]) * (p[r] - y[r]);
-      chart.markers.push_back({lf.label, expression_cost(e, *target), sum / static_cast<double>(y.size())});
+      chart.markers.push_back(
+          {lf.label, expression_cost(e, *target), sum / static_cast<double>(y.size())});
     }
   }
   render(chart, a.common.output);
-  ctx.out << "wrote " << a.common.output << " (" << pts.size() << " front members, " << chart.markers.size()
-          << " marked)\n";
+  ctx.out << "wrote " << a.common.output << " (" << pts.size() << " front members, "
+          << chart.markers.size() << " marked)\n";
 }
 
 // --- map ------------------------------------------------------------------------------------
@@ -280,8 +288,11 @@ struct MapArgs {
 };
 
 void run_map(MapArgs& a, Context& ctx) {
-  if (a.bins < 1) throw Error("--bins must be at least 1, got " + std::to_string(a.bins), SourceLocation{"--bins"});
-  if (a.stat != "max" && a.stat != "mean") throw Error("--stat must be max or mean", SourceLocation{"--stat"});
+  if (a.bins < 1)
+    throw Error("--bins must be at least 1, got " + std::to_string(a.bins),
+                SourceLocation{"--bins"});
+  if (a.stat != "max" && a.stat != "mean")
+    throw Error("--stat must be max or mean", SourceLocation{"--stat"});
   Dataset d = load(a.common);
   const auto& xs = d.numeric(a.x).values;
   const auto& ys = d.numeric(a.y).values;
@@ -299,7 +310,8 @@ void run_map(MapArgs& a, Context& ctx) {
     auto bin = [&](double v, const Range& rg) {
       return std::clamp(static_cast<int>((v - rg.min) / (rg.max - rg.min) * a.bins), 0, a.bins - 1);
     };
-    const std::size_t k = static_cast<std::size_t>(bin(ys[r], m.y_range) * a.bins + bin(xs[r], m.x_range));
+    const std::size_t k =
+        static_cast<std::size_t>(bin(ys[r], m.y_range) * a.bins + bin(xs[r], m.x_range));
     const double e = std::fabs(p[r] - t[r]);
     sum[k] = a.stat == "max" ? std::max(sum[k], e) : sum[k] + e;
     count[k] += 1;
@@ -326,7 +338,8 @@ struct SphereArgs {
 
 void run_sphere(SphereArgs& a, Context& ctx) {
   if (!a.light.empty()) {
-    if (a.light.size() != 3) throw Error("--light takes three numbers X,Y,Z", SourceLocation{"--light"});
+    if (a.light.size() != 3)
+      throw Error("--light takes three numbers X,Y,Z", SourceLocation{"--light"});
     a.scene.light = {a.light[0], a.light[1], a.light[2]};
   }
   std::string label;
@@ -338,7 +351,8 @@ void run_sphere(SphereArgs& a, Context& ctx) {
       const double x = 1 - lh;
       return f0 * std::exp2(A * x * x + B * x);
     };
-    label = fmt::format("F0 exp2(A x^2 + B x), x = 1 - l.h, A = {:.4g}, B = {:.4g} (constrained fit, C = 0)", A, B);
+    label = fmt::format(
+        "F0 exp2(A x^2 + B x), x = 1 - l.h, A = {:.4g}, B = {:.4g} (constrained fit, C = 0)", A, B);
   } else {
     ParseOptions po;
     po.variables = {"l_dot_h", "f0", "roughness"};
@@ -371,10 +385,12 @@ void run_sphere(SphereArgs& a, Context& ctx) {
   };
   for (int y = 0; y < n; ++y) {
     for (int x = 0; x < n; ++x) {
-      const std::size_t src = static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x);
+      const std::size_t src =
+          static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x);
       const double ref = im.reference[src], app = im.approximation[src];
       auto at = [&](int panel) {
-        return static_cast<std::size_t>(y) * static_cast<std::size_t>(m.nx) + static_cast<std::size_t>(panel * (n + gap) + x);
+        return static_cast<std::size_t>(y) * static_cast<std::size_t>(m.nx) +
+               static_cast<std::size_t>(panel * (n + gap) + x);
       };
       if (std::isnan(ref)) continue;
       m.values[at(0)] = tone(ref);
@@ -382,9 +398,11 @@ void run_sphere(SphereArgs& a, Context& ctx) {
       m.values[at(2)] = tone(a.diff_scale * std::fabs(ref - app));
     }
   }
-  m.title = a.title.empty() ? fmt::format("reference | approximation | difference x{:g}    (roughness {:g}, F0 {:g})",
-                                          a.diff_scale, a.scene.roughness, a.scene.f0)
-                            : a.title;
+  m.title =
+      a.title.empty()
+          ? fmt::format("reference | approximation | difference x{:g}    (roughness {:g}, F0 {:g})",
+                        a.diff_scale, a.scene.roughness, a.scene.f0)
+          : a.title;
   render(m, a.output);
   double max_diff = 0, max_ref = 0;
   for (std::size_t i = 0; i < im.reference.size(); ++i) {
@@ -393,40 +411,54 @@ void run_sphere(SphereArgs& a, Context& ctx) {
     max_ref = std::max(max_ref, im.reference[i]);
   }
   ctx.out << "wrote " << a.output << "\n  approximation: " << label
-          << fmt::format("\n  max |reference - approximation| = {:.4g} (peak reference {:.4g})\n", max_diff, max_ref);
+          << fmt::format("\n  max |reference - approximation| = {:.4g} (peak reference {:.4g})\n",
+                         max_diff, max_ref);
 }
 
 }  // namespace
 
 void register_plot_command(CLI::App& app, Context& ctx) {
-  CLI::App* plot = app.add_subcommand("plot", "Curves, error curves, Pareto fronts and error maps as PNG or SVG");
+  CLI::App* plot = app.add_subcommand(
+      "plot", "Curves, error curves, Pareto fronts and error maps as PNG or SVG");
   plot->require_subcommand(1);
 
   auto c = std::make_shared<CurveArgs>();
-  CLI::App* curves = plot->add_subcommand("curves", "A reference against formulas over one input, per group");
+  CLI::App* curves =
+      plot->add_subcommand("curves", "A reference against formulas over one input, per group");
   add_common(curves, c->common);
   curves->add_option("--x", c->x, "column on the horizontal axis (default theta_deg)");
   curves->add_option("--target", c->target, "reference column (default R)");
-  curves->add_option("--group", c->group, "one curve per value of this column (default: material, if present)");
+  curves->add_option("--group", c->group,
+                     "one curve per value of this column (default: material, if present)");
   curves->add_flag("--errors", c->errors, "plot formula - reference instead of the values");
   curves->add_flag("--log-y", c->log_y, "logarithmic vertical axis");
-  curves->add_flag("--points", c->points, "draw points, not lines (scattered samples such as the seed data set)");
+  curves->add_flag("--points", c->points,
+                   "draw points, not lines (scattered samples such as the seed data set)");
   curves->add_option("--x-range", c->x_range, "MIN,MAX of the horizontal axis");
   curves->add_option("--y-range", c->y_range, "MIN,MAX of the vertical axis");
-  curves->add_option("--fit", c->fit, "parameters of the formulas to fit per group (least squares) before drawing")
+  curves
+      ->add_option("--fit", c->fit,
+                   "parameters of the formulas to fit per group (least squares) before drawing")
       ->delimiter(',')
       ->allow_extra_args(false);
-  curves->add_option("formulas", c->formulas, "formulas, optionally labelled: 'Schlick=r0 + (1 - r0)*x^5'");
+  curves->add_option("formulas", c->formulas,
+                     "formulas, optionally labelled: 'Schlick=r0 + (1 - r0)*x^5'");
   curves->callback([c, &ctx] { run_curves(*c, ctx); });
 
   auto f = std::make_shared<FrontArgs>();
-  CLI::App* front = plot->add_subcommand("front", "The Pareto front of a search (error against cost)");
+  CLI::App* front =
+      plot->add_subcommand("front", "The Pareto front of a search (error against cost)");
   add_common(front, f->common);
-  front->add_option("front", f->front_path, "JSON file with a 'front' list (shaderfit search --json)")->required();
+  front
+      ->add_option("front", f->front_path,
+                   "JSON file with a 'front' list (shaderfit search --json)")
+      ->required();
   front->add_option("--metric", f->metric, "error metric on the vertical axis (default mse)");
   front->add_option("--cost", f->cost, "cost target of the marks (default instructions)");
   front->add_option("--target", f->target, "target column for scoring the marks (default R)");
-  front->add_option("--mark", f->marks, "well-known formulas to mark, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
+  front
+      ->add_option("--mark", f->marks,
+                   "well-known formulas to mark, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
       ->allow_extra_args(false);
   front->callback([f, &ctx] { run_front(*f, ctx); });
 
@@ -443,17 +475,23 @@ void register_plot_command(CLI::App& app, Context& ctx) {
   map->callback([m, &ctx] { run_map(*m, ctx); });
 
   auto sp = std::make_shared<SphereArgs>();
-  CLI::App* sphere = plot->add_subcommand(
-      "sphere", "Seed 002's images: a GGX sphere with the reference F*V, with an approximation, and their difference");
-  sphere->add_option("--roughness", sp->scene.roughness, "perceptual roughness (alpha = roughness^2; default 0.5)");
-  sphere->add_option("--f0", sp->scene.f0, "Fresnel reflectance at normal incidence (default 0.04)");
-  sphere->add_option("--light", sp->light, "direction towards the light X,Y,Z (view is +z)")->delimiter(',');
+  CLI::App* sphere = plot->add_subcommand("sphere",
+                                          "Seed 002's images: a GGX sphere with the reference F*V, "
+                                          "with an approximation, and their difference");
+  sphere->add_option("--roughness", sp->scene.roughness,
+                     "perceptual roughness (alpha = roughness^2; default 0.5)");
+  sphere->add_option("--f0", sp->scene.f0,
+                     "Fresnel reflectance at normal incidence (default 0.04)");
+  sphere->add_option("--light", sp->light, "direction towards the light X,Y,Z (view is +z)")
+      ->delimiter(',');
   sphere->add_option("--size", sp->scene.size, "pixels per side of each panel (default 256)");
   sphere->add_option("--exposure", sp->exposure, "scale before tone mapping (default 1)");
-  sphere->add_option("--diff-scale", sp->diff_scale, "levels applied to the difference panel (default 8)");
-  sphere->add_option("--fv", sp->fv,
-                     "the approximation as a formula in l_dot_h, f0, roughness (default: seed 002's constrained "
-                     "exp2 fit for this cell)");
+  sphere->add_option("--diff-scale", sp->diff_scale,
+                     "levels applied to the difference panel (default 8)");
+  sphere->add_option(
+      "--fv", sp->fv,
+      "the approximation as a formula in l_dot_h, f0, roughness (default: seed 002's constrained "
+      "exp2 fit for this cell)");
   sphere->add_option("-o,--output", sp->output, "image to write (.png or .svg)")->required();
   sphere->add_option("--title", sp->title, "title over the images");
   sphere->callback([sp, &ctx] { run_sphere(*sp, ctx); });

@@ -53,11 +53,13 @@ void run_report(ReportArgs& a, Context& ctx) {
   } catch (const json::exception& e) {
     throw Error(std::string("not JSON: ") + e.what(), SourceLocation{a.run_path});
   }
-  if (!j.is_object()) throw Error("expected a JSON object written by a shaderfit run", SourceLocation{a.run_path});
+  if (!j.is_object())
+    throw Error("expected a JSON object written by a shaderfit run", SourceLocation{a.run_path});
   const bool search = j.contains("front");
-  HtmlReport r(a.title.empty() ? (search ? "shaderfit search" : "shaderfit run") + std::string(": ") +
-                                     std::filesystem::path(a.run_path).filename().string()
-                               : a.title);
+  HtmlReport r(a.title.empty()
+                   ? (search ? "shaderfit search" : "shaderfit run") + std::string(": ") +
+                         std::filesystem::path(a.run_path).filename().string()
+                   : a.title);
   if (search) {
     search_report(r, j, a);
   } else {
@@ -71,16 +73,23 @@ void run_report(ReportArgs& a, Context& ctx) {
 
 void register_report_command(CLI::App& app, Context& ctx) {
   auto a = std::make_shared<ReportArgs>();
-  CLI::App* cmd = app.add_subcommand("report", "One self-contained HTML page for a run (search, fit, lut, rational)");
+  CLI::App* cmd = app.add_subcommand(
+      "report", "One self-contained HTML page for a run (search, fit, lut, rational)");
   cmd->add_option("run", a->run_path, "the JSON a run wrote (--json)")->required();
   cmd->add_option("-o,--output", a->output, "HTML file to write")->required();
   cmd->add_option("--title", a->title, "page title");
-  cmd->add_option("--choose", a->choose, "the front member to show as code (default: best within the first baseline's cost)");
-  cmd->add_option("--baseline", a->baselines, "formulas to compare with, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
+  cmd->add_option(
+      "--choose", a->choose,
+      "the front member to show as code (default: best within the first baseline's cost)");
+  cmd->add_option("--baseline", a->baselines,
+                  "formulas to compare with, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
       ->allow_extra_args(false);
   add_data_options(cmd, a->data, false);
-  cmd->footer("Example:\n  shaderfit search --dataset fresnel-seed --inputs r0,x --target R --json run.json\n"
-              "  shaderfit report run.json --dataset fresnel-seed --baseline 'Schlick=r0 + (1 - r0)*x^5' -o run.html");
+  cmd->footer(
+      "Example:\n  shaderfit search --dataset fresnel-seed --inputs r0,x --target R --json "
+      "run.json\n"
+      "  shaderfit report run.json --dataset fresnel-seed --baseline 'Schlick=r0 + (1 - r0)*x^5' "
+      "-o run.html");
   cmd->callback([a, &ctx] { run_report(*a, ctx); });
 }
 

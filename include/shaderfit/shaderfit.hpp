@@ -2,8 +2,8 @@
 // shaderfit's own sources include the one header per concept they use instead.
 #pragma once
 
-#include "shaderfit/core.hpp"
 #include "shaderfit/codegen/codegen.hpp"
+#include "shaderfit/core.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/core/random.hpp"

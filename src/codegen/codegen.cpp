@@ -33,7 +33,8 @@ class FunctionPrinter {
     if (o_.bake_parameters) {
       for (std::size_t i = 0; i < e_.parameters.size(); ++i) {
         const double v = i < e_.parameter_values.size() ? e_.parameter_values[i] : 0.0;
-        body += fmt::format("  const float {} = {};\n", e_.parameters[i], float32_literal(v, lang_));
+        body +=
+            fmt::format("  const float {} = {};\n", e_.parameters[i], float32_literal(v, lang_));
       }
     }
     int temps = 0;
@@ -41,7 +42,8 @@ class FunctionPrinter {
       Text t = step(p_.steps[i]);
       if (p_.steps[i].uses > 1) {
         const std::string name = temp_prefix() + std::to_string(temps++);
-        body += fmt::format("  {}float {} = {};\n", lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ",
+        body += fmt::format("  {}float {} = {};\n",
+                            lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ",
                             name, t.s);
         t = {name, 4};
       }
@@ -105,7 +107,8 @@ class FunctionPrinter {
   Text step(const Step& st) const {
     using codegen::Call;
     auto bin = [&](const char* op, int level) {
-      return Text{operand(st.args[0], level) + " " + op + " " + operand(st.args[1], level + 1), level};
+      return Text{operand(st.args[0], level) + " " + op + " " + operand(st.args[1], level + 1),
+                  level};
     };
     switch (st.op) {
       case StepOp::Add: return bin("+", 1);
@@ -115,17 +118,23 @@ class FunctionPrinter {
       case StepOp::Neg: return {"-" + operand(st.args[0], 4), 3};
       case StepOp::Fma:
         if (lang_ == Language::Glsl || lang_ == Language::Hlsl)  // not produced: unfused program
-          return {operand(st.args[0], 2) + " * " + operand(st.args[1], 3) + " + " + operand(st.args[2], 2), 1};
+          return {operand(st.args[0], 2) + " * " + operand(st.args[1], 3) + " + " +
+                      operand(st.args[2], 2),
+                  1};
         return fn(Call::Fma, st);
       case StepOp::Abs: return fn(Call::Abs, st);
       case StepOp::Sqrt: return fn(Call::Sqrt, st);
       case StepOp::Rsqrt:
-        if (lang_ == Language::Cpp) return {lit(1.0f) + " / std::sqrt(" + operand(st.args[0], 0) + ")", 2};
+        if (lang_ == Language::Cpp)
+          return {lit(1.0f) + " / std::sqrt(" + operand(st.args[0], 0) + ")", 2};
         return fn(Call::Rsqrt, st);
       case StepOp::Exp2: return fn(Call::Exp2, st);
       case StepOp::Log2: return fn(Call::Log2, st);
       case StepOp::Exp:
-        if (st.neg_arg) return {std::string(codegen::call(lang_, Call::Exp)) + "(-" + operand(st.args[0], 4) + ")", 4};
+        if (st.neg_arg)
+          return {
+              std::string(codegen::call(lang_, Call::Exp)) + "(-" + operand(st.args[0], 4) + ")",
+              4};
         return fn(Call::Exp, st);
       case StepOp::Log: return fn(Call::Log, st);
       case StepOp::Sin: return fn(Call::Sin, st);
@@ -134,7 +143,8 @@ class FunctionPrinter {
       case StepOp::Max: return fn(Call::Max, st);
       case StepOp::Sat:
         if (lang_ == Language::Glsl) return {"clamp(" + operand(st.args[0], 0) + ", 0.0, 1.0)", 4};
-        if (lang_ == Language::Cpp) return {"std::clamp(" + operand(st.args[0], 0) + ", 0.0f, 1.0f)", 4};
+        if (lang_ == Language::Cpp)
+          return {"std::clamp(" + operand(st.args[0], 0) + ", 0.0f, 1.0f)", 4};
         return fn(Call::Saturate, st);
     }
     return {};
@@ -155,10 +165,13 @@ std::string generate_function(const Expression& e, const CodegenOptions& options
   for (const auto* names : {&e.variables, &e.parameters}) {
     const bool params = names == &e.parameters;
     for (const std::string& n : *names) {
-      codegen::check_name(n, params ? "parameter name" : "input name", SourceLocation{params ? "Expression::parameters" : "Expression::variables"});
+      codegen::check_name(
+          n, params ? "parameter name" : "input name",
+          SourceLocation{params ? "Expression::parameters" : "Expression::variables"});
       if (std::find(seen.begin(), seen.end(), n) != seen.end()) {
-        throw Error("name '" + n + "' is used twice (function, inputs and parameters need distinct names)",
-                    SourceLocation{params ? "Expression::parameters" : "Expression::variables"});
+        throw Error(
+            "name '" + n + "' is used twice (function, inputs and parameters need distinct names)",
+            SourceLocation{params ? "Expression::parameters" : "Expression::variables"});
       }
       seen.push_back(n);
     }

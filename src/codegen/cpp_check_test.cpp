@@ -6,20 +6,19 @@
 #include <iostream>
 
 #include "codegen/compiler_harness_test_support.hpp"
-#include "shaderfit/expr/parse.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/expr/parse.hpp"
 
 namespace shaderfit {
 namespace {
 
 // The members of a search front over r0 and cos_theta; `s` is a fitted parameter (0.25).
-const char* const kFront[] = {
-    "r0 + (1 - r0) * (1 - cos_theta)^5",
-    "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4",
-    "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4",
-    "r0 + (1 - r0) * exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)",
-    "r0 + (1 - r0) * (1 - cos_theta)^5 / (1 + 0.5 * sqrt(cos_theta))"};
+const char* const kFront[] = {"r0 + (1 - r0) * (1 - cos_theta)^5",
+                              "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4",
+                              "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4",
+                              "r0 + (1 - r0) * exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)",
+                              "r0 + (1 - r0) * (1 - cos_theta)^5 / (1 + 0.5 * sqrt(cos_theta))"};
 
 std::int64_t ulp_distance(float a, float b) {
   std::int32_t x, y;
@@ -82,21 +81,28 @@ TEST(CompilerCheck, FrontCompilesEverywhereAndCppAgreesWithEvaluator) {
     src += generate_function(exprs[i], o);
     calls += "    out[" + std::to_string(i) + "] = f" + std::to_string(i) + "(in[0], in[1]);\n";
   }
-  src += "int main() {\n  float in[2], out[" + std::to_string(exprs.size()) + "];\n"
-         "  while (std::fread(in, sizeof(float), 2, stdin) == 2) {\n" + calls +
-         "    std::fwrite(out, sizeof(float), " + std::to_string(exprs.size()) + ", stdout);\n  }\n}\n";
+  src += "int main() {\n  float in[2], out[" + std::to_string(exprs.size()) +
+         "];\n"
+         "  while (std::fread(in, sizeof(float), 2, stdin) == 2) {\n" +
+         calls + "    std::fwrite(out, sizeof(float), " + std::to_string(exprs.size()) +
+         ", stdout);\n  }\n}\n";
   testing::write_text(dir / "front.cpp", src);
   std::string log;
-  ASSERT_EQ(testing::run_command("'" + *cxx + "' -std=c++17 -O1 -o '" + (dir / "front").string() + "' '" +
-                                 (dir / "front.cpp").string() + "'", &log), 0) << log;
+  ASSERT_EQ(testing::run_command("'" + *cxx + "' -std=c++17 -O1 -o '" + (dir / "front").string() +
+                                     "' '" + (dir / "front.cpp").string() + "'",
+                                 &log),
+            0)
+      << log;
   std::string input(rows * 8, '\0');
   for (std::size_t i = 0; i < rows; ++i) {
     std::memcpy(&input[i * 8], &r0[i], 4);
     std::memcpy(&input[i * 8 + 4], &cs[i], 4);
   }
   testing::write_text(dir / "in.bin", input);
-  ASSERT_EQ(testing::run_command("'" + (dir / "front").string() + "' < '" + (dir / "in.bin").string() + "' > '" +
-                                 (dir / "out.bin").string() + "'"), 0);
+  ASSERT_EQ(
+      testing::run_command("'" + (dir / "front").string() + "' < '" + (dir / "in.bin").string() +
+                           "' > '" + (dir / "out.bin").string() + "'"),
+      0);
   const std::string output = testing::read_text(dir / "out.bin");
   ASSERT_EQ(output.size(), rows * exprs.size() * 4);
 

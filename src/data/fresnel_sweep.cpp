@@ -4,8 +4,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "shaderfit/expr/print.hpp"
 #include "data/fresnel_rows.hpp"
+#include "shaderfit/expr/print.hpp"
 
 namespace shaderfit {
 
@@ -46,8 +46,11 @@ Material parse_material(std::string_view text, const SourceLocation& where) {
   if (!ok) {
     std::string names;
     for (const Material& m : named_materials()) names += ", " + m.name;
-    throw Error("unknown material '" + std::string(text) + "': give an IOR such as 1.5, a complex IOR such as "
-                "0.3+3i, or a name (" + names.substr(2) + ")", where);
+    throw Error("unknown material '" + std::string(text) +
+                    "': give an IOR such as 1.5, a complex IOR such as "
+                    "0.3+3i, or a name (" +
+                    names.substr(2) + ")",
+                where);
   }
   if (!(n > 0) || k < 0) {
     throw Error("material '" + std::string(text) + "' needs n > 0 and k >= 0", where);
@@ -57,14 +60,18 @@ Material parse_material(std::string_view text, const SourceLocation& where) {
 
 std::vector<Material> seed_materials() {
   std::vector<Material> m = {parse_material("1.5")};
-  for (const char* metal : {"0.3+3i", "0.15+4i", "0.3+3.35i", "1.4+7i", "1.84+3.73i", "2.1+4i", "2.9+3.1i"})
+  for (const char* metal :
+       {"0.3+3i", "0.15+4i", "0.3+3.35i", "1.4+7i", "1.84+3.73i", "2.1+4i", "2.9+3.1i"})
     m.push_back(parse_material(metal));
   return m;
 }
 
 Dataset make_fresnel_sweep(const std::vector<Material>& materials, int angles) {
-  if (angles < 2) throw Error("a sweep needs at least 2 angles, got " + std::to_string(angles), {"fresnel_sweep::angles"});
-  if (materials.empty()) throw Error("a sweep needs at least one material", {"fresnel_sweep::materials"});
+  if (angles < 2)
+    throw Error("a sweep needs at least 2 angles, got " + std::to_string(angles),
+                {"fresnel_sweep::angles"});
+  if (materials.empty())
+    throw Error("a sweep needs at least one material", {"fresnel_sweep::materials"});
   std::vector<double> deg;
   data_internal::FresnelRows rows;
   for (const Material& m : materials) {

@@ -35,7 +35,7 @@ TEST(Simplify, Rules) {
   EXPECT_EQ(simp("fma(x, y, 0)"), "x * y");
   EXPECT_EQ(simp("x * 0 + y"), "y");
   EXPECT_EQ(simp("1 / 0 + x"), "rcp(0) + x");  // folding to inf is not done
-  EXPECT_EQ(simp("x^8 * x^9"), "x^8 * x^9");  // would leave the exponent range
+  EXPECT_EQ(simp("x^8 * x^9"), "x^8 * x^9");   // would leave the exponent range
 }
 
 TEST(Simplify, KeepsValuesOnRandomExpressions) {
@@ -57,7 +57,8 @@ TEST(Simplify, KeepsValuesOnRandomExpressions) {
       const long double orig_ld = testing::eval_reference<long double>(e, {x, y});
       // Skip ill-conditioned points: where double and long double disagree the expression
       // amplifies rounding, and reordering by the simplifier is indistinguishable from it.
-      if (!(std::fabs(static_cast<double>(orig_ld) - orig) <= 1e-7 * (1.0 + std::fabs(orig)))) continue;
+      if (!(std::fabs(static_cast<double>(orig_ld) - orig) <= 1e-7 * (1.0 + std::fabs(orig))))
+        continue;
       const long double simp_ld = testing::eval_reference<long double>(s, {x, y});
       ASSERT_NEAR(static_cast<double>(simp_ld), static_cast<double>(orig_ld),
                   1e-6 * (1.0 + std::fabs(orig)))

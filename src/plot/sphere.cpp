@@ -13,10 +13,13 @@ namespace {
 
 void check(const SphereScene& s) {
   if (!(s.roughness > 0 && s.roughness <= 1))
-    throw Error("roughness must be in (0, 1], got " + std::to_string(s.roughness), {"SphereScene::roughness"});
-  if (!(s.f0 > 0 && s.f0 < 1)) throw Error("F0 must be in (0, 1), got " + std::to_string(s.f0), {"SphereScene::f0"});
+    throw Error("roughness must be in (0, 1], got " + std::to_string(s.roughness),
+                {"SphereScene::roughness"});
+  if (!(s.f0 > 0 && s.f0 < 1))
+    throw Error("F0 must be in (0, 1), got " + std::to_string(s.f0), {"SphereScene::f0"});
   const double len2 = s.light[0] * s.light[0] + s.light[1] * s.light[1] + s.light[2] * s.light[2];
-  if (!(len2 > 0) || !std::isfinite(len2)) throw Error("the light direction must be a non-zero vector", {"SphereScene::light"});
+  if (!(len2 > 0) || !std::isfinite(len2))
+    throw Error("the light direction must be a non-zero vector", {"SphereScene::light"});
   if (s.size < 8) throw Error("the image needs at least 8 pixels per side", {"SphereScene::size"});
 }
 
@@ -48,7 +51,8 @@ SphereImages render_sphere(const SphereScene& scene, const std::function<double(
       const double nv = nrm[2];
       const double nh = nrm[0] * h[0] + nrm[1] * h[1] + nrm[2] * h[2];
       const double lh = l[0] * h[0] + l[1] * h[1] + l[2] * h[2];
-      const std::size_t i = static_cast<std::size_t>(py) * static_cast<std::size_t>(scene.size) + static_cast<std::size_t>(px);
+      const std::size_t i = static_cast<std::size_t>(py) * static_cast<std::size_t>(scene.size) +
+                            static_cast<std::size_t>(px);
       if (nl <= 0) {
         im.reference[i] = im.approximation[i] = 0;
         continue;

@@ -38,11 +38,16 @@ TEST(RationalCondition, ErrorsNameTheColumn) {
     const char* words;
   };
   const Case cases[] = {
-      {"f^(-1)(0) = 1", 4, "0 or more"},   {"f^(40)(0) = 1", 4, "highest supported"},
-      {"f(0) = q", 8, "unknown name 'q'"}, {"f(x) = 1", 3, "unknown name 'x'"},
-      {"f(0 = 1", 8, "expected ')'"},      {"f(0) 1", 6, "expected '='"},
-      {"f(0) = ", 8, "expected a value"},  {"int(1, 0) = 1", 5, "lower bound"},
-      {"(0) = 1", 1, "expected f("},       {"f(0) = 1 +", 11, ""},
+      {"f^(-1)(0) = 1", 4, "0 or more"},
+      {"f^(40)(0) = 1", 4, "highest supported"},
+      {"f(0) = q", 8, "unknown name 'q'"},
+      {"f(x) = 1", 3, "unknown name 'x'"},
+      {"f(0 = 1", 8, "expected ')'"},
+      {"f(0) 1", 6, "expected '='"},
+      {"f(0) = ", 8, "expected a value"},
+      {"int(1, 0) = 1", 5, "lower bound"},
+      {"(0) = 1", 1, "expected f("},
+      {"f(0) = 1 +", 11, ""},
       // Found by fuzzing (fuzz/regressions/options): orders beyond a long, and beyond 24 in primes.
       {"f^99999999999999999999(0) = 1", 3, "highest supported"},
       {"f^(-99999999999999999999)(0) = 1", 4, "0 or more"},

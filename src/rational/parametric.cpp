@@ -211,7 +211,8 @@ std::vector<ParametricLaw> parametric_laws(const RationalOptions& options,
       std::find(problem.parameter_names.begin(), problem.parameter_names.end(), parameter);
   if (it == problem.parameter_names.end())
     throw Error("no parameter named " + parameter, {"RationalProblem::parameter_names"});
-  if (!(range.lo < range.hi)) throw Error("the parameter range is empty", {"RationalProblem::parameter_values"});
+  if (!(range.lo < range.hi))
+    throw Error("the parameter range is empty", {"RationalProblem::parameter_values"});
   const auto index = static_cast<std::size_t>(it - problem.parameter_names.begin());
   // Fit on Chebyshev points of the range, check on points between them.
   std::vector<double> fit_t, chk_t;

@@ -19,7 +19,8 @@ RationalProblem problem_of(const std::string& target, std::vector<std::string> n
   p.domain = domain;
   for (std::size_t i = 0; i < conditions.size(); ++i)
     p.conditions.push_back(
-        parse_condition(conditions[i], p.parameter_names, {"RationalProblem::conditions", static_cast<int>(i) + 1, 0}));
+        parse_condition(conditions[i], p.parameter_names,
+                        {"RationalProblem::conditions", static_cast<int>(i) + 1, 0}));
   return p;
 }
 

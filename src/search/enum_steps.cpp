@@ -257,8 +257,8 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
     if (phase[x] != phase[y]) return phase[x] < phase[y];
     return phase[x] == 2 ? tiles[x].step < tiles[y].step : rank[x] < rank[y];
   });
-  *complete = static_cast<std::size_t>(std::count_if(phase.begin(), phase.end(),
-                                                     [](std::uint8_t p) { return p < 2; }));
+  *complete = static_cast<std::size_t>(
+      std::count_if(phase.begin(), phase.end(), [](std::uint8_t p) { return p < 2; }));
   std::vector<Tile> sorted;
   sorted.reserve(tiles.size());
   for (const std::size_t i : order) sorted.push_back(tiles[i]);

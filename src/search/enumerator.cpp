@@ -297,7 +297,7 @@ void Enumerator::merge(TileOutput& out, bool materialize) {
     if (const std::int64_t p = store_->find_pending(col, st); p >= 0) {
       const auto id = static_cast<std::uint32_t>(p);
       const int old = store_->record(id).cost;
-      if (old <= level) continue;  // workers checked the committed classes
+      if (old <= level) continue;         // workers checked the committed classes
       store_->improve(id, col, st, rec);  // a class of the next level, made earlier this batch
       moved_.emplace_back(id, old);
       if (materialize) continue;
@@ -352,7 +352,8 @@ void Enumerator::finish_improvements(bool materialize) {
     for (const auto& [id, old] : moved_) {
       const ClassRecord& r = store_->record(id);
       level_ids_[r.cost].push_back(id);
-      if (r.has(ClassRecord::kFusable) && !materialized_[r.cost]) fusable_ids_[r.cost].push_back(id);
+      if (r.has(ClassRecord::kFusable) && !materialized_[r.cost])
+        fusable_ids_[r.cost].push_back(id);
     }
   }
   if (!materialize) {

@@ -45,7 +45,8 @@ TEST(SearchContext, NonFiniteOnAnyRowNeverEntersTheFront) {
     // Infinite only on the weight-0 row: its weighted metrics are finite, yet it is refused.
     const Expression pole = formula("1 / (x - 0.5)");
     ASSERT_TRUE(std::isfinite(weighted_metrics(pole, p).mse));
-    EXPECT_FALSE(ctx.offer(pole, loss_value(loss, weighted_metrics(pole, p)), SearchPhase::Evolution));
+    EXPECT_FALSE(
+        ctx.offer(pole, loss_value(loss, weighted_metrics(pole, p)), SearchPhase::Evolution));
     // NaN on the rows x < 0.3, even when offered with made-up finite metrics.
     EXPECT_FALSE(ctx.offer(formula("log2(x - 0.3)"), 0.0, SearchPhase::Evolution));
     EXPECT_FALSE(ctx.offer(formula("sqrt(x - 0.7) + x"), 0.0, SearchPhase::Evolution));
@@ -56,7 +57,8 @@ TEST(SearchContext, NonFiniteOnAnyRowNeverEntersTheFront) {
     EXPECT_EQ(ctx.front.size(), 0u);
     // Finite everywhere: enters.
     const Expression fine = formula("x * 0.5");
-    EXPECT_TRUE(ctx.offer(fine, loss_value(loss, weighted_metrics(fine, p)), SearchPhase::Evolution));
+    EXPECT_TRUE(
+        ctx.offer(fine, loss_value(loss, weighted_metrics(fine, p)), SearchPhase::Evolution));
     EXPECT_EQ(ctx.front.size(), 1u);
   }
 }

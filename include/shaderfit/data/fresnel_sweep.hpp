@@ -20,7 +20,7 @@ namespace shaderfit {
 struct Material {
   std::string name;  // "aluminium", "ior1.5", "metal 0.3+3i"
   double n = 1.5;
-  double k = 0;  // 0 for a dielectric
+  double k = 0;      // 0 for a dielectric
   std::string note;  // where the optical constants come from, for captions
 };
 

@@ -29,10 +29,10 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
-#include "shaderfit/expr/expression.hpp"
-#include "shaderfit/gpu/device.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/eval/metrics.hpp"
+#include "shaderfit/expr/expression.hpp"
+#include "shaderfit/gpu/device.hpp"
 #include "shaderfit/search/front_member.hpp"
 #include "shaderfit/search/options.hpp"
 
