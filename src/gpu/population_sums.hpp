@@ -1,5 +1,5 @@
 // Internal: the batched population evaluation's per-row loss accumulation and its reduction
-// order, shared by the CUDA kernel (src/gpu/kernels.cu) and its CPU emulation (the tests).
+// order, shared by the CUDA kernel (src/gpu/backend_cuda.cu) and its CPU emulation (the tests).
 //
 // Work split: a population of packed programs over `rows` rows. Rows are cut into chunks of
 // kChunkRows; one warp handles one (expression, chunk). Within a chunk, lane l takes rows
