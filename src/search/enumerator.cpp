@@ -6,6 +6,7 @@
 #include <mutex>
 #include <thread>
 
+#include "core/cpu_clock.hpp"
 #include "search/enum_costs.hpp"
 #include "search/enum_tile.hpp"
 #include "shaderfit/core/parallel.hpp"
@@ -16,6 +17,7 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
     : ctx_(ctx), costs_(std::make_unique<Costs>(ctx.options)) {
   const SearchOptions& o = ctx.options;
   time_share_s_ = o.evolve ? o.max_enumeration_share * o.time_limit_s : o.time_limit_s;
+  cpu_start_s_ = process_cpu_seconds();
   setup_screen(rng);
   setup_full_rows();
   // Formulas built from + - * / and powers are rational functions: two that agree on 64 random
@@ -160,7 +162,8 @@ bool Enumerator::fusable(const ClassRecord& r) const {
 
 bool Enumerator::enumeration_should_stop() {
   if (ctx_.should_stop() || exhausted_.load(std::memory_order_relaxed)) return true;
-  if (ctx_.elapsed() >= time_share_s_) exhausted_.store(true, std::memory_order_relaxed);
+  const double cpu_s = (process_cpu_seconds() - cpu_start_s_) / ctx_.threads;
+  if (cpu_s >= time_share_s_) exhausted_.store(true, std::memory_order_relaxed);
   return exhausted_.load(std::memory_order_relaxed);
 }
 

@@ -142,7 +142,11 @@ class Enumerator {
   std::unordered_set<std::uint32_t> improved_;        // committed classes improved this batch
   int cost_completed_ = -1;
   std::atomic<bool> exhausted_{false};  // store full or time share spent
+  // The share of the time budget, in seconds of process CPU time per search thread, counted
+  // from cpu_start_s_: when other processes share the cores the enumeration keeps its share of
+  // the work (wall time would cut it short).
   double time_share_s_ = 0;
+  double cpu_start_s_ = 0;
 };
 
 // The formula of class `id` (negated when `negate`), over `variables`.

@@ -84,8 +84,10 @@ struct SearchOptions {
   // Distinct candidates kept. It bounds the search's memory, which peaks in the enumeration at
   // about max_classes * (6 * screen_rows + 130) bytes (770 MB by default; docs/reliability.md).
   std::size_t max_classes = 1'500'000;
-  double max_enumeration_share = 0.1;  // fraction of the time limit the enumeration may use
-  int max_enumeration_cost = 12;       // highest cost level enumerated
+  // Fraction of the time limit the enumeration may use, counted in process CPU time per search
+  // thread, so that other processes on the cores do not cut it short.
+  double max_enumeration_share = 0.1;
+  int max_enumeration_cost = 12;  // highest cost level enumerated
 
   // Evolution (island-model NSGA-II).
   bool evolve = true;
