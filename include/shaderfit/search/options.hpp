@@ -147,8 +147,9 @@ using SearchOptionMember =
                  bool SearchOptions::*, std::string SearchOptions::*,
                  std::optional<std::int64_t> SearchOptions::*,
                  std::optional<SearchTarget> SearchOptions::*, std::vector<double> SearchOptions::*,
-                 std::vector<std::string> SearchOptions::*, std::vector<Op> SearchOptions::*, Loss SearchOptions::*,
-                 CostTarget SearchOptions::*, ComputeDevice SearchOptions::*>;
+                 std::vector<std::string> SearchOptions::*, std::vector<Op> SearchOptions::*,
+                 Loss SearchOptions::*, CostTarget SearchOptions::*,
+                 ComputeDevice SearchOptions::*>;
 
 // The kinds, as a Python binding or a form would name them.
 enum class OptionKind {
@@ -186,9 +187,10 @@ std::string_view option_kind_name(OptionKind kind);  // "real", "integer", ...
 std::string search_option_location(const SearchOptionField& field);
 
 // The value as text: numbers shortest round-trip, booleans true/false, lists comma-separated
-// ("+,-,*,/,^", "0.5,1,2"; formulas, which hold commas, separated by "; "), choices by name, an unset optional as "". set_search_option reads
-// it back (and "none" for an empty operator list); it throws Error located at the field for
-// text that does not parse. The checkpoint records Search options in this form.
+// ("+,-,*,/,^", "0.5,1,2"; formulas, which hold commas, separated by "; "), choices by name, an
+// unset optional as "". set_search_option reads it back (and "none" for an empty operator list); it
+// throws Error located at the field for text that does not parse. The checkpoint records Search
+// options in this form.
 std::string search_option_text(const SearchOptions& options, const SearchOptionField& field);
 void set_search_option(SearchOptions& options, const SearchOptionField& field,
                        std::string_view text);
