@@ -288,6 +288,25 @@ TEST(CmdSearch, KilledBySigtermThenResumedEndsAsTheUninterruptedRun) {
   expect_same_search(nlohmann::json::parse(fa), nlohmann::json::parse(fb));
 }
 
+// The start formulas are a Search option: a checkpoint records them and a resume must repeat
+// them.
+TEST(CmdSearch, CheckpointRecordsTheStartFormulas) {
+  const std::string path = checkpoint_path("search_start.ckpt");
+  std::vector<std::string> args = evolution_args(small_fresnel_csv());
+  for (const char* extra : {"--start", "r0 + (1.1 - r0)*x^5", "--evals", "1500"})
+    args.emplace_back(extra);
+  std::vector<std::string> first = args;
+  first.insert(first.end(), {"--checkpoint", path});
+  ASSERT_EQ(run(first).status, 0);
+  std::vector<std::string> resumed = args;
+  resumed.insert(resumed.end(), {"--resume", path});
+  const auto r = run(resumed);
+  EXPECT_EQ(r.status, 0) << r.err;
+  std::vector<std::string> other = evolution_args(small_fresnel_csv());
+  other.insert(other.end(), {"--evals", "1500", "--resume", path});
+  expect_bad_input(other, "made with start = r0 + (1.1 - r0)*x^5");
+}
+
 TEST(CmdSearch, DamagedOrForeignCheckpointIsRefused) {
   const std::string csv = small_fresnel_csv();
   const std::string ckpt = checkpoint_path("search_damaged.ckpt");
