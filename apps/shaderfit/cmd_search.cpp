@@ -216,6 +216,9 @@ void add_search_option(CLI::App* cmd, SearchArgs& a, const SearchOptionField& f)
                         help + (a.options.*m ? " (default; " + negated + " turns it off)" : ""));
         } else if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>) {
           cmd->add_option(flag, a.options.*m, help);
+        } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
+          // Repeatable, one formula per flag (formulas hold commas).
+          cmd->add_option(flag, a.options.*m, help)->allow_extra_args(false);
         } else if constexpr (std::is_same_v<T, std::optional<std::int64_t>>) {
           cmd->add_option(flag, a.integers[f.name], help);
         } else {

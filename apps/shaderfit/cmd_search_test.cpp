@@ -6,7 +6,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -106,6 +108,60 @@ TEST(CmdSearch, OtherBadOptions) {
                    "shaderfit: error: --islands: must be at least 1");
 }
 
+// Issue 16's acceptance: from Schlick's formula under max |error|, the front has a member at
+// no more than Schlick's cost (5) and max |error|. One thread and a count budget: deterministic.
+TEST(CmdSearch, StartFromSchlickUnderMaxAbs) {
+  Rng rng(1);
+  const Dataset d = make_fresnel_seed_dataset(rng);
+  const auto& r0 = d.numeric("r0").values;
+  const auto& x = d.numeric("x").values;
+  const auto& y = d.numeric("R").values;
+  double schlick = 0;
+  for (std::size_t i = 0; i < y.size(); ++i)
+    schlick = std::max(schlick, std::abs(r0[i] + (1 - r0[i]) * std::pow(x[i], 5) - y[i]));
+  const auto r = run({"search",
+                      "--dataset",
+                      "fresnel-seed",
+                      "--inputs",
+                      "r0,x",
+                      "--target",
+                      "R",
+                      "--loss",
+                      "max_abs",
+                      "--threads",
+                      "1",
+                      "--evals",
+                      "20000",
+                      "--time",
+                      "1000",
+                      "--start",
+                      "r0 + (1 - r0)*x^5",
+                      "--start",
+                      "r0 + (x - r0)*x^4",
+                      "--json",
+                      "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["options"]["start"], nlohmann::json({"r0 + (1 - r0)*x^5", "r0 + (x - r0)*x^4"}));
+  bool met = false, refitted = false;
+  for (const auto& m : j["front"]) {
+    met = met || (m["cost"].get<double>() <= 5 && m["max_abs"].get<double>() <= schlick);
+    // Schlick's 1 refitted to the minimax: 0.88, max |error| 0.119 against 0.177.
+    refitted = refitted || (m["origin"] == "start" && m["cost"].get<double>() == 5 &&
+                            m["max_abs"].get<double>() < 0.7 * schlick);
+  }
+  EXPECT_TRUE(met) << r.out;
+  EXPECT_TRUE(refitted) << r.out;
+}
+
+TEST(CmdSearch, BadStartFormula) {
+  // The formula's position is the line, its column the column.
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--start", "r0 + y"},
+                   "shaderfit: error: --start:1:6: unknown variable 'y' (known: r0, x)");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--start", "x", "--start", "r0 *"},
+                   "shaderfit: error: --start:2:5: unexpected end of formula");
+}
+
 // Seed 001's Fresnel data, every 16th row (256), as CSV: a short search for the tests below.
 std::string small_fresnel_csv() {
   Rng rng(1);
@@ -123,6 +179,22 @@ std::string small_fresnel_csv() {
 std::vector<std::string> evolution_args(const std::string& csv) {
   return {"search", "--data",       csv,  "--inputs",  "r0,x", "--target", "R",    "--strategy",
           "evolve", "--population", "16", "--threads", "1",    "--time",   "1000", "--quiet"};
+}
+
+// The start formula seeds the evolution; with one thread and a count budget the run repeats.
+TEST(CmdSearch, StartIsReproducible) {
+  std::vector<std::string> args = evolution_args(small_fresnel_csv());
+  for (const char* extra : {"--start", "r0 + (1.1 - r0)*x^5", "--evals", "3000", "--json", "-"})
+    args.emplace_back(extra);
+  const auto a = run(args), b = run(args);
+  ASSERT_EQ(a.status, 0) << a.err;
+  ASSERT_EQ(b.status, 0) << b.err;
+  auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  ASSERT_FALSE(ja["front"].empty());
+  for (auto* j : {&ja, &jb})
+    for (auto& m : (*j)["front"]) m.erase("time_s");
+  EXPECT_EQ(ja["front"], jb["front"]);
+  EXPECT_GT(ja["summary"]["generations"].get<int>(), 0);
 }
 
 std::string checkpoint_path(const std::string& name) {
@@ -214,6 +286,25 @@ TEST(CmdSearch, KilledBySigtermThenResumedEndsAsTheUninterruptedRun) {
   EXPECT_NE(b.out.find("resuming from"), std::string::npos) << b.out;
   std::ifstream fa(a_json), fb(b_json);
   expect_same_search(nlohmann::json::parse(fa), nlohmann::json::parse(fb));
+}
+
+// The start formulas are a Search option: a checkpoint records them and a resume must repeat
+// them.
+TEST(CmdSearch, CheckpointRecordsTheStartFormulas) {
+  const std::string path = checkpoint_path("search_start.ckpt");
+  std::vector<std::string> args = evolution_args(small_fresnel_csv());
+  for (const char* extra : {"--start", "r0 + (1.1 - r0)*x^5", "--evals", "1500"})
+    args.emplace_back(extra);
+  std::vector<std::string> first = args;
+  first.insert(first.end(), {"--checkpoint", path});
+  ASSERT_EQ(run(first).status, 0);
+  std::vector<std::string> resumed = args;
+  resumed.insert(resumed.end(), {"--resume", path});
+  const auto r = run(resumed);
+  EXPECT_EQ(r.status, 0) << r.err;
+  std::vector<std::string> other = evolution_args(small_fresnel_csv());
+  other.insert(other.end(), {"--evals", "1500", "--resume", path});
+  expect_bad_input(other, "made with start = r0 + (1.1 - r0)*x^5");
 }
 
 TEST(CmdSearch, DamagedOrForeignCheckpointIsRefused) {

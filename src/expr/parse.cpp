@@ -7,6 +7,8 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <set>
+#include <string>
 
 #include "shaderfit/core/error.hpp"
 
@@ -36,6 +38,7 @@ class Parser {
     if (tok_.kind == Token::End) fail("empty formula", tok_.column);
     parse_sum();
     if (tok_.kind != Token::End) fail("unexpected '" + std::string(tok_.text) + "'", tok_.column);
+    if (opts_.literals_as_parameters) free_literals();
     expr_.update_lengths();
     return std::move(expr_);
   }
@@ -298,6 +301,7 @@ class Parser {
       return;
     }
     if (s == "pi") {
+      exact_.push_back(expr_.nodes.size());
       emit(Node::constant(std::numbers::pi));
       return;
     }
@@ -362,6 +366,28 @@ class Parser {
     emit(Node::op_node(op));
   }
 
+  // ParseOptions::literals_as_parameters: every Const leaf but the named constants becomes a
+  // new parameter, named p0, p1, ... (skipping names already taken), starting at its value.
+  void free_literals() {
+    std::vector<char> exact(expr_.nodes.size(), 0);
+    for (std::size_t i : exact_) exact[i] = 1;
+    std::set<std::string> taken(expr_.variables.begin(), expr_.variables.end());
+    taken.insert(expr_.parameters.begin(), expr_.parameters.end());
+    std::size_t next = 0;
+    for (std::size_t i = 0; i < expr_.nodes.size(); ++i) {
+      Node& n = expr_.nodes[i];
+      if (n.op != Op::Const || exact[i] != 0) continue;
+      if (expr_.parameters.size() >= 32767) fail("too many number literals", 1);
+      std::string name;
+      do {
+        name = "p" + std::to_string(next++);
+      } while (taken.count(name) != 0);
+      expr_.parameters.push_back(name);
+      expr_.parameter_values.push_back(n.value);
+      n = Node::parameter(static_cast<int>(expr_.parameters.size() - 1));
+    }
+  }
+
   static bool is_integer_literal(std::string_view t) {
     while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.remove_prefix(1);
     while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
@@ -374,6 +400,7 @@ class Parser {
   std::size_t pos_ = 0;
   Token tok_;
   Expression expr_;
+  std::vector<std::size_t> exact_;   // the nodes of named constants (pi)
   std::vector<std::size_t> depths_;  // per subtree on the postfix stack: its depth
   int nesting_ = 0;                  // parse_unary calls in progress
 };

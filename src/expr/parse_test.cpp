@@ -28,6 +28,28 @@ TEST(Parse, SeedFormulaPostfix) {
   EXPECT_EQ(to_infix(e), "r0 + (x - r0) * x^4");
 }
 
+TEST(Parse, LiteralsAsParameters) {
+  ParseOptions o = vars({"r0", "x", "p0"});
+  o.parameters = {"k"};
+  o.parameter_values = {3.0};
+  o.literals_as_parameters = true;
+  const Expression e = parse_formula("k * r0 + (1 - r0) * x^5 * pow(x, 2) + -0.5 * pi * p0", o);
+  // 1 and -0.5 are free (named around the variable p0); pi and the exponents stay exact.
+  EXPECT_EQ(e.parameters, (std::vector<std::string>{"k", "p1", "p2"}));
+  EXPECT_EQ(e.parameter_values, (std::vector<double>{3.0, 1.0, -0.5}));
+  int constants = 0, powers = 0;
+  for (const Node& n : e.nodes) {
+    constants += n.op == Op::Const ? 1 : 0;
+    powers += n.op == Op::IPow ? 1 : 0;
+  }
+  EXPECT_EQ(constants, 1);  // pi
+  EXPECT_EQ(powers, 2);
+  EXPECT_EQ(to_infix(e, {.substitute_parameters = true}),
+            to_infix(parse_formula("3 * r0 + (1 - r0) * x^5 * x^2 + -0.5 * pi * p0",
+                                   vars({"r0", "x", "p0"})),
+                     {}));
+}
+
 TEST(Parse, PowWithIntegerLiteralIsIntegerPower) {
   Expression e = parse_formula("pow(x, 5)", vars({"x"}));
   ASSERT_EQ(e.size(), 2u);

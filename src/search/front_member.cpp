@@ -17,12 +17,18 @@ namespace shaderfit {
 using nlohmann::json;
 
 std::string_view search_phase_name(SearchPhase phase) {
-  return phase == SearchPhase::Evolution ? "evolution" : "enumeration";
+  switch (phase) {
+    case SearchPhase::Enumeration: return "enumeration";
+    case SearchPhase::Evolution: return "evolution";
+    case SearchPhase::Start: return "start";
+  }
+  return "enumeration";
 }
 
 std::optional<SearchPhase> search_phase_from_name(std::string_view name) {
   if (name == "enumeration") return SearchPhase::Enumeration;
   if (name == "evolution") return SearchPhase::Evolution;
+  if (name == "start") return SearchPhase::Start;
   return std::nullopt;
 }
 

@@ -138,6 +138,16 @@ const SearchOptionField kFields[] = {
              if (!std::isfinite(v)) return std::string("literal constants must be finite");
            return std::string();
          }},
+    {.name = "start",
+     .member = &O::start,
+     .role = Role::Search,
+     .help = "start from this formula (repeatable): it joins the front as written and with its "
+             "number literals refitted, and seeds the evolution",
+     .may_be_empty = true,
+     .check =
+         [](const O& o) {
+           return o.start.size() <= 100 ? std::string() : std::string("at most 100 formulas");
+         }},
     {.name = "max_power",
      .member = &O::max_power,
      .role = Role::Search,
@@ -274,11 +284,11 @@ T integer_from(const SearchOptionField& f, std::string_view text) {
   return v;
 }
 
-std::vector<std::string_view> split(std::string_view list) {
+std::vector<std::string_view> split(std::string_view list, char separator = ',') {
   std::vector<std::string_view> out;
   std::size_t pos = 0;
   while (pos <= list.size()) {
-    std::size_t end = list.find(',', pos);
+    std::size_t end = list.find(separator, pos);
     if (end == std::string_view::npos) end = list.size();
     std::string_view item = list.substr(pos, end - pos);
     while (!item.empty() && item.front() == ' ') item.remove_prefix(1);
@@ -323,6 +333,7 @@ OptionKind search_option_kind(const SearchOptionField& field) {
                  [](std::string O::*) { return OptionKind::Text; },
                  [](std::optional<SearchTarget> O::*) { return OptionKind::StopTarget; },
                  [](std::vector<double> O::*) { return OptionKind::Reals; },
+                 [](std::vector<std::string> O::*) { return OptionKind::Formulas; },
                  [](std::vector<Op> O::*) { return OptionKind::Operators; },
                  [](Loss O::*) { return OptionKind::Choice; },
                  [](CostTarget O::*) { return OptionKind::Choice; },
@@ -339,6 +350,7 @@ std::string_view option_kind_name(OptionKind kind) {
     case OptionKind::Text: return "text";
     case OptionKind::StopTarget: return "stop target";
     case OptionKind::Reals: return "reals";
+    case OptionKind::Formulas: return "formulas";
     case OptionKind::Operators: return "operators";
     case OptionKind::Choice: return "choice";
   }
@@ -364,6 +376,11 @@ std::string search_option_text(const SearchOptions& o, const SearchOptionField& 
                  [&](std::vector<double> O::*m) {
                    std::string s;
                    for (double v : o.*m) s += (s.empty() ? "" : ",") + number_text(v);
+                   return s;
+                 },
+                 [&](std::vector<std::string> O::*m) {
+                   std::string s;
+                   for (const std::string& f : o.*m) s += (s.empty() ? "" : "; ") + f;
                    return s;
                  },
                  [&](std::vector<Op> O::*m) { return operator_list_name(o.*m); },
@@ -406,6 +423,11 @@ void set_search_option(SearchOptions& o, const SearchOptionField& f, std::string
               if (!std::isfinite(x)) bad_text(f, "not a number: '" + std::string(s) + "'");
               v.push_back(x);
             }
+            o.*m = std::move(v);
+          },
+          [&](std::vector<std::string> O::*m) {
+            std::vector<std::string> v;
+            for (std::string_view s : split(text, ';')) v.emplace_back(s);
             o.*m = std::move(v);
           },
           [&](std::vector<Op> O::*m) {

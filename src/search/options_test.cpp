@@ -127,6 +127,7 @@ TEST(SearchOptions, DescriptionReadsBackItsText) {
   edited.stop_at = SearchTarget{1e-4, 4};
   edited.evolution_operators.clear();
   edited.literals = {0.1, 3.0};
+  edited.start = {"r0 + (1 - r0)*x^5", "min(x, 0.5) + pow(r0, 2.5)"};
   edited.checkpoint_path = "run.ckpt";
   for (const SearchOptionField& f : search_option_fields()) {
     EXPECT_TRUE(names.insert(f.name).second) << f.name << " is described twice";
@@ -141,6 +142,9 @@ TEST(SearchOptions, DescriptionReadsBackItsText) {
   EXPECT_EQ(search_option_text(SearchOptions{}, *find_search_option("operators")), "+,-,*,/,^");
   EXPECT_EQ(search_option_kind(*find_search_option("max_nodes")), OptionKind::Integer);
   EXPECT_EQ(search_option_kind(*find_search_option("loss")), OptionKind::Choice);
+  EXPECT_EQ(search_option_kind(*find_search_option("start")), OptionKind::Formulas);
+  EXPECT_EQ(search_option_text(edited, *find_search_option("start")),
+            "r0 + (1 - r0)*x^5; min(x, 0.5) + pow(r0, 2.5)");
   EXPECT_EQ(find_search_option("max_candidates")->role, OptionRole::Budget);
 }
 

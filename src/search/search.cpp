@@ -13,6 +13,7 @@
 #include "search/evolution.hpp"
 #include "search/float32_check.hpp"
 #include "search/search_context.hpp"
+#include "search/start.hpp"
 
 namespace shaderfit {
 
@@ -92,6 +93,9 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});
 
+  const std::vector<search_detail::StartFormula> starts =
+      search_detail::parse_start_formulas(options, problem);
+
   using search_detail::Checkpoint;
   std::optional<Checkpoint> resumed;
   if (!options.resume_path.empty()) {
@@ -130,13 +134,15 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
   } else {
     // Afresh, or from a checkpoint taken during the enumeration: the enumeration runs again
     // (with count stops it finds the same classes), then the checkpoint's front joins.
-    std::vector<Expression> seeds;
+    // The start formulas first, so that they seed the evolution whatever the enumeration finds.
+    std::vector<Expression> seeds = search_detail::offer_start_formulas(ctx, starts);
     if (options.enumerate) {
       search_detail::Enumerator enumerator(ctx, rng);
       enumerator.run();
       s.distinct_candidates = enumerator.classes();
       s.enumeration_cost_completed = enumerator.cost_completed();
-      if (options.evolve) seeds = enumerator.seeds(options.population);
+      if (options.evolve)
+        for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
     }
     if (resumed)
       for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));

@@ -36,6 +36,10 @@ struct ParseOptions {
   // name) or 0.
   std::vector<std::string> parameters;
   std::vector<double> parameter_values;
+  // Every number literal becomes a further free parameter, named p0, p1, ... (names already
+  // taken are skipped) and starting at the literal's value; named constants (pi) and integer
+  // exponents (x^5, pow(x, 5)) stay exact.
+  bool literals_as_parameters = false;
   // Name used as the source of error locations ("formula", "baseline 1", a file name...).
   std::string source = "formula";
   int line = 1;
@@ -45,7 +49,8 @@ struct ParseOptions {
 // an unknown function, a wrong number of arguments, an exponent out of range, an unknown variable,
 // a formula beyond the size limits above.
 // The result's variable table is `options.variables` (when given) or the names in order of use;
-// its parameter table is `options.parameters`.
+// its parameter table is `options.parameters` (followed by the literals, with
+// literals_as_parameters).
 Expression parse_formula(std::string_view text, const ParseOptions& options = {});
 
 }  // namespace shaderfit

@@ -76,6 +76,12 @@ struct SearchOptions {
   std::vector<Op> evolution_operators = {Op::Pow, Op::Exp2};
   int max_power = 5;
   std::vector<double> literals = {0.5, 1.0, 2.0};
+  // The user's own approximations, over the problem's inputs (docs/search.md, "Starting from a
+  // formula"): each enters the front as written and with its number literals refitted for
+  // `loss` (pi and integer exponents stay exact), and the refitted form seeds the evolution.
+  // run_search throws Error located at "SearchOptions::start", line = the formula's position
+  // (1-based), for a formula that does not parse or names a variable that is not an input.
+  std::vector<std::string> start;
 
   // Enumeration. `screen_rows` random rows are cached per distinct candidate (float32) and used
   // to deduplicate and to screen; candidates that pass are scored on every row.
@@ -143,8 +149,9 @@ using SearchOptionMember =
                  bool SearchOptions::*, std::string SearchOptions::*,
                  std::optional<std::int64_t> SearchOptions::*,
                  std::optional<SearchTarget> SearchOptions::*, std::vector<double> SearchOptions::*,
-                 std::vector<Op> SearchOptions::*, Loss SearchOptions::*,
-                 CostTarget SearchOptions::*, ComputeDevice SearchOptions::*>;
+                 std::vector<std::string> SearchOptions::*, std::vector<Op> SearchOptions::*,
+                 Loss SearchOptions::*, CostTarget SearchOptions::*,
+                 ComputeDevice SearchOptions::*>;
 
 // The kinds, as a Python binding or a form would name them.
 enum class OptionKind {
@@ -154,6 +161,7 @@ enum class OptionKind {
   Text,        // a path
   StopTarget,  // std::optional<SearchTarget>
   Reals,       // a list of numbers
+  Formulas,    // a list of formulas (std::vector<std::string>)
   Operators,   // a list of operators
   Choice,      // one of `choices`
 };
@@ -181,9 +189,10 @@ std::string_view option_kind_name(OptionKind kind);  // "real", "integer", ...
 std::string search_option_location(const SearchOptionField& field);
 
 // The value as text: numbers shortest round-trip, booleans true/false, lists comma-separated
-// ("+,-,*,/,^", "0.5,1,2"), choices by name, an unset optional as "". set_search_option reads
-// it back (and "none" for an empty operator list); it throws Error located at the field for
-// text that does not parse. The checkpoint records Search options in this form.
+// ("+,-,*,/,^", "0.5,1,2"; formulas, which hold commas, separated by "; "), choices by name, an
+// unset optional as "". set_search_option reads it back (and "none" for an empty operator list); it
+// throws Error located at the field for text that does not parse. The checkpoint records Search
+// options in this form.
 std::string search_option_text(const SearchOptions& options, const SearchOptionField& field);
 void set_search_option(SearchOptions& options, const SearchOptionField& field,
                        std::string_view text);

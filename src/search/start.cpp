@@ -1,0 +1,79 @@
+#include "search/start.hpp"
+
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/fit/fixed_form.hpp"
+
+namespace shaderfit::search_detail {
+
+std::vector<StartFormula> parse_start_formulas(const SearchOptions& options,
+                                               const SearchProblem& problem) {
+  std::vector<StartFormula> out;
+  for (std::size_t k = 0; k < options.start.size(); ++k) {
+    ParseOptions po;
+    po.variables = problem.input_names;
+    po.source = "SearchOptions::start";
+    po.line = static_cast<int>(k + 1);
+    StartFormula s;
+    s.written = parse_formula(options.start[k], po);
+    po.literals_as_parameters = true;
+    s.free = parse_formula(options.start[k], po);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+Expression refit_for_loss(Expression e, const SearchOptions& options,
+                          const SearchProblem& problem) {
+  if (e.parameters.empty()) return e;
+  FixedFormProblem fp;
+  fp.formula = e;
+  FitBlock block;
+  block.label = "start";
+  block.columns = problem.inputs;  // e's variables are the inputs, in order
+  block.target = problem.target;
+  block.weights = problem.weights;
+  FixedFormOptions fo;
+  fo.threads = 1;
+  switch (options.loss) {
+    case Loss::MaxAbs:
+      // The search's max_abs uses the weights only to select rows.
+      fo.loss = Loss::MaxAbs;
+      for (double& w : block.weights) w = w > 0 ? 1.0 : 0.0;
+      break;
+    case Loss::Relative:
+      fo.loss = Loss::Mse;
+      block.weights.resize(block.target.size(), 1.0);
+      for (std::size_t i = 0; i < block.target.size(); ++i)
+        block.weights[i] /= block.target[i] * block.target[i];
+      break;
+    case Loss::Log: fo.loss = Loss::Log; break;
+    default: fo.loss = Loss::Mse; break;
+  }
+  fp.blocks.push_back(std::move(block));
+  FixedFormSummary s;
+  try {
+    solve_fixed_form(fo, fp, &s);
+  } catch (const Error&) {
+    return e;  // e.g. parameters the data does not determine: the written values stay
+  }
+  if (!s.blocks.empty() && s.blocks[0].ok) e.parameter_values = s.blocks[0].parameters;
+  return e;
+}
+
+std::vector<Expression> offer_start_formulas(SearchContext& ctx,
+                                             const std::vector<StartFormula>& starts) {
+  std::vector<Expression> seeds;
+  for (const StartFormula& s : starts) {
+    Expression fitted = refit_for_loss(s.free, ctx.options, ctx.problem);
+    std::vector<const Expression*> forms = {&s.written};
+    if (!fitted.parameters.empty()) forms.push_back(&fitted);
+    for (const Expression* e : forms) {
+      ctx.offer(*e, loss_value(ctx.options.loss, ctx.score(*e)), SearchPhase::Start);
+      ctx.candidates.fetch_add(1, std::memory_order_relaxed);
+    }
+    seeds.push_back(std::move(fitted));
+  }
+  return seeds;
+}
+
+}  // namespace shaderfit::search_detail

@@ -1,0 +1,35 @@
+// The user's start formulas, SearchOptions::start (internal; docs/search.md, "Starting from a
+// formula").
+#pragma once
+
+#include <vector>
+
+#include "search/search_context.hpp"
+
+namespace shaderfit::search_detail {
+
+struct StartFormula {
+  Expression written;  // as the user wrote it, over the problem's inputs
+  Expression free;     // the same with its number literals as parameters, at their written values
+};
+
+// options.start parsed over problem.input_names. Throws Error located at "SearchOptions::start",
+// line k + 1 and the column, for the k-th formula when it does not parse or names a variable
+// that is not an input.
+std::vector<StartFormula> parse_start_formulas(const SearchOptions& options,
+                                               const SearchProblem& problem);
+
+// e (over the problem's inputs) with its parameters fitted on every row for options.loss: the
+// (weighted) minimax by Lawson's reweighting for max_abs, least squares in the loss's own terms
+// for mse and rmse, rel (weights 1 / target^2) and log (of the target). Where the fit fails, e
+// keeps its values.
+Expression refit_for_loss(Expression e, const SearchOptions& options, const SearchProblem& problem);
+
+// Offers each start formula to ctx's front as written and refitted (origin SearchPhase::Start),
+// counting them as candidates; returns the refitted forms, which seed the evolution. A member
+// at no more than a start's cost and loss is then on the front for the rest of the search,
+// unless the start is not finite on every row (SearchContext::offer).
+std::vector<Expression> offer_start_formulas(SearchContext& ctx,
+                                             const std::vector<StartFormula>& starts);
+
+}  // namespace shaderfit::search_detail
