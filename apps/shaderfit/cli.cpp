@@ -137,6 +137,16 @@ std::string flag_for_location(std::string_view location) {
   return {};
 }
 
+void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
+                      std::vector<std::string>& params) {
+  cmd->add_option("--inputs", inputs, "input names in argument order (comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  cmd->add_option("--params", params, "names that are free parameters (comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+}
+
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
   CLI::App app{"shaderfit: cheap formulas for expensive shading functions", "shaderfit"};
   app.require_subcommand(1);

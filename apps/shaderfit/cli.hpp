@@ -14,6 +14,7 @@
 #include <iosfwd>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace shaderfit::cli {
 
@@ -40,6 +41,11 @@ std::string flag_for_location(std::string_view location);
 // The flag of a described search option (options.hpp): --<name with '-' for '_'>, unless the
 // table renames it (historical flags such as --time, --evals, --ops).
 std::string search_option_flag(std::string_view field_name);
+
+// --inputs and --params: the names of a formula's inputs, in argument order, and of its free
+// parameters (comma-separated or repeated), for the commands that read a formula without data.
+void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
+                      std::vector<std::string>& params);
 
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);

@@ -71,12 +71,7 @@ void register_codegen_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--lang", args->lang, "glsl, hlsl, cuda, cpp or metal")->required();
   cmd->add_option("--name", args->name,
                   "function name (a front's members get NAME_0, NAME_1, ...)");
-  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
-  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
+  add_name_options(cmd, args->inputs, args->params);
   cmd->add_option("--front", args->front_path,
                   "a JSON file with a \"front\" list of {\"formula\": ...} members");
   cmd->add_option(

@@ -75,12 +75,7 @@ void register_cost_command(CLI::App& app, Context& ctx) {
          "the formula; every identifier is an input unless --inputs/--params say otherwise")
       ->required();
   cmd->add_option("--target", args->target, "listing to print: sass (default), ptx or generic");
-  cmd->add_option("--inputs", args->inputs, "input names in argument order (comma-separated)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
-  cmd->add_option("--params", args->params, "names that are free parameters (comma-separated)")
-      ->delimiter(',')
-      ->allow_extra_args(false);
+  add_name_options(cmd, args->inputs, args->params);
   cmd->add_option("--json", args->json_path,
                   "write the counts and listing as JSON to PATH ('-' for stdout)");
   cmd->footer("Example:\n  shaderfit cost 'r0 + (1 - r0) * (1 - cos_theta)^5'");
