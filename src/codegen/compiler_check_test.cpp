@@ -116,7 +116,8 @@ const char* const kNewOperators[] = {
 TEST(CompilerCheck, SignCopysignSelectAgainstNvccAndGlslang) {
   const auto nvcc = testing::find_tool("nvcc");
   const auto glslang = testing::find_tool("glslangValidator");
-  if (!nvcc && !glslang) GTEST_SKIP() << "skipped: nvcc not found; skipped: glslangValidator not found";
+  if (!nvcc && !glslang)
+    GTEST_SKIP() << "skipped: nvcc not found; skipped: glslangValidator not found";
   std::vector<Expression> formulas;
   for (const char* f : kNewOperators) formulas.push_back(parse_formula(f));
   CompiledCounts cuda, glsl, hlsl;
@@ -130,15 +131,16 @@ TEST(CompilerCheck, SignCopysignSelectAgainstNvccAndGlslang) {
     ASSERT_TRUE(glsl.ok) << glsl.log;
     ASSERT_TRUE(hlsl.ok) << hlsl.log;
   }
-  std::cout << "| formula | model sass | nvcc SASS | model ptx | nvcc PTX | model generic | SPIR-V GLSL | SPIR-V HLSL |\n"
+  std::cout << "| formula | model sass | nvcc SASS | model ptx | nvcc PTX | model generic | SPIR-V "
+               "GLSL | SPIR-V HLSL |\n"
                "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
   for (std::size_t i = 0; i < formulas.size(); ++i) {
     const int s = instruction_count(formulas[i], InstructionTarget::Sass);
     const int p = instruction_count(formulas[i], InstructionTarget::Ptx);
     const int g = instruction_count(formulas[i], InstructionTarget::Generic);
-    std::cout << "| `" << kNewOperators[i] << "` | " << s << " | " << cell(cuda.sass, i) << " | " << p << " | "
-              << cell(cuda.ptx, i) << " | " << g << " | " << cell(glsl.spirv, i) << " | " << cell(hlsl.spirv, i)
-              << " |\n";
+    std::cout << "| `" << kNewOperators[i] << "` | " << s << " | " << cell(cuda.sass, i) << " | "
+              << p << " | " << cell(cuda.ptx, i) << " | " << g << " | " << cell(glsl.spirv, i)
+              << " | " << cell(hlsl.spirv, i) << " |\n";
     if (nvcc) {
       EXPECT_EQ(cuda.ptx[i], p) << kNewOperators[i];
     }

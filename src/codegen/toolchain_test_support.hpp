@@ -99,9 +99,9 @@ inline std::map<std::string, int> count_ptx(const std::string& ptx) {
   std::map<std::string, int> counts;
   std::string current;
   std::istringstream lines(ptx);
-  static const char* kOps[] = {"add.", "sub.", "mul.", "fma.", "neg.", "abs.", "div.", "rcp.", "rsqrt.", "sqrt.",
-                               "ex2.", "lg2.", "sin.", "cos.", "min.", "max.", "setp.", "selp.", "testp.", "mad.",
-                               "copysign."};
+  static const char* kOps[] = {"add.", "sub.",   "mul.",  "fma.",  "neg.",   "abs.", "div.",
+                               "rcp.", "rsqrt.", "sqrt.", "ex2.",  "lg2.",   "sin.", "cos.",
+                               "min.", "max.",   "setp.", "selp.", "testp.", "mad.", "copysign."};
   for (std::string line; std::getline(lines, line);) {
     if (line.find(".entry") != std::string::npos) {
       std::istringstream words(line.substr(line.find(".entry") + 6));
@@ -144,8 +144,8 @@ inline std::map<std::string, int> count_sass(const std::string& dump) {
     std::string op;
     words >> op;
     if (!op.empty() && op[0] == '@') words >> op;
-    for (const char* k :
-         {"FADD", "FMUL", "FFMA", "FMNMX", "MUFU", "FSETP", "FSEL", "FSET", "FRND", "FCHK", "LOP3"}) {
+    for (const char* k : {"FADD", "FMUL", "FFMA", "FMNMX", "MUFU", "FSETP", "FSEL", "FSET", "FRND",
+                          "FCHK", "LOP3"}) {
       if (starts_with(op, k)) {
         ++counts[current];  // once: FSETP also starts with FSET
         break;

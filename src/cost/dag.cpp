@@ -26,9 +26,10 @@ struct Key {
 struct KeyHash {
   std::size_t operator()(const Key& k) const noexcept {
     std::uint64_t h = 0x9e3779b97f4a7c15ULL * (k.op + 1u) ^ (k.log_scale ? 0x51ULL : 0);
-    for (std::uint64_t v : {static_cast<std::uint64_t>(k.a + 2), static_cast<std::uint64_t>(k.b + 2),
-                            static_cast<std::uint64_t>(k.c + 2),
-                            static_cast<std::uint64_t>(k.index + 1000), std::uint64_t{k.bits}}) {
+    for (std::uint64_t v :
+         {static_cast<std::uint64_t>(k.a + 2), static_cast<std::uint64_t>(k.b + 2),
+          static_cast<std::uint64_t>(k.c + 2), static_cast<std::uint64_t>(k.index + 1000),
+          std::uint64_t{k.bits}}) {
       h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
     }
     return static_cast<std::size_t>(h);

@@ -178,7 +178,8 @@ class ProgramBuilder {
       case Op::Select:  // -select(a, b, c) = select(a, -b, -c)
         pl.op = StepOp::Select;
         pl.arity = 3;
-        pl.args = {want(nd.a.id, false), want(nd.b.id, nd.b.neg != s), want(nd.c.id, nd.c.neg != s)};
+        pl.args = {want(nd.a.id, false), want(nd.b.id, nd.b.neg != s),
+                   want(nd.c.id, nd.c.neg != s)};
         pl.neg_arg = nd.a.neg;
         break;
       case Op::Min:

@@ -233,18 +233,22 @@ class SassSelector {
         break;
       }
       case StepOp::Sign: {
-        const Val p = emit(U::MinMax, "FSETP.GT.FTZ.AND", {Val{a.reg, false, true}, rz}, "|" + c + "| > 0");
-        const Val one = emit(U::MinMax, "LOP3.LUT", {Val{-1, false, false, true, 1.0f}, sign_mask(), a},
-                             "copysign(1, ...)");
+        const Val p =
+            emit(U::MinMax, "FSETP.GT.FTZ.AND", {Val{a.reg, false, true}, rz}, "|" + c + "| > 0");
+        const Val one =
+            emit(U::MinMax, "LOP3.LUT", {Val{-1, false, false, true, 1.0f}, sign_mask(), a},
+                 "copysign(1, ...)");
         out = emit(U::MinMax, "FSEL", {one, a, p}, c);
         break;
       }
       case StepOp::CopySign: out = emit(U::MinMax, "LOP3.LUT", {a, sign_mask(), b}, c); break;
       case StepOp::Select: {
-        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index, st.neg_arg ? 1 : 0);
+        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index,
+                                         st.neg_arg ? 1 : 0);
         auto it = predicates_.find(key);
         if (it == predicates_.end()) {
-          const Val p = emit(U::MinMax, "FSETP.GE.FTZ.AND", {st.neg_arg ? negated(a) : a, rz}, "condition of " + c);
+          const Val p = emit(U::MinMax, "FSETP.GE.FTZ.AND", {st.neg_arg ? negated(a) : a, rz},
+                             "condition of " + c);
           it = predicates_.emplace(key, p).first;
         }
         // A branch that is computed for this select alone is computed under the predicate.

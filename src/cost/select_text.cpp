@@ -112,8 +112,10 @@ class TextSelector {
       case StepOp::Sign:
         if (ptx_) {
           const std::string t = emit(U::Fp32, "abs.ftz.f32", {a}, "|" + c + "|");
-          const std::string p = emit(U::MinMax, "setp.gt.ftz.f32", {t, ptx_const(0.0f)}, "|" + c + "| > 0");
-          const std::string one = emit(U::MinMax, "copysign.f32", {a, ptx_const(1.0f)}, "copysign(1, ...)");
+          const std::string p =
+              emit(U::MinMax, "setp.gt.ftz.f32", {t, ptx_const(0.0f)}, "|" + c + "| > 0");
+          const std::string one =
+              emit(U::MinMax, "copysign.f32", {a, ptx_const(1.0f)}, "copysign(1, ...)");
           out = emit(U::MinMax, "selp.f32", {one, a, p}, c);
         } else {
           const std::string gt = emit(U::MinMax, "OpFOrdGreaterThan", {a, "0"}, c + " > 0");
@@ -144,8 +146,9 @@ class TextSelector {
           p = emit(U::MinMax, op, {a, ptx_ ? ptx_const(0.0f) : "0"}, "condition of " + c);
           conditions_[key] = p;
         }
-        simple(U::MinMax, "selp.f32", "OpSelect", ptx_ ? std::initializer_list<std::string>{b, name(st.args[2]), p}
-                                                       : std::initializer_list<std::string>{p, b, name(st.args[2])});
+        simple(U::MinMax, "selp.f32", "OpSelect",
+               ptx_ ? std::initializer_list<std::string>{b, name(st.args[2]), p}
+                    : std::initializer_list<std::string>{p, b, name(st.args[2])});
         break;
       }
       case StepOp::Log:

@@ -105,8 +105,9 @@ std::string StepText::step(int i, int min_level, std::size_t limit) const {
       case StepOp::Div: t = pair(st.args[0], 2, " / ", st.args[1], 3, limit); break;
       case StepOp::Neg: t = "-" + operand(st.args[0], 4, limit); break;
       case StepOp::Select:
-        t = "select(" + std::string(st.neg_arg ? "-" : "") + operand(st.args[0], st.neg_arg ? 4 : 0, limit) +
-            " >= 0, " + operand(st.args[1], 0, limit) + ", " + operand(st.args[2], 0, limit) + ")";
+        t = "select(" + std::string(st.neg_arg ? "-" : "") +
+            operand(st.args[0], st.neg_arg ? 4 : 0, limit) + " >= 0, " +
+            operand(st.args[1], 0, limit) + ", " + operand(st.args[2], 0, limit) + ")";
         break;
       default:
         t = std::string(call_name(st.op)) + "(";
