@@ -21,7 +21,12 @@ TEST(Jacobian, AgreesWithJetsForEveryOperator) {
                             "sin(a * x)",      "cos(a * x)",       "a * x + x",
                             "x - a * x",       "a * x * x",        "a / x",
                             "x / a",           "min(a * x, 0.5)",  "max(a * x, 0.5)",
-                            "pow(a * x, 1.7)", "pow(1.7, a * x)",  "fma(a, x, a * a)"};
+                            "pow(a * x, 1.7)", "pow(1.7, a * x)",  "fma(a, x, a * a)",
+                            "sign(a * x - 0.3) * a",
+                            "copysign(a * x, x - 0.5)",
+                            "copysign(x - 0.5, a - 0.8) + copysign(x, a * x - 0.3)",
+                            "select(a * x - 0.3 >= 0, a * a, x / a)",
+                            "select(x < a * 0.5, a * x, 2)"};
   const std::vector<double> xs = {0.1, 0.35, 0.6, 0.9};
   const double a = 0.8;
   for (const char* text : formulas) {
