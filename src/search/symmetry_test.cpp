@@ -1,0 +1,132 @@
+// Detection of symmetric data and the half a search fits.
+#include "shaderfit/search/symmetry.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include "shaderfit/core/random.hpp"
+#include "shaderfit/search/search.hpp"
+
+namespace shaderfit {
+namespace {
+
+// y = f(x) on n points spread evenly over [-1, 1] (x = 0 among them when n is odd).
+SearchProblem on_grid(const std::function<double(double)>& f, int n = 65) {
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs.resize(1);
+  for (int i = 0; i < n; ++i) {
+    const double x = static_cast<double>(2 * i - (n - 1)) / (n - 1);  // mirrors exactly
+    p.inputs[0].push_back(x);
+    p.target.push_back(f(x));
+  }
+  return p;
+}
+
+TEST(Symmetry, DetectsEvenOddAndPoint) {
+  auto even = detect_symmetry(on_grid([](double x) { return std::cos(3 * x); }));
+  ASSERT_TRUE(even);
+  EXPECT_EQ(even->kind, SymmetryKind::Even);
+  EXPECT_EQ(even->center, 0);
+
+  auto odd = detect_symmetry(on_grid([](double x) { return std::atan(x); }));
+  ASSERT_TRUE(odd);
+  EXPECT_EQ(odd->kind, SymmetryKind::Odd);
+
+  auto point = detect_symmetry(on_grid([](double x) { return std::acos(x); }));
+  ASSERT_TRUE(point);
+  EXPECT_EQ(point->kind, SymmetryKind::Point);
+  EXPECT_NEAR(point->center, std::numbers::pi / 2, 1e-15);
+  // Without x = 0 among the rows the centre comes from the pairs alone.
+  auto point_even_n = detect_symmetry(on_grid([](double x) { return 2 + x * x * x; }, 64));
+  ASSERT_TRUE(point_even_n);
+  EXPECT_EQ(point_even_n->kind, SymmetryKind::Point);
+  EXPECT_NEAR(point_even_n->center, 2.0, 1e-14);
+  EXPECT_EQ(describe_symmetry(*odd, {"x"}), "odd in x");
+  EXPECT_EQ(describe_symmetry(*even, {"x"}), "even in x");
+}
+
+TEST(Symmetry, NoneForAsymmetricConstantOrNoisyData) {
+  EXPECT_FALSE(detect_symmetry(on_grid([](double x) { return std::exp(x); })));
+  EXPECT_FALSE(detect_symmetry(on_grid([](double) { return 3.0; })));
+  Rng rng(5);
+  std::normal_distribution<double> noise(0.0, 1e-4);
+  SearchProblem noisy = on_grid([](double x) { return std::atan(x); });
+  for (double& y : noisy.target) y += noise(rng);
+  EXPECT_FALSE(detect_symmetry(noisy));
+  // A looser tolerance takes the noise.
+  auto loose = detect_symmetry(noisy, 1e-2);
+  ASSERT_TRUE(loose);
+  EXPECT_EQ(loose->kind, SymmetryKind::Odd);
+  // An odd function off by one part in 1e7 at one row is no longer odd at 1e-9.
+  SearchProblem almost = on_grid([](double x) { return std::atan(x); });
+  almost.target[3] += 1e-7;
+  EXPECT_FALSE(detect_symmetry(almost));
+}
+
+TEST(Symmetry, NeedsMirroredRows) {
+  SearchProblem p = on_grid([](double x) { return x * x; });
+  // A row without its mirror.
+  SearchProblem extra = p;
+  extra.inputs[0].push_back(0.123);
+  extra.target.push_back(0.123 * 0.123);
+  EXPECT_FALSE(detect_symmetry(extra));
+  // A row twice.
+  SearchProblem twice = p;
+  twice.inputs[0].push_back(p.inputs[0][5]);
+  twice.target.push_back(p.target[5]);
+  EXPECT_FALSE(detect_symmetry(twice));
+  // Only non-negative x.
+  SearchProblem positive;
+  positive.input_names = {"x"};
+  positive.inputs = {{0, 0.25, 0.5, 0.75, 1}};
+  positive.target = {0, 1, 2, 3, 4};
+  EXPECT_FALSE(detect_symmetry(positive));
+  // Too few pairs.
+  EXPECT_FALSE(detect_symmetry(on_grid([](double x) { return x * x; }, 15)));
+  EXPECT_TRUE(detect_symmetry(on_grid([](double x) { return x * x; }, 17)));
+  // Weights that differ between mirrored rows.
+  SearchProblem weighted = p;
+  weighted.weights.assign(p.target.size(), 1.0);
+  EXPECT_TRUE(detect_symmetry(weighted));
+  weighted.weights[2] = 2.0;
+  EXPECT_FALSE(detect_symmetry(weighted));
+}
+
+TEST(Symmetry, SecondInputAndTheHalf) {
+  // y = r * x^3 + r on a grid of (r, x): point-symmetric in x about r would need m to vary, so
+  // only r * x^3 (odd in x, asymmetric in r) is.
+  SearchProblem p;
+  p.input_names = {"r", "x"};
+  p.inputs.resize(2);
+  for (double r : {0.1, 0.5, 0.9})
+    for (int i = -8; i <= 8; ++i) {
+      const double x = i / 8.0;
+      p.inputs[0].push_back(r);
+      p.inputs[1].push_back(x);
+      p.target.push_back(r * x * x * x);
+    }
+  auto s = detect_symmetry(p);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->input, 1U);
+  EXPECT_EQ(s->kind, SymmetryKind::Odd);
+  const SearchProblem half = symmetric_half(p, *s);
+  EXPECT_EQ(half.target.size(), 3U * 9U);
+  for (double x : half.inputs[1]) EXPECT_GE(x, 0);
+  p.target[0] += 1;  // breaks it
+  EXPECT_FALSE(detect_symmetry(p));
+
+  const SearchProblem acos_data = on_grid([](double x) { return std::acos(x); });
+  auto point = detect_symmetry(acos_data);
+  ASSERT_TRUE(point);
+  const SearchProblem acos_half = symmetric_half(acos_data, *point);
+  ASSERT_EQ(acos_half.target.size(), 33U);
+  EXPECT_NEAR(acos_half.target[0], 0.0, 1e-15);  // acos(0) - pi/2
+  EXPECT_NEAR(acos_half.target.back(), -std::numbers::pi / 2, 1e-15);
+}
+
+}  // namespace
+}  // namespace shaderfit
