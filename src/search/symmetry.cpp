@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numeric>
 
+#include "shaderfit/core/error.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -132,7 +133,7 @@ std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem, double
     if (!p || p->mirrored.size() < kMinPairs || !weights_mirrored(problem, *p)) continue;
     double center = 0;
     if (const auto kind = target_symmetry(problem, *p, tolerance, &center))
-      return DataSymmetry{k, *kind, center};
+      return DataSymmetry{k, problem.input_names[k], *kind, center};
   }
   return std::nullopt;
 }
@@ -152,9 +153,44 @@ SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& s
   return half;
 }
 
-std::string describe_symmetry(const DataSymmetry& symmetry,
+Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
                               const std::vector<std::string>& input_names) {
-  const std::string& x = input_names.at(symmetry.input);
+  Expression e;
+  e.variables = input_names;
+  e.parameters = g.parameters;
+  e.parameter_values = g.parameter_values;
+  const int x = static_cast<int>(symmetry.input);
+  if (symmetry.kind == SymmetryKind::Point) e.nodes.push_back(Node::constant(symmetry.center));
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    const Node& n = g.nodes[k];
+    if (n.op != Op::Var) {
+      e.nodes.push_back(n);
+      continue;
+    }
+    const auto at = std::find(input_names.begin(), input_names.end(),
+                              g.variables.at(static_cast<std::size_t>(n.index)));
+    if (at == input_names.end())
+      throw Error("the formula names '" + g.variables[static_cast<std::size_t>(n.index)] +
+                      "', which is not an input",
+                  {"reflect_expression"});
+    const int i = static_cast<int>(at - input_names.begin());
+    e.nodes.push_back(Node::variable(i));
+    // |x|^2k = x^2k: an even power (the next node, whose operand this leaf is) needs no abs.
+    const bool even_power = k + 1 < g.size() && g.nodes[k + 1].op == Op::IPow &&
+                            g.nodes[k + 1].index % 2 == 0;
+    if (i == x && !even_power) e.nodes.push_back(Node::op_node(Op::Abs));
+  }
+  if (symmetry.kind != SymmetryKind::Even) {
+    e.nodes.push_back(Node::variable(x));
+    e.nodes.push_back(Node::op_node(Op::CopySign));
+  }
+  if (symmetry.kind == SymmetryKind::Point) e.nodes.push_back(Node::op_node(Op::Add));
+  e.update_lengths();
+  return e;
+}
+
+std::string describe_symmetry(const DataSymmetry& symmetry) {
+  const std::string& x = symmetry.input_name;
   switch (symmetry.kind) {
     case SymmetryKind::Even: return "even in " + x;
     case SymmetryKind::Odd: return "odd in " + x;

@@ -4,10 +4,15 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <numbers>
 
 #include "shaderfit/core/random.hpp"
+#include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
+#include "shaderfit/search/report.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -45,8 +50,8 @@ TEST(Symmetry, DetectsEvenOddAndPoint) {
   ASSERT_TRUE(point_even_n);
   EXPECT_EQ(point_even_n->kind, SymmetryKind::Point);
   EXPECT_NEAR(point_even_n->center, 2.0, 1e-14);
-  EXPECT_EQ(describe_symmetry(*odd, {"x"}), "odd in x");
-  EXPECT_EQ(describe_symmetry(*even, {"x"}), "even in x");
+  EXPECT_EQ(describe_symmetry(*odd), "odd in x");
+  EXPECT_EQ(describe_symmetry(*even), "even in x");
 }
 
 TEST(Symmetry, NoneForAsymmetricConstantOrNoisyData) {
@@ -126,6 +131,108 @@ TEST(Symmetry, SecondInputAndTheHalf) {
   ASSERT_EQ(acos_half.target.size(), 33U);
   EXPECT_NEAR(acos_half.target[0], 0.0, 1e-15);  // acos(0) - pi/2
   EXPECT_NEAR(acos_half.target.back(), -std::numbers::pi / 2, 1e-15);
+}
+
+TEST(Symmetry, ReflectExpression) {
+  const std::vector<std::string> names = {"r", "x"};
+  const Expression g = parse_formula("r * x + x^2", {.variables = names});
+  auto text = [&](const DataSymmetry& s) { return to_infix(reflect_expression(g, s, names)); };
+  EXPECT_EQ(text({1, "x", SymmetryKind::Even, 0}), "r * abs(x) + x^2");
+  EXPECT_EQ(text({1, "x", SymmetryKind::Odd, 0}), "copysign(r * abs(x) + x^2, x)");
+  EXPECT_EQ(text({1, "x", SymmetryKind::Point, 0.5}), "0.5 + copysign(r * abs(x) + x^2, x)");
+  // A formula without x still gets its sign from x.
+  const Expression c = parse_formula("2 * r", {.variables = {"r"}});
+  EXPECT_EQ(to_infix(reflect_expression(c, {1, "x", SymmetryKind::Odd, 0}, names)),
+            "copysign(2 * r, x)");
+  EXPECT_THROW(reflect_expression(parse_formula("y", {.variables = {"y"}}),
+                                  {1, "x", SymmetryKind::Odd, 0}, names),
+               Error);
+}
+
+// Every row's error of e.
+ErrorMetrics metrics_on(const Expression& e, const SearchProblem& p) {
+  std::vector<const double*> cols;
+  for (const auto& c : p.inputs) cols.push_back(c.data());
+  std::vector<double> f(p.target.size());
+  evaluate(e, cols, f, {.threads = 1});
+  return error_metrics(f, p.target, {}, p.weights);
+}
+
+TEST(SymmetrySearch, OddDataGivesReflectedMembers) {
+  const SearchProblem p = on_grid([](double x) { return std::atan(x); }, 257);
+  SearchOptions o;
+  o.threads = 1;
+  o.time_limit_s = 60;
+  o.max_candidates = 20000;
+  o.loss = Loss::MaxAbs;
+  SearchSummary s;
+  run_search(o, p, &s);
+  ASSERT_TRUE(s.symmetry);
+  EXPECT_EQ(s.symmetry->kind, SymmetryKind::Odd);
+  EXPECT_NE(s.brief_report().find("odd in x"), std::string::npos);
+  const SearchProblem half = symmetric_half(p, *s.symmetry);
+  int reflected = 0;
+  for (const FrontMember& m : s.front) {
+    // Scored on every row, as shown.
+    EXPECT_EQ(metrics_on(m.expression, p).max_abs, m.metrics.max_abs) << m.formula;
+    EXPECT_EQ(m.cost, expression_cost(m.expression, o.cost)) << m.formula;
+    if (m.expression.nodes.back().op != Op::CopySign) continue;
+    ++reflected;
+    const Node& sign = m.expression.nodes[m.expression.size() - 2];
+    EXPECT_EQ(sign.op, Op::Var);
+    // The reflection reproduces the half's errors on the other half.
+    EXPECT_EQ(metrics_on(m.expression, half).max_abs, m.metrics.max_abs) << m.formula;
+    EXPECT_NE(m.formula.find("abs(x)"), std::string::npos) << m.formula;
+  }
+  EXPECT_GT(reflected, 0) << s.brief_report();
+
+  // Off, the data is searched as it is.
+  o.symmetry = false;
+  SearchSummary plain;
+  run_search(o, p, &plain);
+  EXPECT_FALSE(plain.symmetry);
+}
+
+TEST(SymmetrySearch, AcosAboutHalfPi) {
+  const SearchProblem p = on_grid([](double x) { return std::acos(x); }, 257);
+  SearchOptions o;
+  o.threads = 1;
+  o.time_limit_s = 60;
+  o.max_candidates = 60000;
+  o.loss = Loss::MaxAbs;
+  o.operators = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow, Op::Sqrt};
+  SearchSummary s;
+  run_search(o, p, &s);
+  ASSERT_TRUE(s.symmetry);
+  EXPECT_EQ(s.symmetry->kind, SymmetryKind::Point);
+  const FrontMember* best = nullptr;
+  for (const FrontMember& m : s.front)
+    if (m.cost <= 10 && (best == nullptr || m.metrics.max_abs < best->metrics.max_abs)) best = &m;
+  ASSERT_NE(best, nullptr);
+  EXPECT_LT(best->metrics.max_abs, 1e-3) << s.brief_report();
+  std::printf("acos: %s (max_abs %.3g, cost %g)\n", best->formula.c_str(), best->metrics.max_abs,
+              best->cost);
+}
+
+TEST(SymmetrySearch, StartFormulasJoinTheWholeFront) {
+  const SearchProblem p = on_grid([](double x) { return std::atan(x); }, 129);
+  SearchOptions o;
+  o.threads = 1;
+  o.time_limit_s = 60;
+  o.max_candidates = 3000;
+  o.loss = Loss::MaxAbs;
+  o.start = {"0.7853981633974483*x - x*(abs(x) - 1)*(0.2447 + 0.0663*abs(x))"};
+  SearchSummary s;
+  run_search(o, p, &s);
+  ASSERT_TRUE(s.symmetry);
+  const double published = metrics_on(parse_formula(o.start[0], {.variables = {"x"}}), p).max_abs;
+  const double published_cost =
+      expression_cost(parse_formula(o.start[0], {.variables = {"x"}}), o.cost);
+  const FrontMember* best = nullptr;
+  for (const FrontMember& m : s.front)
+    if (m.cost <= published_cost && (best == nullptr || m.loss < best->loss)) best = &m;
+  ASSERT_NE(best, nullptr);
+  EXPECT_LE(best->metrics.max_abs, published);
 }
 
 }  // namespace

@@ -28,7 +28,8 @@ std::string_view symmetry_kind_name(SymmetryKind kind);
 std::optional<SymmetryKind> symmetry_kind_from_name(std::string_view name);
 
 struct DataSymmetry {
-  std::size_t input = 0;  // index into the problem's inputs
+  std::size_t input = 0;   // index into the problem's inputs
+  std::string input_name;  // its name
   SymmetryKind kind = SymmetryKind::Even;
   double center = 0;  // m: Point only (0 otherwise)
 
@@ -56,13 +57,14 @@ std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem,
 // The rows with x >= 0 (x = -0 included), in their order, with the target less m for Point.
 SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& symmetry);
 
-// g (over `input_names`, fitted on the half) as a formula for all rows: x replaced by abs(x);
-// Odd: copysign of that by x; Point: m + that. Variables are `input_names`.
+// g (over `input_names`, fitted on the half) as a formula for all rows: x replaced by abs(x)
+// (but for x^2k, which equals it);
+// Odd: copysign of that by x; Point: m + that. Variables are `input_names`. Throws Error
+// located at "reflect_expression" when g names a variable that is not among them.
 Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
                               const std::vector<std::string>& input_names);
 
 // "odd in x", "even in x", "point-symmetric in x about 1.5707963267948966".
-std::string describe_symmetry(const DataSymmetry& symmetry,
-                              const std::vector<std::string>& input_names);
+std::string describe_symmetry(const DataSymmetry& symmetry);
 
 }  // namespace shaderfit
