@@ -54,7 +54,8 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"generations", s.generations},
                 {"symmetry", s.symmetry ? json{{"input", s.symmetry->input_name},
                                                {"kind", symmetry_kind_name(s.symmetry->kind)},
-                                               {"center", s.symmetry->center}}
+                                               {"center", s.symmetry->center},
+                                               {"sign", s.symmetry->sign}}
                                         : json(nullptr)}}},
               {"front", front}};
   return out.dump(2) + "\n";

@@ -92,7 +92,8 @@ json body_json(const Checkpoint& c) {
   if (c.symmetry)
     data["symmetry"] = {{"input", c.symmetry->input_name},
                         {"kind", symmetry_kind_name(c.symmetry->kind)},
-                        {"center", num(c.symmetry->center)}};
+                        {"center", num(c.symmetry->center)},
+                        {"sign", c.symmetry->sign}};
   return {{"phase", search_phase_name(c.phase)},
           {"data", data},
           {"options", options},
@@ -128,8 +129,11 @@ Checkpoint checkpoint_from(const json& j) {
     const auto kind = symmetry_kind_from_name(sy.at("kind").get<std::string>());
     if (input == c.input_names.end() || !kind)
       throw BadBody("a symmetry in no known input or kind");
-    c.symmetry = DataSymmetry{static_cast<std::size_t>(input - c.input_names.begin()), *input,
-                              *kind, get_num(sy.at("center"))};
+    c.symmetry =
+        DataSymmetry{static_cast<std::size_t>(input - c.input_names.begin()), *input, *kind,
+                     get_num(sy.at("center")), get_integer<int>(sy.at("sign"), "sign")};
+    if (c.symmetry->sign < -1 || c.symmetry->sign > 1)
+      throw BadBody("a symmetry sign not -1, 0 or 1");
   }
   for (const json& kv : j.at("options"))
     c.options.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());

@@ -340,7 +340,7 @@ SearchProblem atan_problem() {
 TEST(Checkpoint, RecordsTheSymmetry) {
   Checkpoint c = sample_checkpoint();
   EXPECT_FALSE(parse_checkpoint(checkpoint_text(c), "mem").symmetry);
-  c.symmetry = DataSymmetry{1, "x", SymmetryKind::Point, 1.0 / 3.0};
+  c.symmetry = DataSymmetry{1, "x", SymmetryKind::Point, 1.0 / 3.0, -1};
   const Checkpoint r = parse_checkpoint(checkpoint_text(c), "mem");
   ASSERT_TRUE(r.symmetry);
   EXPECT_EQ(*r.symmetry, *c.symmetry);

@@ -64,8 +64,9 @@ std::optional<Pairs> mirrored_pairs(const SearchProblem& problem, std::size_t k)
   return p;
 }
 
+// The kind, m and sign (DataSymmetry) of the target on the pairs, or nullopt.
 std::optional<SymmetryKind> target_symmetry(const SearchProblem& problem, const Pairs& p,
-                                            double tolerance, double* center) {
+                                            double tolerance, double* center, int* sign) {
   const std::vector<double>& y = problem.target;
   const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
   const double tol = tolerance * (*hi - *lo);
@@ -78,11 +79,24 @@ std::optional<SymmetryKind> target_symmetry(const SearchProblem& problem, const 
     return std::all_of(p.zero.begin(), p.zero.end(), [&](std::size_t r) { return ok(y[r]); });
   };
   *center = 0;
+  *sign = 1;
+  // The sign of y - m on the half (x > 0: the pairs' second rows; x = 0, where it is ~0).
+  auto half_sign = [&](double m) {
+    auto all_half = [&](auto ok) {
+      return std::all_of(p.mirrored.begin(), p.mirrored.end(),
+                         [&](const auto& ab) { return ok(y[ab.second] - m); });
+    };
+    if (all_half([&](double t) { return t >= -tol; })) return 1;
+    if (all_half([&](double t) { return t <= tol; })) return -1;
+    return 0;
+  };
   if (all_pairs([&](double n, double q) { return std::abs(n - q) <= tol; }))
     return SymmetryKind::Even;
   if (all_pairs([&](double n, double q) { return std::abs(n + q) <= tol; }) &&
-      all_zero([&](double v) { return std::abs(v) <= tol; }))
+      all_zero([&](double v) { return std::abs(v) <= tol; })) {
+    *sign = half_sign(0);
     return SymmetryKind::Odd;
+  }
   // m: the target at x = 0 where the data has it (acos(0) = pi/2 to the last bit), else the
   // mean of the pairs' midpoints (as offsets from the first, to keep the rounding small).
   const auto& zero = p.zero;
@@ -97,6 +111,7 @@ std::optional<SymmetryKind> target_symmetry(const SearchProblem& problem, const 
   if (all_pairs([&](double n, double q) { return std::abs(n + q - 2 * m) <= tol; }) &&
       all_zero([&](double v) { return std::abs(v - m) <= tol; })) {
     *center = m;
+    *sign = half_sign(m);
     return SymmetryKind::Point;
   }
   return std::nullopt;
@@ -132,8 +147,9 @@ std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem, double
     const std::optional<Pairs> p = mirrored_pairs(problem, k);
     if (!p || p->mirrored.size() < kMinPairs || !weights_mirrored(problem, *p)) continue;
     double center = 0;
-    if (const auto kind = target_symmetry(problem, *p, tolerance, &center))
-      return DataSymmetry{k, problem.input_names[k], *kind, center};
+    int sign = 1;
+    if (const auto kind = target_symmetry(problem, *p, tolerance, &center, &sign))
+      return DataSymmetry{k, problem.input_names[k], *kind, center, sign};
   }
   return std::nullopt;
 }
@@ -147,7 +163,8 @@ SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& s
     if (!(x[r] >= 0)) continue;
     for (std::size_t i = 0; i < problem.inputs.size(); ++i)
       half.inputs[i].push_back(problem.inputs[i][r]);
-    half.target.push_back(problem.target[r] - symmetry.center);
+    half.target.push_back(symmetry.sign < 0 ? symmetry.center - problem.target[r]
+                                            : problem.target[r] - symmetry.center);
     if (!problem.weights.empty()) half.weights.push_back(problem.weights[r]);
   }
   return half;
@@ -176,15 +193,35 @@ Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
     const int i = static_cast<int>(at - input_names.begin());
     e.nodes.push_back(Node::variable(i));
     // |x|^2k = x^2k: an even power (the next node, whose operand this leaf is) needs no abs.
-    const bool even_power = k + 1 < g.size() && g.nodes[k + 1].op == Op::IPow &&
-                            g.nodes[k + 1].index % 2 == 0;
+    const bool even_power =
+        k + 1 < g.size() && g.nodes[k + 1].op == Op::IPow && g.nodes[k + 1].index % 2 == 0;
     if (i == x && !even_power) e.nodes.push_back(Node::op_node(Op::Abs));
   }
   if (symmetry.kind != SymmetryKind::Even) {
     e.nodes.push_back(Node::variable(x));
-    e.nodes.push_back(Node::op_node(Op::CopySign));
+    if (symmetry.sign == 0) {  // G * sign(x)
+      e.nodes.push_back(Node::op_node(Op::Sign));
+      e.nodes.push_back(Node::op_node(Op::Mul));
+    } else {  // copysign(G, x), or copysign(G, -x) for odd data negative on the half
+      if (symmetry.sign < 0 && symmetry.kind == SymmetryKind::Odd)
+        e.nodes.push_back(Node::op_node(Op::Neg));
+      e.nodes.push_back(Node::op_node(Op::CopySign));
+    }
   }
-  if (symmetry.kind == SymmetryKind::Point) e.nodes.push_back(Node::op_node(Op::Add));
+  if (symmetry.kind == SymmetryKind::Point)
+    e.nodes.push_back(Node::op_node(symmetry.sign < 0 ? Op::Sub : Op::Add));
+  e.update_lengths();
+  return e;
+}
+
+Expression unreflected_expression(const Expression& g, const DataSymmetry& symmetry) {
+  Expression e = g;
+  if (symmetry.kind == SymmetryKind::Point) {
+    e.nodes.insert(e.nodes.begin(), Node::constant(symmetry.center));
+    e.nodes.push_back(Node::op_node(symmetry.sign < 0 ? Op::Sub : Op::Add));
+  } else if (symmetry.sign < 0) {
+    e.nodes.push_back(Node::op_node(Op::Neg));
+  }
   e.update_lengths();
   return e;
 }

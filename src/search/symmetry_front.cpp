@@ -19,15 +19,6 @@ SearchOptions scoring_options(SearchOptions o) {
   return o;
 }
 
-// g as it is over the whole data: m + g for point symmetry (g was fitted to y - m).
-Expression unreflected(Expression g, const DataSymmetry& s) {
-  if (s.kind != SymmetryKind::Point) return g;
-  g.nodes.insert(g.nodes.begin(), Node::constant(s.center));
-  g.nodes.push_back(Node::op_node(Op::Add));
-  g.update_lengths();
-  return g;
-}
-
 }  // namespace
 
 SymmetricFront::SymmetricFront(const SearchOptions& options, const SearchProblem& problem,
@@ -60,7 +51,7 @@ void SymmetricFront::finish(const std::vector<StartFormula>& starts, SearchSumma
   std::map<std::string, std::pair<double, SearchPhase>> found;
   for (const FrontMember& half : summary->front) {
     for (Expression e : {reflect_expression(half.expression, symmetry_, whole_.problem.input_names),
-                         unreflected(half.expression, symmetry_)}) {
+                         unreflected_expression(half.expression, symmetry_)}) {
       const std::string formula = to_infix(e, {.substitute_parameters = true});
       found.emplace(formula, std::make_pair(half.time_s, half.origin));
       // Loss 0 as the estimate: every form is scored on the whole data before it may enter.

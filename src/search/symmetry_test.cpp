@@ -45,6 +45,12 @@ TEST(Symmetry, DetectsEvenOddAndPoint) {
   ASSERT_TRUE(point);
   EXPECT_EQ(point->kind, SymmetryKind::Point);
   EXPECT_NEAR(point->center, std::numbers::pi / 2, 1e-15);
+  EXPECT_EQ(point->sign, -1);  // acos(x) - pi/2 <= 0 for x >= 0
+  EXPECT_EQ(odd->sign, 1);
+  auto sine = detect_symmetry(on_grid([](double x) { return std::sin(6 * x); }));
+  ASSERT_TRUE(sine);
+  EXPECT_EQ(sine->kind, SymmetryKind::Odd);
+  EXPECT_EQ(sine->sign, 0);
   // Without x = 0 among the rows the centre comes from the pairs alone.
   auto point_even_n = detect_symmetry(on_grid([](double x) { return 2 + x * x * x; }, 64));
   ASSERT_TRUE(point_even_n);
@@ -129,8 +135,8 @@ TEST(Symmetry, SecondInputAndTheHalf) {
   ASSERT_TRUE(point);
   const SearchProblem acos_half = symmetric_half(acos_data, *point);
   ASSERT_EQ(acos_half.target.size(), 33U);
-  EXPECT_NEAR(acos_half.target[0], 0.0, 1e-15);  // acos(0) - pi/2
-  EXPECT_NEAR(acos_half.target.back(), -std::numbers::pi / 2, 1e-15);
+  EXPECT_EQ(acos_half.target[0], 0.0);  // pi/2 - acos(0)
+  EXPECT_NEAR(acos_half.target.back(), std::numbers::pi / 2, 1e-15);
 }
 
 TEST(Symmetry, ReflectExpression) {
@@ -139,7 +145,15 @@ TEST(Symmetry, ReflectExpression) {
   auto text = [&](const DataSymmetry& s) { return to_infix(reflect_expression(g, s, names)); };
   EXPECT_EQ(text({1, "x", SymmetryKind::Even, 0}), "r * abs(x) + x^2");
   EXPECT_EQ(text({1, "x", SymmetryKind::Odd, 0}), "copysign(r * abs(x) + x^2, x)");
+  EXPECT_EQ(text({1, "x", SymmetryKind::Odd, 0, -1}), "copysign(r * abs(x) + x^2, -x)");
+  EXPECT_EQ(text({1, "x", SymmetryKind::Odd, 0, 0}), "(r * abs(x) + x^2) * sign(x)");
   EXPECT_EQ(text({1, "x", SymmetryKind::Point, 0.5}), "0.5 + copysign(r * abs(x) + x^2, x)");
+  EXPECT_EQ(text({1, "x", SymmetryKind::Point, 0.5, -1}), "0.5 - copysign(r * abs(x) + x^2, x)");
+  EXPECT_EQ(text({1, "x", SymmetryKind::Point, 0.5, 0}), "0.5 + (r * abs(x) + x^2) * sign(x)");
+  EXPECT_EQ(to_infix(unreflected_expression(g, {1, "x", SymmetryKind::Point, 0.5, -1})),
+            "0.5 - (r * x + x^2)");
+  EXPECT_EQ(to_infix(unreflected_expression(g, {1, "x", SymmetryKind::Odd, 0, -1})),
+            "-(r * x + x^2)");
   // A formula without x still gets its sign from x.
   const Expression c = parse_formula("2 * r", {.variables = {"r"}});
   EXPECT_EQ(to_infix(reflect_expression(c, {1, "x", SymmetryKind::Odd, 0}, names)),
@@ -193,23 +207,33 @@ TEST(SymmetrySearch, OddDataGivesReflectedMembers) {
   EXPECT_FALSE(plain.symmetry);
 }
 
+// acos(-x) = pi - acos(x): the half's target pi/2 - acos(x) = asin(x) >= 0 needs sqrt(1 - x),
+// which the reflected member carries: m - copysign(... sqrt(1 - abs(x)) ..., x). (Eberly's
+// degree-1 form, reflected, has max |err| 9e-3; a 10 s search reaches 6.5e-4 at its cost,
+// docs/search.md; this short budget is for a unit test.)
 TEST(SymmetrySearch, AcosAboutHalfPi) {
-  const SearchProblem p = on_grid([](double x) { return std::acos(x); }, 257);
+  const SearchProblem p = on_grid([](double x) { return std::acos(x); }, 129);
   SearchOptions o;
   o.threads = 1;
   o.time_limit_s = 60;
-  o.max_candidates = 60000;
-  o.loss = Loss::MaxAbs;
+  o.max_candidates = 100000;
+  o.max_enumeration_cost = 3;
+  o.evolution_operators.clear();
+  o.max_nodes = 12;
+  o.population = 32;
+  o.fit_rows = 65;
   o.operators = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow, Op::Sqrt};
   SearchSummary s;
   run_search(o, p, &s);
   ASSERT_TRUE(s.symmetry);
   EXPECT_EQ(s.symmetry->kind, SymmetryKind::Point);
+  EXPECT_EQ(s.symmetry->sign, -1);
   const FrontMember* best = nullptr;
   for (const FrontMember& m : s.front)
-    if (m.cost <= 10 && (best == nullptr || m.metrics.max_abs < best->metrics.max_abs)) best = &m;
+    if (m.cost <= 8 && (best == nullptr || m.metrics.max_abs < best->metrics.max_abs)) best = &m;
   ASSERT_NE(best, nullptr);
-  EXPECT_LT(best->metrics.max_abs, 1e-3) << s.brief_report();
+  EXPECT_LT(best->metrics.max_abs, 1e-2) << s.brief_report();
+  EXPECT_NE(best->formula.find("copysign("), std::string::npos) << best->formula;
   std::printf("acos: %s (max_abs %.3g, cost %g)\n", best->formula.c_str(), best->metrics.max_abs,
               best->cost);
 }

@@ -4,6 +4,7 @@
 //   std::optional<DataSymmetry> s = detect_symmetry(problem);    // e.g. odd in x
 //   SearchProblem half = symmetric_half(problem, *s);             // rows with x >= 0
 //   Expression full = reflect_expression(g, *s, problem.input_names);  // copysign(g(|x|), x)
+//   Expression plain = unreflected_expression(g, *s);  // m + s g: g as it is on every row
 #pragma once
 
 #include <cstddef>
@@ -18,10 +19,12 @@ namespace shaderfit {
 
 struct SearchProblem;
 
+// g is fitted on the half x >= 0 to t = s (y - m), s = DataSymmetry::sign, m = 0 but for Point;
+// G = g with x replaced by |x|. The formula for every row:
 enum class SymmetryKind {
-  Even,   // y(-x) = y(x):            g(|x|)
-  Odd,    // y(-x) = -y(x):           copysign(g(|x|), x)
-  Point,  // y(-x) = 2 m - y(x):      m + copysign(g(|x|), x), g fitted to y - m
+  Even,   // y(-x) = y(x):          G (s = 1, m = 0: t = y)
+  Odd,    // y(-x) = -y(x):         copysign(G, s x), or G * sign(x) where s = 0
+  Point,  // y(-x) = 2 m - y(x):    m + s copysign(G, x), or m + G * sign(x) where s = 0
 };
 // "even", "odd", "point" (and back; nullopt for anything else).
 std::string_view symmetry_kind_name(SymmetryKind kind);
@@ -32,6 +35,10 @@ struct DataSymmetry {
   std::string input_name;  // its name
   SymmetryKind kind = SymmetryKind::Even;
   double center = 0;  // m: Point only (0 otherwise)
+  // Odd and Point: 1 when y - m >= 0 on the half, -1 when it is <= 0 (within the tolerance), so
+  // that t >= 0 and copysign carries the sign (|t - g| <= |t + g| wherever g < 0, so copysign
+  // never adds error); 0 when it changes sign (the slower form with sign). Even: 1.
+  int sign = 1;
 
   friend bool operator==(const DataSymmetry&, const DataSymmetry&) = default;
 };
@@ -54,15 +61,18 @@ inline constexpr double kSymmetryTolerance = 1e-9;
 std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem,
                                             double tolerance = kSymmetryTolerance);
 
-// The rows with x >= 0 (x = -0 included), in their order, with the target less m for Point.
+// The rows with x >= 0 (x = -0 included), in their order, with the target t = s (y - m) (s = 1
+// where sign is 0).
 SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& symmetry);
 
-// g (over `input_names`, fitted on the half) as a formula for all rows: x replaced by abs(x)
-// (but for x^2k, which equals it);
-// Odd: copysign of that by x; Point: m + that. Variables are `input_names`. Throws Error
-// located at "reflect_expression" when g names a variable that is not among them.
+// g (over `input_names`, fitted on the half) as the formula for every row (above), with |x|^2k
+// written x^2k. Variables are `input_names`. Throws Error located at "reflect_expression" when g
+// names a variable that is not among them.
 Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
                               const std::vector<std::string>& input_names);
+
+// g as it is on every row: m + s g (s = 1 where sign is 0).
+Expression unreflected_expression(const Expression& g, const DataSymmetry& symmetry);
 
 // "odd in x", "even in x", "point-symmetric in x about 1.5707963267948966".
 std::string describe_symmetry(const DataSymmetry& symmetry);
