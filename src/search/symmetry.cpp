@@ -25,6 +25,10 @@ struct Pairs {
 std::optional<Pairs> mirrored_pairs(const SearchProblem& problem, std::size_t k) {
   const auto& inputs = problem.inputs;
   const std::vector<double>& x = inputs[k];
+  // Cheap first: as many rows below 0 as above (most data fails here, before any sorting).
+  const auto below = std::count_if(x.begin(), x.end(), [](double v) { return v < 0; });
+  const auto above = std::count_if(x.begin(), x.end(), [](double v) { return v > 0; });
+  if (below != above || static_cast<std::size_t>(below) < kMinPairs) return std::nullopt;
   std::vector<std::size_t> order(x.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   // By the other inputs, then |x|, then x: a row and its mirror end up side by side.
