@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <tuple>
 
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/evaluate.hpp"
@@ -236,6 +237,34 @@ TEST(SymmetrySearch, AcosAboutHalfPi) {
   EXPECT_NE(best->formula.find("copysign("), std::string::npos) << best->formula;
   std::printf("acos: %s (max_abs %.3g, cost %g)\n", best->formula.c_str(), best->metrics.max_abs,
               best->cost);
+}
+
+// Even data, and odd data whose half changes sign (the form with sign(x)): every member is
+// scored on every row and reproduces its error on the half.
+TEST(SymmetrySearch, EvenAndSignChangingOddData) {
+  for (const auto& [f, kind, sign] :
+       {std::tuple{+[](double x) { return std::cos(3 * x) + x * x; }, SymmetryKind::Even, 1},
+        std::tuple{+[](double x) { return std::sin(6 * x); }, SymmetryKind::Odd, 0}}) {
+    const SearchProblem p = on_grid(f, 129);
+    SearchOptions o;
+    o.threads = 1;
+    o.time_limit_s = 60;
+    o.max_candidates = 5000;
+    o.loss = Loss::MaxAbs;
+    SearchSummary s;
+    run_search(o, p, &s);
+    ASSERT_TRUE(s.symmetry);
+    EXPECT_EQ(s.symmetry->kind, kind);
+    EXPECT_EQ(s.symmetry->sign, sign);
+    const SearchProblem half = symmetric_half(p, *s.symmetry);
+    ASSERT_FALSE(s.front.empty());
+    for (const FrontMember& m : s.front) {
+      EXPECT_EQ(metrics_on(m.expression, p).max_abs, m.metrics.max_abs) << m.formula;
+      if (sign == 0 && m.formula.find("sign(x)") != std::string::npos) {
+        EXPECT_EQ(metrics_on(m.expression, half).max_abs, m.metrics.max_abs) << m.formula;
+      }
+    }
+  }
 }
 
 TEST(SymmetrySearch, StartFormulasJoinTheWholeFront) {
