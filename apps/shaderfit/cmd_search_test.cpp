@@ -106,6 +106,31 @@ TEST(CmdSearch, OtherBadOptions) {
                    "shaderfit: error: --ops: unknown operator 'frob'");
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--islands", "0"},
                    "shaderfit: error: --islands: must be at least 1");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--symmetry", "foo"},
+                   "not expected: foo");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--symmetry=foo"},
+                   "Could not convert: --symmetry = foo");
+}
+
+// Odd data: the search fits x >= 0 and the front's formulas carry the reflection.
+TEST(CmdSearch, SymmetricDataIsSearchedOnItsHalf) {
+  std::string csv = "x,y\n";
+  for (int i = -64; i <= 64; ++i) csv += fmt::format("{},{}\n", i / 64.0, std::atan(i / 64.0));
+  const std::string path = scratch_file("atan.csv", csv);
+  const auto r = run({"search", "--data", path, "--inputs", "x", "--target", "y", "--threads", "1",
+                      "--evals", "20000", "--loss", "max_abs", "--quiet", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("summary").at("symmetry").at("kind"), "odd");
+  EXPECT_EQ(j.at("options").at("symmetry"), true);
+  bool reflected = false;
+  for (const auto& m : j.at("front"))
+    reflected = reflected || m.at("formula").get<std::string>().starts_with("copysign(");
+  EXPECT_TRUE(reflected) << r.out;
+  const auto plain = run({"search", "--data", path, "--inputs", "x", "--target", "y", "--threads",
+                          "1", "--evals", "2000", "--no-symmetry", "--quiet", "--json", "-"});
+  ASSERT_EQ(plain.status, 0) << plain.err;
+  EXPECT_TRUE(nlohmann::json::parse(plain.out).at("summary").at("symmetry").is_null());
 }
 
 // Issue 16's acceptance: from Schlick's formula under max |error|, the front has a member at

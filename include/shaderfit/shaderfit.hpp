@@ -63,3 +63,4 @@
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/report.hpp"
 #include "shaderfit/search/search.hpp"
+#include "shaderfit/search/symmetry.hpp"

@@ -51,7 +51,12 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"node_evaluations", s.node_evaluations},
                 {"distinct_candidates", s.distinct_candidates},
                 {"enumeration_cost_completed", s.enumeration_cost_completed},
-                {"generations", s.generations}}},
+                {"generations", s.generations},
+                {"symmetry", s.symmetry ? json{{"input", s.symmetry->input_name},
+                                               {"kind", symmetry_kind_name(s.symmetry->kind)},
+                                               {"center", s.symmetry->center},
+                                               {"sign", s.symmetry->sign}}
+                                        : json(nullptr)}}},
               {"front", front}};
   return out.dump(2) + "\n";
 }

@@ -88,8 +88,14 @@ json body_json(const Checkpoint& c) {
     for (const SavedIndividual& s : is.population) pop.push_back(individual_json(s));
     islands.push_back({{"rng", is.rng}, {"population", pop}});
   }
+  json data = {{"hash", c.data_hash}, {"rows", c.rows}, {"inputs", c.input_names}};
+  if (c.symmetry)
+    data["symmetry"] = {{"input", c.symmetry->input_name},
+                        {"kind", symmetry_kind_name(c.symmetry->kind)},
+                        {"center", num(c.symmetry->center)},
+                        {"sign", c.symmetry->sign}};
   return {{"phase", search_phase_name(c.phase)},
-          {"data", {{"hash", c.data_hash}, {"rows", c.rows}, {"inputs", c.input_names}}},
+          {"data", data},
           {"options", options},
           {"clock",
            {{"elapsed_s", num(c.elapsed_s)},
@@ -116,6 +122,19 @@ Checkpoint checkpoint_from(const json& j) {
   c.data_hash = get_integer<std::uint64_t>(d.at("hash"), "hash");
   c.rows = get_integer<std::size_t>(d.at("rows"), "rows");
   c.input_names = d.at("inputs").get<std::vector<std::string>>();
+  if (d.contains("symmetry")) {
+    const json& sy = d.at("symmetry");
+    const auto input =
+        std::find(c.input_names.begin(), c.input_names.end(), sy.at("input").get<std::string>());
+    const auto kind = symmetry_kind_from_name(sy.at("kind").get<std::string>());
+    if (input == c.input_names.end() || !kind)
+      throw BadBody("a symmetry in no known input or kind");
+    c.symmetry =
+        DataSymmetry{static_cast<std::size_t>(input - c.input_names.begin()), *input, *kind,
+                     get_num(sy.at("center")), get_integer<int>(sy.at("sign"), "sign")};
+    if (c.symmetry->sign < -1 || c.symmetry->sign > 1)
+      throw BadBody("a symmetry sign not -1, 0 or 1");
+  }
   for (const json& kv : j.at("options"))
     c.options.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
   const json& clock = j.at("clock");
@@ -316,6 +335,7 @@ Checkpointer::Checkpointer(SearchContext& ctx) : ctx_(ctx) {
   base_.data_hash = problem_hash(ctx.problem);
   base_.rows = ctx.rows;
   base_.input_names = ctx.problem.input_names;
+  base_.symmetry = ctx.symmetry;
   base_.options = checkpoint_options(o);
   // Fail now, not after an hour of searching, when the file cannot be written.
   const std::string tmp = o.checkpoint_path + ".tmp";

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -24,6 +25,7 @@
 #include "search/search_context.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/search/search.hpp"
+#include "shaderfit/search/symmetry.hpp"
 
 namespace shaderfit::search_detail {
 
@@ -57,6 +59,10 @@ struct Checkpoint {
   std::uint64_t data_hash = 0;
   std::size_t rows = 0;
   std::vector<std::string> input_names;
+  // The symmetry the search used: the data above is then its half (symmetric_half). Absent in
+  // checkpoints of searches on the data as it is, those written before symmetry was detected
+  // included, which therefore resume on the data as it is.
+  std::optional<DataSymmetry> symmetry;
   std::vector<std::pair<std::string, std::string>> options;  // checkpoint_options()
   double elapsed_s = 0;                                      // search clock at the checkpoint
   std::uint64_t candidates = 0, node_evaluations = 0;

@@ -325,6 +325,86 @@ TEST(Checkpoint, ResumedFromTheEnumerationEndsAsTheUninterruptedRun) {
   expect_same_result(a, resumed);
 }
 
+// atan on 257 rows of [-1, 1], mirrored exactly: odd in x.
+SearchProblem atan_problem() {
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs.resize(1);
+  for (int i = -128; i <= 128; ++i) {
+    p.inputs[0].push_back(i / 128.0);
+    p.target.push_back(std::atan(i / 128.0));
+  }
+  return p;
+}
+
+TEST(Checkpoint, RecordsTheSymmetry) {
+  Checkpoint c = sample_checkpoint();
+  EXPECT_FALSE(parse_checkpoint(checkpoint_text(c), "mem").symmetry);
+  c.symmetry = DataSymmetry{1, "x", SymmetryKind::Point, 1.0 / 3.0, -1};
+  const Checkpoint r = parse_checkpoint(checkpoint_text(c), "mem");
+  ASSERT_TRUE(r.symmetry);
+  EXPECT_EQ(*r.symmetry, *c.symmetry);
+}
+
+TEST(Checkpoint, SymmetricSearchResumesAsTheUninterruptedRun) {
+  const SearchProblem p = atan_problem();
+  constexpr std::int64_t kBudget = 1200;
+  SearchSummary a;
+  run_search(small_budget(kBudget), p, &a);
+  ASSERT_TRUE(a.symmetry);
+  ASSERT_GT(a.generations, 3u);
+
+  const std::string path = scratch("symmetric.ckpt");
+  std::atomic<bool> stop{false};
+  SearchOptions o = small_budget(kBudget);
+  o.checkpoint_path = path;
+  o.checkpoint_interval_s = 0;
+  o.interrupt = &stop;
+  o.progress_interval_s = 1e-9;
+  o.on_progress = [&](const SearchProgress& g) {
+    if (g.phase == SearchPhase::Evolution && g.candidates > kBudget / 2) stop.store(true);
+  };
+  SearchSummary b;
+  run_search(o, p, &b);
+  ASSERT_TRUE(b.interrupted);
+  const Checkpoint c = read_checkpoint(path);
+  ASSERT_TRUE(c.symmetry);
+  EXPECT_EQ(c.symmetry->kind, SymmetryKind::Odd);
+  EXPECT_EQ(c.rows, 129u);  // the half
+
+  SearchOptions r = small_budget(kBudget);
+  r.resume_path = path;
+  SearchSummary resumed;
+  run_search(r, p, &resumed);
+  ASSERT_TRUE(resumed.symmetry);
+  expect_same_result(a, resumed);
+  // --no-symmetry does not resume it.
+  r.symmetry = false;
+  EXPECT_THROW(run_search(r, p, &resumed), Error);
+}
+
+TEST(Checkpoint, CheckpointsWithoutSymmetryResumeOnTheWholeData) {
+  // As written before symmetry existed: the whole data, no "symmetry" option or decision.
+  const SearchProblem p = atan_problem();
+  const std::string path = scratch("older.ckpt");
+  SearchOptions o = small_budget(600);
+  o.symmetry = false;
+  o.checkpoint_path = path;
+  SearchSummary s;
+  run_search(o, p, &s);
+  EXPECT_FALSE(s.symmetry);
+  Checkpoint c = read_checkpoint(path);
+  EXPECT_FALSE(c.symmetry);
+  std::erase_if(c.options, [](const auto& kv) { return kv.first == "symmetry"; });
+  write_checkpoint(path, c);
+  SearchOptions r = small_budget(900);  // symmetry on, the default
+  r.resume_path = path;
+  SearchSummary resumed;
+  ASSERT_NO_THROW(run_search(r, p, &resumed));
+  EXPECT_FALSE(resumed.symmetry);
+  EXPECT_FALSE(resumed.front.empty());
+}
+
 TEST(Checkpoint, ResumeRefusesAnotherSeed) {
   const SearchProblem p = seed_problem();
   const std::string path = scratch("seed.ckpt");

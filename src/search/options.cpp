@@ -149,6 +149,11 @@ const SearchOptionField kFields[] = {
          [](const O& o) {
            return o.start.size() <= 100 ? std::string() : std::string("at most 100 formulas");
          }},
+    {.name = "symmetry",
+     .member = &O::symmetry,
+     .role = Role::Search,
+     .help = "when the data is even, odd or point-symmetric in an input, search the half where "
+             "it is >= 0 and add the reflection"},
     {.name = "max_power",
      .member = &O::max_power,
      .role = Role::Search,

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <string>
 
 namespace shaderfit {
 
@@ -22,6 +23,9 @@ std::string SearchSummary::brief_report() const {
       termination_name(termination), total_time_s, enumeration_time_s, enumeration_cost_completed,
       distinct_candidates, evolution_time_s, generations, candidates,
       static_cast<double>(node_evaluations));
+  if (symmetry)
+    s += "symmetry: the data is " + describe_symmetry(*symmetry) +
+         "; searched on the half where it is >= 0, formulas reflected\n";
   return s + front_table(*this);
 }
 

@@ -14,6 +14,7 @@
 #include "search/float32_check.hpp"
 #include "search/search_context.hpp"
 #include "search/start.hpp"
+#include "search/symmetry_front.hpp"
 
 namespace shaderfit {
 
@@ -82,30 +83,22 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   return info;
 }
 
-void run_search(const SearchOptions& options, const SearchProblem& problem,
-                SearchSummary* summary) {
-  problem.validate();
-  options.validate();
-  if (options.loss == Loss::Relative &&
-      std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
-    throw Error("the rel loss needs a target that is never 0", {"SearchOptions::loss"});
-  if (options.loss == Loss::Log &&
-      std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
-    throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});
+namespace {
 
-  const std::vector<search_detail::StartFormula> starts =
-      search_detail::parse_start_formulas(options, problem);
+using search_detail::Checkpoint;
 
-  using search_detail::Checkpoint;
-  std::optional<Checkpoint> resumed;
-  if (!options.resume_path.empty()) {
-    resumed = search_detail::read_checkpoint(options.resume_path);
+// The search proper, on `problem`: the data, or its half when `symmetry` is set.
+void search_on(const SearchOptions& options, const SearchProblem& problem,
+               const std::vector<search_detail::StartFormula>& starts,
+               std::optional<Checkpoint> resumed, const std::optional<DataSymmetry>& symmetry,
+               SearchSummary* summary) {
+  if (resumed)
     search_detail::check_checkpoint_matches(*resumed, options, problem, options.resume_path);
-  }
   // Before any work, so that a device that cannot be used fails at once.
   const ComputeDevice device = search_device(options);
   search_detail::SearchContext ctx(options, problem);
   ctx.device = device;
+  ctx.symmetry = symmetry;
   std::unique_ptr<search_detail::Checkpointer> checkpoints;
   if (!options.checkpoint_path.empty()) {
     checkpoints = std::make_unique<search_detail::Checkpointer>(ctx);
@@ -168,6 +161,47 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
   s.termination = ctx.stop_reason();
   s.interrupted = s.termination == Termination::Interrupted;
   *summary = std::move(s);
+}
+
+}  // namespace
+
+void run_search(const SearchOptions& options, const SearchProblem& problem,
+                SearchSummary* summary) {
+  problem.validate();
+  options.validate();
+  if (options.loss == Loss::Relative &&
+      std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
+    throw Error("the rel loss needs a target that is never 0", {"SearchOptions::loss"});
+  if (options.loss == Loss::Log &&
+      std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
+    throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});
+
+  const std::vector<search_detail::StartFormula> starts =
+      search_detail::parse_start_formulas(options, problem);
+
+  std::optional<Checkpoint> resumed;
+  if (!options.resume_path.empty()) resumed = search_detail::read_checkpoint(options.resume_path);
+  // A resumed search keeps the decision its checkpoint recorded (none in older checkpoints).
+  std::optional<DataSymmetry> symmetry;
+  if (resumed)
+    symmetry = resumed->symmetry;
+  else if (options.symmetry)
+    symmetry = detect_symmetry(problem);
+  // Point symmetry fits y - m on the half, which would change what rel and log measure.
+  if (!resumed && symmetry && symmetry->kind == SymmetryKind::Point &&
+      (options.loss == Loss::Relative || options.loss == Loss::Log))
+    symmetry.reset();
+  if (!symmetry || symmetry->input >= problem.inputs.size()) {
+    search_on(options, problem, starts, std::move(resumed), std::nullopt, summary);
+    return;
+  }
+  // The half x >= 0; the start formulas, written for every row, join the whole data's front.
+  search_detail::SymmetricFront whole(options, problem, *symmetry);
+  const SearchProblem half = symmetric_half(problem, *symmetry);
+  SearchOptions half_options = options;
+  half_options.on_new_member = whole.forward_new_members();
+  search_on(half_options, half, {}, std::move(resumed), symmetry, summary);
+  whole.finish(starts, summary);
 }
 
 }  // namespace shaderfit

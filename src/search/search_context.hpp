@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 
 #include "search/pareto.hpp"
 #include "shaderfit/search/search.hpp"
+#include "shaderfit/search/symmetry.hpp"
 
 namespace shaderfit::search_detail {
 
@@ -28,6 +30,8 @@ class SearchContext {
   int threads = 1;
   ComputeDevice device = ComputeDevice::Cpu;  // options.device resolved (Auto decided)
   ParetoFront front;
+  // Set when `problem` is the half of symmetric data (run_search); the checkpoints record it.
+  std::optional<DataSymmetry> symmetry;
 
   std::atomic<std::uint64_t> candidates{0};
   std::atomic<std::uint64_t> node_evaluations{0};

@@ -82,6 +82,10 @@ struct SearchOptions {
   // run_search throws Error located at "SearchOptions::start", line = the formula's position
   // (1-based), for a formula that does not parse or names a variable that is not an input.
   std::vector<std::string> start;
+  // When the data is even, odd or point-symmetric in an input (detect_symmetry, checked on the
+  // rows), search the half where it is >= 0 and report each formula with the reflection added
+  // and costed (docs/search.md, "Symmetric data"). False: search the data as it is.
+  bool symmetry = true;
 
   // Enumeration. `screen_rows` random rows are cached per distinct candidate (float32) and used
   // to deduplicate and to screen; candidates that pass are scored on every row.

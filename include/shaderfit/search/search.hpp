@@ -35,6 +35,7 @@
 #include "shaderfit/gpu/device.hpp"
 #include "shaderfit/search/front_member.hpp"
 #include "shaderfit/search/options.hpp"
+#include "shaderfit/search/symmetry.hpp"
 
 namespace shaderfit {
 
@@ -68,6 +69,9 @@ struct SearchSummary {
   std::uint64_t generations = 0;
   Termination termination = Termination::Done;
   bool interrupted = false;  // termination == Termination::Interrupted
+  // Set when the search fitted the half of symmetric data (SearchOptions::symmetry); the front's
+  // formulas include the reflection and are scored on every row.
+  std::optional<DataSymmetry> symmetry;
 
   // A few lines: termination, times, counts, and the front as a table.
   [[nodiscard]] std::string brief_report() const;

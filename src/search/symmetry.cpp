@@ -1,0 +1,244 @@
+#include "shaderfit/search/symmetry.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/search/search.hpp"
+
+namespace shaderfit {
+
+namespace {
+
+constexpr std::size_t kMinPairs = 8;
+
+struct Pairs {
+  std::vector<std::pair<std::size_t, std::size_t>> mirrored;  // (row with -x, row with x), x > 0
+  std::vector<std::size_t> zero;                              // rows with x = 0
+};
+
+// The rows of `problem` matched in mirrored pairs in input k, or nullopt when some row has no
+// mirror or two rows are alike.
+std::optional<Pairs> mirrored_pairs(const SearchProblem& problem, std::size_t k) {
+  const auto& inputs = problem.inputs;
+  const std::vector<double>& x = inputs[k];
+  // Cheap first: as many rows below 0 as above (most data fails here, before any sorting).
+  const auto below = std::count_if(x.begin(), x.end(), [](double v) { return v < 0; });
+  const auto above = std::count_if(x.begin(), x.end(), [](double v) { return v > 0; });
+  if (below != above || static_cast<std::size_t>(below) < kMinPairs) return std::nullopt;
+  std::vector<std::size_t> order(x.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  // By the other inputs, then |x|, then x: a row and its mirror end up side by side.
+  auto less = [&](std::size_t a, std::size_t b) {
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      if (i == k) continue;
+      if (inputs[i][a] != inputs[i][b]) return inputs[i][a] < inputs[i][b];
+    }
+    if (std::abs(x[a]) != std::abs(x[b])) return std::abs(x[a]) < std::abs(x[b]);
+    return x[a] < x[b];
+  };
+  std::sort(order.begin(), order.end(), less);
+  auto same_rest = [&](std::size_t a, std::size_t b) {
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+      if (i != k && inputs[i][a] != inputs[i][b]) return false;
+    return true;
+  };
+  Pairs p;
+  std::size_t j = 0;
+  while (j < order.size()) {
+    const std::size_t a = order[j];
+    if (x[a] == 0) {
+      if (j + 1 < order.size() && x[order[j + 1]] == 0 && same_rest(a, order[j + 1]))
+        return std::nullopt;  // two rows alike
+      p.zero.push_back(a);
+      j += 1;
+      continue;
+    }
+    if (j + 1 >= order.size()) return std::nullopt;
+    const std::size_t b = order[j + 1];
+    if (!(x[a] < 0 && x[b] == -x[a] && same_rest(a, b))) return std::nullopt;
+    if (j + 2 < order.size() && same_rest(b, order[j + 2]) && std::abs(x[order[j + 2]]) == x[b])
+      return std::nullopt;  // a third row at +-x
+    p.mirrored.emplace_back(a, b);
+    j += 2;
+  }
+  return p;
+}
+
+// The kind, m and sign (DataSymmetry) of the target on the pairs, or nullopt.
+std::optional<SymmetryKind> target_symmetry(const SearchProblem& problem, const Pairs& p,
+                                            double tolerance, double* center, int* sign) {
+  const std::vector<double>& y = problem.target;
+  const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+  const double tol = tolerance * (*hi - *lo);
+  if (!(tol > 0)) return std::nullopt;  // a constant target
+  auto all_pairs = [&](auto ok) {
+    return std::all_of(p.mirrored.begin(), p.mirrored.end(),
+                       [&](const auto& ab) { return ok(y[ab.first], y[ab.second]); });
+  };
+  auto all_zero = [&](auto ok) {
+    return std::all_of(p.zero.begin(), p.zero.end(), [&](std::size_t r) { return ok(y[r]); });
+  };
+  *center = 0;
+  *sign = 1;
+  // The sign of y - m on the half (x > 0: the pairs' second rows; x = 0, where it is ~0).
+  auto half_sign = [&](double m) {
+    auto all_half = [&](auto ok) {
+      return std::all_of(p.mirrored.begin(), p.mirrored.end(),
+                         [&](const auto& ab) { return ok(y[ab.second] - m); });
+    };
+    if (all_half([&](double t) { return t >= -tol; })) return 1;
+    if (all_half([&](double t) { return t <= tol; })) return -1;
+    return 0;
+  };
+  if (all_pairs([&](double n, double q) { return std::abs(n - q) <= tol; }))
+    return SymmetryKind::Even;
+  if (all_pairs([&](double n, double q) { return std::abs(n + q) <= tol; }) &&
+      all_zero([&](double v) { return std::abs(v) <= tol; })) {
+    *sign = half_sign(0);
+    return SymmetryKind::Odd;
+  }
+  // m: the target at x = 0 where the data has it (acos(0) = pi/2 to the last bit), else the
+  // mean of the pairs' midpoints (as offsets from the first, to keep the rounding small).
+  const auto& zero = p.zero;
+  const double base =
+      zero.empty() ? 0.5 * (y[p.mirrored[0].first] + y[p.mirrored[0].second]) : y[zero[0]];
+  double sum = 0;
+  if (zero.empty())
+    for (const auto& [n, q] : p.mirrored) sum += 0.5 * (y[n] + y[q]) - base;
+  else
+    for (std::size_t r : zero) sum += y[r] - base;
+  const double m = base + sum / static_cast<double>(zero.empty() ? p.mirrored.size() : zero.size());
+  if (all_pairs([&](double n, double q) { return std::abs(n + q - 2 * m) <= tol; }) &&
+      all_zero([&](double v) { return std::abs(v - m) <= tol; })) {
+    *center = m;
+    *sign = half_sign(m);
+    return SymmetryKind::Point;
+  }
+  return std::nullopt;
+}
+
+bool weights_mirrored(const SearchProblem& problem, const Pairs& p) {
+  if (problem.weights.empty()) return true;
+  const std::vector<double>& w = problem.weights;
+  return std::all_of(p.mirrored.begin(), p.mirrored.end(), [&](const auto& ab) {
+    return std::abs(w[ab.first] - w[ab.second]) <= 1e-12 * std::max(w[ab.first], w[ab.second]);
+  });
+}
+
+}  // namespace
+
+std::string_view symmetry_kind_name(SymmetryKind kind) {
+  switch (kind) {
+    case SymmetryKind::Even: return "even";
+    case SymmetryKind::Odd: return "odd";
+    case SymmetryKind::Point: return "point";
+  }
+  return "even";
+}
+
+std::optional<SymmetryKind> symmetry_kind_from_name(std::string_view name) {
+  for (SymmetryKind k : {SymmetryKind::Even, SymmetryKind::Odd, SymmetryKind::Point})
+    if (symmetry_kind_name(k) == name) return k;
+  return std::nullopt;
+}
+
+std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem, double tolerance) {
+  for (std::size_t k = 0; k < problem.inputs.size(); ++k) {
+    const std::optional<Pairs> p = mirrored_pairs(problem, k);
+    if (!p || p->mirrored.size() < kMinPairs || !weights_mirrored(problem, *p)) continue;
+    double center = 0;
+    int sign = 1;
+    if (const auto kind = target_symmetry(problem, *p, tolerance, &center, &sign))
+      return DataSymmetry{k, problem.input_names[k], *kind, center, sign};
+  }
+  return std::nullopt;
+}
+
+SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& symmetry) {
+  SearchProblem half;
+  half.input_names = problem.input_names;
+  half.inputs.resize(problem.inputs.size());
+  const std::vector<double>& x = problem.inputs[symmetry.input];
+  for (std::size_t r = 0; r < x.size(); ++r) {
+    if (!(x[r] >= 0)) continue;
+    for (std::size_t i = 0; i < problem.inputs.size(); ++i)
+      half.inputs[i].push_back(problem.inputs[i][r]);
+    half.target.push_back(symmetry.sign < 0 ? symmetry.center - problem.target[r]
+                                            : problem.target[r] - symmetry.center);
+    if (!problem.weights.empty()) half.weights.push_back(problem.weights[r]);
+  }
+  return half;
+}
+
+Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
+                              const std::vector<std::string>& input_names) {
+  Expression e;
+  e.variables = input_names;
+  e.parameters = g.parameters;
+  e.parameter_values = g.parameter_values;
+  const int x = static_cast<int>(symmetry.input);
+  if (symmetry.kind == SymmetryKind::Point) e.nodes.push_back(Node::constant(symmetry.center));
+  for (std::size_t k = 0; k < g.size(); ++k) {
+    const Node& n = g.nodes[k];
+    if (n.op != Op::Var) {
+      e.nodes.push_back(n);
+      continue;
+    }
+    const auto at = std::find(input_names.begin(), input_names.end(),
+                              g.variables.at(static_cast<std::size_t>(n.index)));
+    if (at == input_names.end())
+      throw Error("the formula names '" + g.variables[static_cast<std::size_t>(n.index)] +
+                      "', which is not an input",
+                  {"reflect_expression"});
+    const int i = static_cast<int>(at - input_names.begin());
+    e.nodes.push_back(Node::variable(i));
+    // |x|^2k = x^2k: an even power (the next node, whose operand this leaf is) needs no abs.
+    const bool even_power =
+        k + 1 < g.size() && g.nodes[k + 1].op == Op::IPow && g.nodes[k + 1].index % 2 == 0;
+    if (i == x && !even_power) e.nodes.push_back(Node::op_node(Op::Abs));
+  }
+  if (symmetry.kind != SymmetryKind::Even) {
+    e.nodes.push_back(Node::variable(x));
+    if (symmetry.sign == 0) {  // G * sign(x)
+      e.nodes.push_back(Node::op_node(Op::Sign));
+      e.nodes.push_back(Node::op_node(Op::Mul));
+    } else {  // copysign(G, x), or copysign(G, -x) for odd data negative on the half
+      if (symmetry.sign < 0 && symmetry.kind == SymmetryKind::Odd)
+        e.nodes.push_back(Node::op_node(Op::Neg));
+      e.nodes.push_back(Node::op_node(Op::CopySign));
+    }
+  }
+  if (symmetry.kind == SymmetryKind::Point)
+    e.nodes.push_back(Node::op_node(symmetry.sign < 0 ? Op::Sub : Op::Add));
+  e.update_lengths();
+  return e;
+}
+
+Expression unreflected_expression(const Expression& g, const DataSymmetry& symmetry) {
+  Expression e = g;
+  if (symmetry.kind == SymmetryKind::Point) {
+    e.nodes.insert(e.nodes.begin(), Node::constant(symmetry.center));
+    e.nodes.push_back(Node::op_node(symmetry.sign < 0 ? Op::Sub : Op::Add));
+  } else if (symmetry.sign < 0) {
+    e.nodes.push_back(Node::op_node(Op::Neg));
+  }
+  e.update_lengths();
+  return e;
+}
+
+std::string describe_symmetry(const DataSymmetry& symmetry) {
+  const std::string& x = symmetry.input_name;
+  switch (symmetry.kind) {
+    case SymmetryKind::Even: return "even in " + x;
+    case SymmetryKind::Odd: return "odd in " + x;
+    case SymmetryKind::Point:
+      return fmt::format("point-symmetric in {} about {}", x, symmetry.center);
+  }
+  return {};
+}
+
+}  // namespace shaderfit
