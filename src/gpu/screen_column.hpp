@@ -213,7 +213,7 @@ struct ScreenTargetView {
 // One lane's accumulators of column_loss: rows lane, lane + 8, ... in order.
 struct ScreenLane {
   float vmin = screen_detail::kInf, vmax = -screen_detail::kInf;
-  float a = 0, b = 0;  // squared losses: sum w x^2, sum w x y; otherwise the +- losses
+  float a = 0, b = 0;  // mse, rmse: sum w x^2, sum w x y; otherwise the +- losses
   float nan = 0;
 
   SF_CPU_GPU void add(float x, std::size_t i, const ScreenTargetView& t) {
@@ -228,6 +228,14 @@ struct ScreenLane {
         const float an = w * screen_detail::abs_bits(x + y);
         a = ap > a ? ap : a;
         b = an > b ? an : b;
+        break;
+      }
+      case Loss::Relative: {
+        nan += x * 0.0f;
+        const float r = x / t.y[i];
+        const float fp = r - 1.0f, fn = r + 1.0f;
+        a += w * fp * fp;
+        b += w * fn * fn;
         break;
       }
       case Loss::Log: {
@@ -253,7 +261,7 @@ struct ScreenLane {
 SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
                                         const ScreenTargetView& t, ScreenResult* out) {
   const Loss loss = t.loss;
-  const bool squared = loss != Loss::MaxAbs && loss != Loss::Log;
+  const bool squared = loss == Loss::Mse || loss == Loss::Rmse;  // expanded around wyy
   float mn = screen_detail::kInf, mx = -screen_detail::kInf, nans = 0;
   double p = 0, m = 0;
   for (int l = 0; l < kScreenLanes; ++l) {
@@ -275,7 +283,7 @@ SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
     constexpr double kLn2Sq = 0.4804530139182014;
     p *= kLn2Sq;
     m *= kLn2Sq;
-  } else if (loss != Loss::MaxAbs) {
+  } else if (squared) {
     p = p + t.wyy < 0.0 ? 0.0 : p + t.wyy;  // std::max(p + wyy, 0.0), NaN kept
     m = m + t.wyy < 0.0 ? 0.0 : m + t.wyy;
   }

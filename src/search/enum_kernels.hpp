@@ -43,9 +43,9 @@ void compute_column(EKind kind, Op unary, int k, const float* a, const float* b,
 // The screen target: y and per-row weights, normalised so that the loss is sum w * e(row).
 struct ScreenTarget {
   const float* y = nullptr;
-  const float* w = nullptr;       // for Relative: w / y^2; for MaxAbs: 1 or 0 (row selected)
+  const float* w = nullptr;       // for MaxAbs: 1 or 0 (row selected)
   const float* log2_y = nullptr;  // log2(y), for the Log loss
-  double wyy = 0;                 // sum w y^2 (squared losses expand around it)
+  double wyy = 0;                 // sum w y^2 (mse and rmse expand around it)
   Loss loss = Loss::Mse;
   std::size_t n = 0;
 };
@@ -76,7 +76,7 @@ inline ColumnStats analyze_column(const float* v, const ScreenTarget& target) {
 bool columns_equivalent(const float* a, const float* b, bool negate_b, float scale, std::size_t n);
 
 // Closed-form screening of the fused sums m +- c of a product m with every leaf c (an input or a
-// literal), for the squared losses: sum w (a m + b c - y)^2 = Smm + 2ab Smc - 2a Smy + K(b, c)
+// literal), for mse and rmse: sum w (a m + b c - y)^2 = Smm + 2ab Smc - 2a Smy + K(b, c)
 // with a, b = +-1, from one pass of dot products over m. `k_plus[j]`, `k_minus[j]` hold
 // K(+1, c_j), K(-1, c_j); a leaf is a column (inputs) or a value (literals, column null).
 struct FusedScreen {

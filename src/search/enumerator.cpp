@@ -76,7 +76,6 @@ void Enumerator::setup_screen(Rng& rng) {
     screen_y_[i] = static_cast<float>(y);
     screen_log2_y_[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
     double wi = w;
-    if (loss == Loss::Relative) wi = y != 0 ? w / (y * y) : 0.0;
     if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
     screen_w_[i] = static_cast<float>(wi);
     sum_w += w;
