@@ -47,6 +47,10 @@ void Enumerator::setup_full_rows() {
     const double y = p.target[i];
     double wi = w / sum_w;
     if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
+    if (loss == Loss::Relative && !relative_screen_row(y)) {
+      wi = 0;
+      f.y[i] = 1.0f;
+    }
     f.w[i] = static_cast<float>(wi);
     f.log2_y[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
     f.wyy += wi * static_cast<double>(f.y[i]) * f.y[i];

@@ -9,6 +9,7 @@
 // same bits (no contraction).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -49,6 +50,14 @@ struct ScreenTarget {
   Loss loss = Loss::Mse;
   std::size_t n = 0;
 };
+
+// The rel loss divides by y in float32: a row whose target is not a normal float (below 1.2e-38
+// in magnitude, as in the far tail of a lobe) is left out of the float32 screens (weight 0, y
+// replaced by 1 so that 0 * (x / y) stays finite); the float64 scoring of front members keeps it.
+inline bool relative_screen_row(double y) {
+  const float f = static_cast<float>(y);
+  return std::isnormal(f);
+}
 
 struct ColumnStats {
   // Key (column_key).
