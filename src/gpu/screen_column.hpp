@@ -24,6 +24,8 @@ namespace shaderfit::gpu_detail {
 
 inline constexpr int kScreenLanes = 8;      // the CPU kernels' vector width
 inline constexpr int kScreenHashRows = 16;  // rows the key hashes (search_detail::kHashRows)
+// The rel loss's cap on a row's relative error (search_detail::kMaxRelativeError).
+inline constexpr float kMaxRelativeError = 1e15f;
 
 // What a candidate computes from operand columns a and b (the enumerator's EKind without the
 // leaves; a fused sum is computed as AddSub).
@@ -230,10 +232,12 @@ struct ScreenLane {
         b = an > b ? an : b;
         break;
       }
-      case Loss::Relative: {
+      case Loss::Relative: {  // |x / y -+ 1| capped at kMaxRelativeError, as the CPU's
         nan += x * 0.0f;
         const float r = x / t.y[i];
-        const float fp = r - 1.0f, fn = r + 1.0f;
+        float fp = screen_detail::abs_bits(r - 1.0f), fn = screen_detail::abs_bits(r + 1.0f);
+        fp = fp > kMaxRelativeError ? kMaxRelativeError : fp;
+        fn = fn > kMaxRelativeError ? kMaxRelativeError : fn;
         a += w * fp * fp;
         b += w * fn * fn;
         break;

@@ -60,6 +60,27 @@ TEST(DynamicRange, RelativeAndLogLossesFindAnIntegerPowerOverTwentyDecades) {
   }
 }
 
+TEST(DynamicRange, RelativeLossOnATailFarBelowTheCandidates) {
+  // y = x^16 on [0.01, 1], from 1e-32: there x alone is off by a relative 1e30, whose square
+  // overflows float32; the screen counts it as 1e15, so candidates are not all dropped.
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs.assign(1, {});
+  for (int i = 0; i <= 256; ++i) {
+    const double x = 0.01 + 0.99 * i / 256.0;
+    p.inputs[0].push_back(x);
+    p.target.push_back(std::pow(x, 16));
+  }
+  SearchOptions o = enumeration_only(Loss::Relative);
+  o.max_power = 16;
+  SearchSummary s;
+  run_search(o, p, &s);
+  const FrontMember* m = exact_member(s);
+  ASSERT_NE(m, nullptr) << s.brief_report();
+  EXPECT_EQ(m->formula, "x^16");
+  EXPECT_GE(s.front.size(), 3u) << s.brief_report();
+}
+
 TEST(DynamicRange, PowWithAVariableExponentIsEnumeratedWhenAsked) {
   // y = pow(x, n) from 2.3e-42 (below float32's normal range: those rows leave the float32
   // screens of the rel loss) to 1; for log only up to n = 16 (1.5e-21), as the log loss floors

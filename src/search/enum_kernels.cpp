@@ -235,13 +235,19 @@ SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnSta
     }
   } else if (loss == Loss::Relative) {
     // sum w (x / y -+ 1)^2, divided row by row: weights w / y^2 would overflow float32 on a
-    // target spanning many orders of magnitude.
+    // target spanning many orders of magnitude. A row's relative error counts at most
+    // kMaxRelativeError, so that rows where every candidate is astronomically off (a lobe's
+    // tail) do not overflow the sums and drop every candidate.
+    const v8f cap = splat(kMaxRelativeError);
     for (std::size_t i = 0; i < n; i += 8) {
       const v8f x = load(v + i), w = load(target.w + i), r = x / load(target.y + i);
       nan += x * 0.0f;
       vmin = select(x < vmin, x, vmin);
       vmax = select(x > vmax, x, vmax);
-      const v8f fp = r - 1.0f, fn = r + 1.0f;
+      v8f fp = std::bit_cast<v8f>(std::bit_cast<v8i>(r - 1.0f) & 0x7fffffff);
+      v8f fn = std::bit_cast<v8f>(std::bit_cast<v8i>(r + 1.0f) & 0x7fffffff);
+      fp = select(fp > cap, cap, fp);
+      fn = select(fn > cap, cap, fn);
       lp += w * fp * fp;
       ln += w * fn * fn;
     }

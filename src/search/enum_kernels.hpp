@@ -51,6 +51,10 @@ struct ScreenTarget {
   std::size_t n = 0;
 };
 
+// The rel loss's screens count a row's relative error |x / y - 1| as at most this, so that the
+// float32 sums stay finite (64 rows of 1e30 each).
+inline constexpr float kMaxRelativeError = 1e15f;
+
 // The rel loss divides by y in float32: a row whose target is not a normal float (below 1.2e-38
 // in magnitude, as in the far tail of a lobe) is left out of the float32 screens (weight 0, y
 // replaced by 1 so that 0 * (x / y) stays finite); the float64 scoring of front members keeps it.
