@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <bit>
+#include <cmath>
+#include <cstdint>
 #include <regex>
 
 #include "codegen/language.hpp"
@@ -37,19 +40,22 @@ class FunctionPrinter {
             fmt::format("  const float {} = {};\n", e_.parameters[i], float32_literal(v, lang_));
       }
     }
-    int temps = 0;
+    // The operands of sign and select are named: sign reads its operand more than once, and
+    // glslang compiles a ?: of named values to OpSelect (of expressions, to branches).
+    std::vector<bool> named(p_.steps.size(), false);
+    for (const Step& st : p_.steps) {
+      if (st.op != StepOp::Sign && st.op != StepOp::Select) continue;
+      for (int k = 0; k < st.arity; ++k)
+        if (st.args[k].kind == Operand::Kind::Step)
+          named[static_cast<std::size_t>(st.args[k].index)] = true;
+    }
     for (std::size_t i = 0; i < p_.steps.size(); ++i) {
       Text t = step(p_.steps[i]);
-      if (p_.steps[i].uses > 1) {
-        const std::string name = temp_prefix() + std::to_string(temps++);
-        body += fmt::format("  {}float {} = {};\n",
-                            lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ",
-                            name, t.s);
-        t = {name, 4};
-      }
+      if (p_.steps[i].uses > 1 || named[i]) t = {temporary(t.s), 4};
       texts_[i] = std::move(t);
     }
-    body += "  return " + operand(p_.result, 0) + ";\n";
+    body_ += "  return " + operand(p_.result, 0) + ";\n";
+    body += body_;
 
     std::string out;
     for (const std::string& line : o_.comment) out += "// " + line + "\n";
@@ -58,6 +64,15 @@ class FunctionPrinter {
   }
 
  private:
+  // Declares a temporary holding `value` and returns its name.
+  std::string temporary(const std::string& value) {
+    const std::string name = temp_prefix() + std::to_string(temps_++);
+    body_ += fmt::format("  {}float {} = {};\n",
+                         lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ", name,
+                         value);
+    return name;
+  }
+
   std::string temp_prefix() const {
     std::string prefix = "t";
     const std::regex taken("^_*t[0-9]+$");
@@ -104,7 +119,54 @@ class FunctionPrinter {
     return {s + ")", 4};
   }
 
-  Text step(const Step& st) const {
+  bool shader() const { return lang_ == Language::Glsl || lang_ == Language::Hlsl; }
+
+  // The bits of a float as an unsigned integer and back (GLSL, HLSL: they have no copysign).
+  std::string to_bits(const std::string& x) const {
+    return (lang_ == Language::Glsl ? "floatBitsToUint(" : "asuint(") + x + ")";
+  }
+  std::string from_bits(const std::string& x) const {
+    return (lang_ == Language::Glsl ? "uintBitsToFloat(" : "asfloat(") + x + ")";
+  }
+
+  // Exactly op.hpp's meaning in every language (docs/codegen.md, "Sign, copysign, select").
+  Text sign(const Step& st) {
+    const std::string x = operand(st.args[0], 4);
+    if (shader()) {
+      // x > 0 ? 1 : (x < 0 ? -1 : x), the inner select named so that both become OpSelect.
+      const std::string inner = temporary(x + " < " + lit(0.0f) + " ? " + lit(-1.0f) + " : " + x);
+      return {x + " > " + lit(0.0f) + " ? " + lit(1.0f) + " : " + inner, 0};
+    }
+    const char* abs =
+        lang_ == Language::Cuda ? "fabsf" : (lang_ == Language::Cpp ? "std::fabs" : "fabs");
+    return {std::string(abs) + "(" + x + ") > " + lit(0.0f) + " ? " + std::string(copysign_name()) +
+                "(" + lit(1.0f) + ", " + x + ") : " + x,
+            0};
+  }
+  const char* copysign_name() const {
+    return lang_ == Language::Cuda ? "copysignf"
+                                   : (lang_ == Language::Cpp ? "std::copysign" : "copysign");
+  }
+  Text copysign(const Step& st) const {
+    const std::string b = operand(st.args[1], 0);
+    if (!shader())
+      return {std::string(copysign_name()) + "(" + operand(st.args[0], 0) + ", " + b + ")", 4};
+    // |a| with b's sign bit; a literal a is written as the bits of |a|.
+    const Operand& a = st.args[0];
+    const std::string magnitude =
+        a.kind == Operand::Kind::Const
+            ? fmt::format("0x{:08x}u", std::bit_cast<std::uint32_t>(std::fabs(a.value)))
+            : "(" + to_bits(operand(a, 0)) + " & 0x7fffffffu)";
+    return {from_bits(magnitude + " | (" + to_bits(b) + " & 0x80000000u)"), 4};
+  }
+  // a >= 0 ? b : c, or a <= 0 ? b : c for the negated condition -a >= 0.
+  Text select(const Step& st) const {
+    return {operand(st.args[0], 1) + (st.neg_arg ? " <= " : " >= ") + lit(0.0f) + " ? " +
+                operand(st.args[1], 1) + " : " + operand(st.args[2], 1),
+            0};
+  }
+
+  Text step(const Step& st) {
     using codegen::Call;
     auto bin = [&](const char* op, int level) {
       return Text{operand(st.args[0], level) + " " + op + " " + operand(st.args[1], level + 1),
@@ -146,6 +208,9 @@ class FunctionPrinter {
         if (lang_ == Language::Cpp)
           return {"std::clamp(" + operand(st.args[0], 0) + ", 0.0f, 1.0f)", 4};
         return fn(Call::Saturate, st);
+      case StepOp::Sign: return sign(st);
+      case StepOp::CopySign: return copysign(st);
+      case StepOp::Select: return select(st);
     }
     return {};
   }
@@ -155,6 +220,8 @@ class FunctionPrinter {
   const Program& p_;
   Language lang_;
   std::vector<Text> texts_;
+  std::string body_;  // the statements after the baked parameters
+  int temps_ = 0;
 };
 
 }  // namespace

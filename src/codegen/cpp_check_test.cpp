@@ -13,12 +13,15 @@
 namespace shaderfit {
 namespace {
 
-// The members of a search front over r0 and cos_theta; `s` is a fitted parameter (0.25).
+// The members of a search front over r0 and cos_theta; `s` is a fitted parameter (0.25). The
+// last one has sign, copysign and select.
 const char* const kFront[] = {"r0 + (1 - r0) * (1 - cos_theta)^5",
                               "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4",
                               "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4",
                               "r0 + (1 - r0) * exp2((-5.55473 * cos_theta - 6.98316) * cos_theta)",
-                              "r0 + (1 - r0) * (1 - cos_theta)^5 / (1 + 0.5 * sqrt(cos_theta))"};
+                              "r0 + (1 - r0) * (1 - cos_theta)^5 / (1 + 0.5 * sqrt(cos_theta))",
+                              "copysign(r0, cos_theta - 0.5) * select(cos_theta >= 0.3, "
+                              "(1 - cos_theta)^5, 2 + sign(cos_theta - 0.1))"};
 
 std::int64_t ulp_distance(float a, float b) {
   std::int32_t x, y;

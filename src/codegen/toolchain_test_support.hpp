@@ -93,14 +93,15 @@ inline std::string read_text(const std::filesystem::path& p) {
 inline bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
 // Arithmetic instructions per .entry of PTX: float operations (add sub mul fma neg abs div rcp
-// rsqrt sqrt ex2 lg2 sin cos min max, cvt.sat to f32, and set/select on f32). Moves, loads,
-// stores, address and integer arithmetic are not counted.
+// rsqrt sqrt ex2 lg2 sin cos min max copysign, cvt.sat to f32, and set/select on f32). Moves,
+// loads, stores, address and integer arithmetic are not counted.
 inline std::map<std::string, int> count_ptx(const std::string& ptx) {
   std::map<std::string, int> counts;
   std::string current;
   std::istringstream lines(ptx);
-  static const char* kOps[] = {"add.", "sub.", "mul.", "fma.", "neg.", "abs.", "div.", "rcp.", "rsqrt.", "sqrt.",
-                               "ex2.", "lg2.", "sin.", "cos.", "min.", "max.", "setp.", "selp.", "testp.", "mad."};
+  static const char* kOps[] = {"add.", "sub.",   "mul.",  "fma.",  "neg.",   "abs.", "div.",
+                               "rcp.", "rsqrt.", "sqrt.", "ex2.",  "lg2.",   "sin.", "cos.",
+                               "min.", "max.",   "setp.", "selp.", "testp.", "mad.", "copysign."};
   for (std::string line; std::getline(lines, line);) {
     if (line.find(".entry") != std::string::npos) {
       std::istringstream words(line.substr(line.find(".entry") + 6));
@@ -122,8 +123,9 @@ inline std::map<std::string, int> count_ptx(const std::string& ptx) {
   return counts;
 }
 
-// Arithmetic instructions per function of `cuobjdump -sass` output: FADD FMUL FFMA FMNMX MUFU
-// and float compares/selects. Moves (MOV, HFMA2.MMA used as a move) are not counted.
+// Arithmetic instructions per function of `cuobjdump -sass` output: FADD FMUL FFMA FMNMX MUFU,
+// float compares/selects and LOP3 (the bit operations of copysign and sign; the kernels' address
+// arithmetic is IMAD). Moves (MOV, HFMA2.MMA used as a move) are not counted.
 inline std::map<std::string, int> count_sass(const std::string& dump) {
   std::map<std::string, int> counts;
   std::string current;
@@ -142,15 +144,21 @@ inline std::map<std::string, int> count_sass(const std::string& dump) {
     std::string op;
     words >> op;
     if (!op.empty() && op[0] == '@') words >> op;
-    for (const char* k : {"FADD", "FMUL", "FFMA", "FMNMX", "MUFU", "FSETP", "FSEL", "FSET", "FRND", "FCHK"})
-      if (starts_with(op, k)) ++counts[current];
+    for (const char* k : {"FADD", "FMUL", "FFMA", "FMNMX", "MUFU", "FSETP", "FSEL", "FSET", "FRND",
+                          "FCHK", "LOP3"}) {
+      if (starts_with(op, k)) {
+        ++counts[current];  // once: FSETP also starts with FSET
+        break;
+      }
+    }
   }
   return counts;
 }
 
 // Arithmetic SPIR-V instructions per function (named by its OpName up to the '(' of glslang's
-// mangling): OpFNegate OpFAdd OpFSub OpFMul OpFDiv OpFRem OpFMod OpVectorTimesScalar OpDot and
-// every OpExtInst (GLSL.std.450 sqrt, exp2, fma, clamp, ...).
+// mangling): OpFNegate OpFAdd OpFSub OpFMul OpFDiv OpFRem OpFMod OpVectorTimesScalar OpDot,
+// every OpExtInst (GLSL.std.450 sqrt, exp2, fma, clamp, ...), the ordered float comparisons,
+// OpSelect and the bitwise AND and OR (bitcasts are not counted).
 inline std::map<std::string, int> count_spirv(const std::string& binary) {
   std::map<std::string, int> counts;
   std::vector<std::uint32_t> w(binary.size() / 4);
@@ -171,7 +179,8 @@ inline std::map<std::string, int> count_spirv(const std::string& binary) {
     } else if (op == 56) {  // OpFunctionEnd
       current.clear();
     } else if (!current.empty()) {
-      for (std::uint32_t a : {127u, 129u, 131u, 133u, 136u, 140u, 141u, 142u, 148u, 12u})
+      for (std::uint32_t a : {127u, 129u, 131u, 133u, 136u, 140u, 141u, 142u, 148u, 12u, 169u, 184u,
+                              186u, 188u, 190u, 197u, 199u})
         if (op == a) ++counts[current];
     }
     i += count;

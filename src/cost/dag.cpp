@@ -16,7 +16,7 @@ namespace {
 struct Key {
   std::uint8_t op;
   bool log_scale;
-  int a, b;  // operand id * 2 + neg, or -1
+  int a, b, c;  // operand id * 2 + neg, or -1
   int index;
   std::uint32_t bits;  // Const: float bits
 
@@ -26,8 +26,10 @@ struct Key {
 struct KeyHash {
   std::size_t operator()(const Key& k) const noexcept {
     std::uint64_t h = 0x9e3779b97f4a7c15ULL * (k.op + 1u) ^ (k.log_scale ? 0x51ULL : 0);
-    for (std::uint64_t v : {static_cast<std::uint64_t>(k.a + 2), static_cast<std::uint64_t>(k.b + 2),
-                            static_cast<std::uint64_t>(k.index + 1000), std::uint64_t{k.bits}}) {
+    for (std::uint64_t v :
+         {static_cast<std::uint64_t>(k.a + 2), static_cast<std::uint64_t>(k.b + 2),
+          static_cast<std::uint64_t>(k.c + 2), static_cast<std::uint64_t>(k.index + 1000),
+          std::uint64_t{k.bits}}) {
       h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
     }
     return static_cast<std::size_t>(h);
@@ -130,6 +132,40 @@ class Builder {
     return {binary(op, a, b), flip};
   }
 
+  // sign(-x) = -sign(x); values of sign, copysign and select fold in float32 like the others.
+  DagRef sign(DagRef a) {
+    if (is_const(a)) return constant(apply_unary(Op::Sign, value(a)));
+    return {binary(Op::Sign, {a.id, false}, {}), a.neg};
+  }
+
+  // copysign(a, b) drops a's sign, copysign(a, -b) = -copysign(a, b), copysign(a, K) = +-|a|.
+  DagRef copysign(DagRef a, DagRef b) {
+    if (is_const(a) && is_const(b)) return constant(apply_binary(Op::CopySign, value(a), value(b)));
+    if (is_const(b)) {  // copysign(a, K) = |a| or -|a|
+      const DagRef r = unary(Op::Abs, a);
+      return std::signbit(value(b)) ? negate(r) : r;
+    }
+    return {binary(Op::CopySign, {a.id, false}, {b.id, false}), b.neg};
+  }
+
+  // select(a, b, c) keeps a's sign on the reference (a comparison takes it for free); a literal
+  // condition picks its branch; select(a, b, b) = b; select(a, -b, -c) = -select(a, b, c).
+  DagRef select(DagRef a, DagRef b, DagRef c) {
+    if (is_const(a)) return apply_select(value(a), 1.0f, 0.0f) != 0.0f ? b : c;
+    if (b == c) return b;
+    const bool flip = b.neg && c.neg;
+    if (flip) {
+      b = negate(b);
+      c = negate(c);
+    }
+    DagNode n;
+    n.op = Op::Select;
+    n.a = a;
+    n.b = b;
+    n.c = c;
+    return {intern(n), flip};
+  }
+
   // x^k by the squaring chain of apply_ipow, so x^2, x^4, x^5 share their intermediates.
   DagRef ipow(DagRef x, int k) {
     if (is_const(x)) return constant(apply_ipow(value(x), k));
@@ -168,8 +204,13 @@ class Builder {
   int intern(const DagNode& n) {
     const bool sort = (n.op == Op::Add || n.op == Op::Mul || n.op == Op::Min || n.op == Op::Max) &&
                       ref_less(n.b, n.a);
-    const Key key{static_cast<std::uint8_t>(n.op), n.log_scale, code(sort ? n.b : n.a),
-                  code(sort ? n.a : n.b), n.index, std::bit_cast<std::uint32_t>(n.value)};
+    const Key key{static_cast<std::uint8_t>(n.op),
+                  n.log_scale,
+                  code(sort ? n.b : n.a),
+                  code(sort ? n.a : n.b),
+                  code(n.c),
+                  n.index,
+                  std::bit_cast<std::uint32_t>(n.value)};
     auto [it, inserted] = ids_.try_emplace(key, static_cast<int>(dag_.nodes.size()));
     if (inserted) dag_.nodes.push_back(n);
     return it->second;
@@ -195,6 +236,9 @@ DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
     case Op::IPow: return b.ipow(args[0], n.index);
     case Op::Log: return b.mul(b.unary(Op::Log2, args[0]), b.constant(kLn2), true);
     case Op::Fma: return b.add(b.mul(args[0], args[1]), args[2]);
+    case Op::Sign: return b.sign(args[0]);
+    case Op::CopySign: return b.copysign(args[0], args[1]);
+    case Op::Select: return b.select(args[0], args[1], args[2]);
     case Op::Sqrt:
     case Op::Rsqrt:
     case Op::Rcp:
@@ -215,7 +259,7 @@ void count_uses(Dag& dag) {
   dag.uses[static_cast<std::size_t>(dag.root.id)] = 1;
   for (std::size_t i = dag.nodes.size(); i-- > 0;) {
     if (dag.uses[i] == 0) continue;
-    for (const DagRef& c : {dag.nodes[i].a, dag.nodes[i].b})
+    for (const DagRef& c : {dag.nodes[i].a, dag.nodes[i].b, dag.nodes[i].c})
       if (c.id >= 0) ++dag.uses[static_cast<std::size_t>(c.id)];
   }
 }
@@ -293,8 +337,12 @@ void infix(const Dag& dag, DagRef r, std::string& out, std::size_t max_chars, in
       text(n.op == Op::Rcp ? "rcp(" : std::string(op_info(n.op).name) + "(");
       infix(dag, n.a, out, max_chars, 0);
       if (n.b.id >= 0) {
-        text(", ");
+        text(n.op == Op::Select ? " >= 0, " : ", ");
         infix(dag, n.b, out, max_chars, 0);
+      }
+      if (n.c.id >= 0) {
+        text(", ");
+        infix(dag, n.c, out, max_chars, 0);
       }
       text(")");
       break;

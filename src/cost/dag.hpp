@@ -12,7 +12,9 @@
 //  - every operator becomes the nodes of the instruction set: a / b = a * rcp(b); x^k is the
 //    squaring chain of apply_ipow; fma(a, b, c) = a*b + c; pow(a, b) = exp2(b * log2(a));
 //    log(x) = log2(x) * ln2 (the Mul carries `log_scale`, so code prints it as log(x)); exp stays
-//    one node (a scale and an exp2 on GPUs, which never fuse with anything else).
+//    one node (a scale and an exp2 on GPUs, which never fuse with anything else); sign,
+//    copysign and select stay one node each (sign(-x) = -sign(x), copysign drops its first
+//    operand's sign and moves its second's out, select(a, -b, -c) = -select(a, b, c)).
 // Nodes are in topological order: a node's operands have smaller ids.
 #pragma once
 
@@ -31,11 +33,11 @@ struct DagRef {
   friend bool operator==(const DagRef&, const DagRef&) = default;
 };
 
-// op is one of: Const, Var, Param (leaves); Add, Mul, Min, Max (binary); Rcp, Sqrt, Rsqrt,
-// Exp2, Log2, Exp, Sin, Cos, Abs, Saturate (unary).
+// op is one of: Const, Var, Param (leaves); Add, Mul, Min, Max, CopySign (binary); Rcp, Sqrt,
+// Rsqrt, Exp2, Log2, Exp, Sin, Cos, Abs, Saturate, Sign (unary); Select (ternary, operand c).
 struct DagNode {
   Op op = Op::Const;
-  DagRef a, b;
+  DagRef a, b, c;
   float value = 0.0f;      // Const: the magnitude (>= 0 or NaN); the sign is on references
   int index = 0;           // Var, Param: index into the expression's tables
   bool log_scale = false;  // Mul: this is log2(x) * ln2, i.e. log(x)

@@ -170,6 +170,18 @@ class ProgramBuilder {
         pl.arity = 2;
         pl.args = {Want{-1, false, true, s ? -1.0f : 1.0f}, want(nd.a.id, false), Want{}};
         break;
+      case Op::CopySign:  // -copysign(a, b) = copysign(a, -b)
+        pl.op = StepOp::CopySign;
+        pl.arity = 2;
+        pl.args = {want(nd.a.id, false), want(nd.b.id, s), Want{}};
+        break;
+      case Op::Select:  // -select(a, b, c) = select(a, -b, -c)
+        pl.op = StepOp::Select;
+        pl.arity = 3;
+        pl.args = {want(nd.a.id, false), want(nd.b.id, nd.b.neg != s),
+                   want(nd.c.id, nd.c.neg != s)};
+        pl.neg_arg = nd.a.neg;
+        break;
       case Op::Min:
       case Op::Max: {
         const bool is_min = (nd.op == Op::Min) != s;  // -min(a, b) = max(-a, -b)
@@ -195,6 +207,7 @@ class ProgramBuilder {
           case Op::Sin: unary(StepOp::Sin, want(nd.a.id, false)); break;
           case Op::Cos: unary(StepOp::Cos, want(nd.a.id, false)); break;
           case Op::Abs: unary(StepOp::Abs, want(nd.a.id, false)); break;
+          case Op::Sign: unary(StepOp::Sign, want(nd.a.id, false)); break;
           default: throw Error("internal: unexpected DAG operator");
         }
         break;

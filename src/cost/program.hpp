@@ -19,8 +19,27 @@
 namespace shaderfit::lowering {
 
 enum class StepOp : std::uint8_t {
-  Add, Sub, Mul, Div, Fma, Neg, Abs,
-  Sqrt, Rsqrt, Exp2, Log2, Exp, Log, Sin, Cos, Sat, Min, Max,
+  Add,
+  Sub,
+  Mul,
+  Div,
+  Fma,
+  Neg,
+  Abs,
+  Sqrt,
+  Rsqrt,
+  Exp2,
+  Log2,
+  Exp,
+  Log,
+  Sin,
+  Cos,
+  Sat,
+  Min,
+  Max,
+  Sign,
+  CopySign,
+  Select,
 };
 
 struct Operand {
@@ -39,6 +58,8 @@ struct Step {
   int uses = 0;         // operand references from later steps, +1 if it is the result
   // Exp only, fused programs: the operand is read negated, exp(-x). nvcc folds that negation
   // into the log2(e) scale, so it is no instruction of its own.
+  // Select: the condition is read negated, -a >= 0, which every language writes a <= 0 (the same
+  // for every a, zeros and NaN included): one comparison either way.
   bool neg_arg = false;
 };
 

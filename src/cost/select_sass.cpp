@@ -11,7 +11,12 @@
 //  - saturate of a product read only there is FMUL.SAT (not so for FADD, FFMA, FMNMX results);
 //  - 1 / exp2(x) and 1 / exp(x), the exponential read only there, is MUFU.EX2 of -x: no MUFU.RCP;
 //  - |x * x| is x * x;
-//  - log's ln(2) scale merges into FMUL.SAT when saturated, and into a product with a literal.
+//  - log's ln(2) scale merges into FMUL.SAT when saturated, and into a product with a literal;
+//  - select(a, b, c) is FSETP (one per distinct condition and sign: -a folds into the comparison)
+//    and FSEL, except that a branch computed only for the select runs under the predicate
+//    instead (no FSEL);
+//  - copysign(a, b) is one LOP3 (a & 0x7fffffff | b & 0x80000000); sign(x), written
+//    |x| > 0 ? copysign(1, x) : x, is FSETP on |x|, LOP3 and FSEL.
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -113,6 +118,7 @@ class SassSelector {
     if (v.abs) r = "|" + r + "|";
     return v.neg ? "-" + r : r;
   }
+  static Val sign_mask() { return Val{-1, false, false, true, 0.0f, "0x80000000"}; }
   static Val negated(Val v) {
     if (v.imm && !v.token) v.value = -v.value;
     else v.neg = !v.neg;
@@ -226,6 +232,35 @@ class SassSelector {
         out = merged ? t : emit(U::Fp32, sat ? "FMUL.FTZ.SAT" : "FMUL.FTZ", {t, Val{-1, false, false, true, kLn2}}, c);
         break;
       }
+      case StepOp::Sign: {
+        const Val p =
+            emit(U::MinMax, "FSETP.GT.FTZ.AND", {Val{a.reg, false, true}, rz}, "|" + c + "| > 0");
+        const Val one =
+            emit(U::MinMax, "LOP3.LUT", {Val{-1, false, false, true, 1.0f}, sign_mask(), a},
+                 "copysign(1, ...)");
+        out = emit(U::MinMax, "FSEL", {one, a, p}, c);
+        break;
+      }
+      case StepOp::CopySign: out = emit(U::MinMax, "LOP3.LUT", {a, sign_mask(), b}, c); break;
+      case StepOp::Select: {
+        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index,
+                                         st.neg_arg ? 1 : 0);
+        auto it = predicates_.find(key);
+        if (it == predicates_.end()) {
+          const Val p = emit(U::MinMax, "FSETP.GE.FTZ.AND", {st.neg_arg ? negated(a) : a, rz},
+                             "condition of " + c);
+          it = predicates_.emplace(key, p).first;
+        }
+        // A branch that is computed for this select alone is computed under the predicate.
+        for (int k : {1, 2}) {
+          if (st.args[k].kind == Operand::Kind::Step && only_reader(st.args[k].index) == s) {
+            out = val(st.args[k]);
+            return;
+          }
+        }
+        out = emit(U::MinMax, "FSEL", {b, val(st.args[2]), it->second}, c);
+        break;
+      }
       case StepOp::Sin:
       case StepOp::Cos: {
         const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
@@ -246,6 +281,7 @@ class SassSelector {
   std::vector<std::vector<int>> consumers_;
   std::vector<Val> vals_;
   std::map<std::tuple<int, int>, Val> scaled_;
+  std::map<std::tuple<int, int, int>, Val> predicates_;  // Select: FSETP per condition and sign
   std::vector<TargetInstruction> out_;
   int next_reg_ = 0;
 };

@@ -1,7 +1,15 @@
 // PTX and generic (SPIR-V-like) selection: one instruction per program step, except that PTX
-// spells exp as mul + ex2 and log as lg2 + mul, as __expf and __logf do under --use_fast_math.
+// spells exp as mul + ex2 and log as lg2 + mul, as __expf and __logf do under --use_fast_math,
+// and the steps of sign, copysign and select, as the generated code writes them:
+//  - select(a, b, c), `a >= 0 ? b : c`: a comparison and a select; nvcc compares each distinct
+//    condition once (PTX), glslang every time (SPIR-V);
+//  - copysign: PTX copysign.f32; GLSL/HLSL (no copysign) the bits, a & 0x7fffffff | b &
+//    0x80000000, two ANDs and an OR (one AND folds when a is a literal);
+//  - sign(x): PTX (|x| > 0 ? copysignf(1, x) : x) abs, setp, copysign, selp; GLSL/HLSL
+//    (x > 0 ? 1 : (x < 0 ? -1 : x)) two comparisons and two selects.
 #include <bit>
 #include <cstdio>
+#include <map>
 
 #include "cost/float_text.hpp"
 #include "cost/select.hpp"
@@ -101,6 +109,48 @@ class TextSelector {
           simple(U::Mufu, "", "OpExtInst Exp", {a});
         }
         break;
+      case StepOp::Sign:
+        if (ptx_) {
+          const std::string t = emit(U::Fp32, "abs.ftz.f32", {a}, "|" + c + "|");
+          const std::string p =
+              emit(U::MinMax, "setp.gt.ftz.f32", {t, ptx_const(0.0f)}, "|" + c + "| > 0");
+          const std::string one =
+              emit(U::MinMax, "copysign.f32", {a, ptx_const(1.0f)}, "copysign(1, ...)");
+          out = emit(U::MinMax, "selp.f32", {one, a, p}, c);
+        } else {
+          const std::string gt = emit(U::MinMax, "OpFOrdGreaterThan", {a, "0"}, c + " > 0");
+          const std::string lt = emit(U::MinMax, "OpFOrdLessThan", {a, "0"}, c + " < 0");
+          const std::string in = emit(U::MinMax, "OpSelect", {lt, "-1", a}, "");
+          out = emit(U::MinMax, "OpSelect", {gt, "1", in}, c);
+        }
+        break;
+      case StepOp::CopySign:
+        if (ptx_) {
+          simple(U::MinMax, "copysign.f32", "", {b, a});
+        } else {
+          const std::string m = st.args[0].kind == Operand::Kind::Const
+                                    ? a
+                                    : emit(U::MinMax, "OpBitwiseAnd", {a, "0x7fffffff"}, "|...|");
+          const std::string sb = emit(U::MinMax, "OpBitwiseAnd", {b, "0x80000000"}, "sign bit");
+          out = emit(U::MinMax, "OpBitwiseOr", {m, sb}, c);
+        }
+        break;
+      case StepOp::Select: {
+        std::string p;
+        const auto key = std::make_pair(a, st.neg_arg);
+        if (ptx_ && conditions_.count(key)) {
+          p = conditions_.at(key);
+        } else {
+          const char* op = ptx_ ? (st.neg_arg ? "setp.le.ftz.f32" : "setp.ge.ftz.f32")
+                                : (st.neg_arg ? "OpFOrdLessThanEqual" : "OpFOrdGreaterThanEqual");
+          p = emit(U::MinMax, op, {a, ptx_ ? ptx_const(0.0f) : "0"}, "condition of " + c);
+          conditions_[key] = p;
+        }
+        simple(U::MinMax, "selp.f32", "OpSelect",
+               ptx_ ? std::initializer_list<std::string>{b, name(st.args[2]), p}
+                    : std::initializer_list<std::string>{p, b, name(st.args[2])});
+        break;
+      }
       case StepOp::Log:
         if (ptx_) {
           const std::string t = emit(U::Mufu, "lg2.approx.ftz.f32", {a}, "log2 of ...");
@@ -117,6 +167,7 @@ class TextSelector {
   StepText names_text_{dag_, p_};
   bool text_, ptx_;
   std::vector<std::string> names_;
+  std::map<std::pair<std::string, bool>, std::string> conditions_;  // PTX: setp per condition
   std::vector<TargetInstruction> out_;
   std::size_t count_ = 0;
 };

@@ -40,6 +40,8 @@ const char* call_name(StepOp op) {
     case StepOp::Sat: return "saturate";
     case StepOp::Min: return "min";
     case StepOp::Max: return "max";
+    case StepOp::Sign: return "sign";
+    case StepOp::CopySign: return "copysign";
     default: return "?";
   }
 }
@@ -102,6 +104,11 @@ std::string StepText::step(int i, int min_level, std::size_t limit) const {
       case StepOp::Mul: t = pair(st.args[0], 2, " * ", st.args[1], 3, limit); break;
       case StepOp::Div: t = pair(st.args[0], 2, " / ", st.args[1], 3, limit); break;
       case StepOp::Neg: t = "-" + operand(st.args[0], 4, limit); break;
+      case StepOp::Select:
+        t = "select(" + std::string(st.neg_arg ? "-" : "") +
+            operand(st.args[0], st.neg_arg ? 4 : 0, limit) + " >= 0, " +
+            operand(st.args[1], 0, limit) + ", " + operand(st.args[2], 0, limit) + ")";
+        break;
       default:
         t = std::string(call_name(st.op)) + "(";
         if (st.neg_arg) t += "-" + operand(st.args[0], 4, limit);

@@ -153,9 +153,21 @@ TEST(EvalOps, SpecialValues) {
       {Op::Max, 1.0f, NAN, 1.0f},
       {Op::Saturate, -inf, 0, 0.0f},
       {Op::Cos, 0.0f, 0, 1.0f},
+      {Op::Sign, -0.0f, 0, -0.0f},
+      {Op::Sign, 0.0f, 0, 0.0f},
+      {Op::Sign, -inf, 0, -1.0f},
+      {Op::Sign, 1e-45f, 0, 1.0f},
+      {Op::CopySign, 2.0f, -0.0f, -2.0f},
+      {Op::CopySign, -inf, 0.0f, inf},
+      {Op::CopySign, -3.0f, NAN, 3.0f},  // the NaN's sign bit is clear
+      {Op::Select, -0.0f, 5.0f, 5.0f},   // select(x, y, 0): -0 >= 0 takes y
+      {Op::Select, -1e-45f, 5.0f, 0.0f},
+      {Op::Select, NAN, 5.0f, 0.0f},  // NaN takes the third operand
+      {Op::Select, inf, 5.0f, 5.0f},
   };
-  const Op nan_ops[] = {Op::Log2, Op::Log, Op::Sqrt, Op::Saturate, Op::Sin, Op::Cos, Op::Exp2};
-  const float nan_args[] = {-1.0f, -1.0f, -1.0f, NAN, inf, -inf, NAN};
+  const Op nan_ops[] = {Op::Log2, Op::Log, Op::Sqrt, Op::Saturate,
+                        Op::Sin,  Op::Cos, Op::Exp2, Op::Sign};
+  const float nan_args[] = {-1.0f, -1.0f, -1.0f, NAN, inf, -inf, NAN, NAN};
   for (std::int64_t target : eval_detail::simd_targets()) {
     SCOPED_TRACE(eval_detail::simd_target_name(target));
     const ForceTarget force(target);

@@ -4,7 +4,8 @@
 //
 // Values match expr/op.hpp: arithmetic ops use the same IEEE operations in the same order (fma
 // is a rounded product, then a rounded sum, as apply_fma); min/max follow fmin/fmax, including
-// glibc's choice of the second operand for min(+0, -0); transcendental ops use Highway's
+// glibc's choice of the second operand for min(+0, -0); sign, copysign and select are exact
+// (masks and sign bits); transcendental ops use Highway's
 // polynomials with masks that restore the scalar special values.
 #include <cmath>
 #include <cstdint>
@@ -177,6 +178,10 @@ SF_UNARY(Log2Op, Log2V(d, a))
 SF_UNARY(LogOp, LogV(d, a))
 SF_UNARY(SaturateOp, hn::IfThenElse(hn::Lt(a, hn::Zero(d)), hn::Zero(d),
                                     hn::IfThenElse(hn::Gt(a, one), one, a)))
+// sign: a * 0 keeps a zero's sign and a NaN, as apply_unary.
+SF_UNARY(SignOp, hn::IfThenElse(hn::Gt(a, hn::Zero(d)), one,
+                                hn::IfThenElse(hn::Lt(a, hn::Zero(d)), hn::Neg(one),
+                                               hn::Mul(a, hn::Zero(d)))))
 SF_BINARY(AddOp, hn::Add(a, b))
 SF_BINARY(SubOp, hn::Sub(a, b))
 SF_BINARY(MulOp, hn::Mul(a, b))
@@ -186,6 +191,7 @@ SF_BINARY(DivOp, hn::Div(a, b))
 SF_BINARY(MinOp, hn::IfThenElse(hn::Or(hn::Lt(a, b), hn::IsNaN(b)), a, b))
 SF_BINARY(MaxOp, hn::IfThenElse(hn::Or(hn::Gt(a, b), hn::IsNaN(b)), a, b))
 SF_BINARY(PowOp, Exp2V(d, hn::Mul(b, Log2V(d, a))))
+SF_BINARY(CopySignOp, hn::CopySign(a, b))
 #undef SF_UNARY
 #undef SF_BINARY
 
@@ -200,6 +206,16 @@ HWY_INLINE void Map2(D d, const T* a, const T* b, T* o, size_t count, F f) {
   const size_t N = hn::Lanes(d);
   for (size_t i = 0; i < count; i += N)
     hn::StoreU(f(d, hn::LoadU(d, a + i), hn::LoadU(d, b + i)), d, o + i);
+}
+
+// select(a, b, c) = a >= 0 ? b : c; NaN compares false and takes c.
+template <class D, class T>
+HWY_INLINE void Select(D d, const T* a, const T* b, const T* c, T* o, size_t count) {
+  const size_t N = hn::Lanes(d);
+  for (size_t i = 0; i < count; i += N) {
+    const auto cond = hn::Ge(hn::LoadU(d, a + i), hn::Zero(d));
+    hn::StoreU(hn::IfThenElse(cond, hn::LoadU(d, b + i), hn::LoadU(d, c + i)), d, o + i);
+  }
 }
 
 // x^k by the same sequence of multiplications as apply_ipow.
@@ -285,6 +301,9 @@ struct SimdKernels {
       case Op::Saturate: return Map1(d, a, o, count, SaturateOp());
       case Op::Sin: return SinCos<true>(d, a, o, count);
       case Op::Cos: return SinCos<false>(d, a, o, count);
+      case Op::Sign: return Map1(d, a, o, count, SignOp());
+      case Op::CopySign: return Map2(d, a, b, o, count, CopySignOp());
+      case Op::Select: return Select(d, a, b, static_cast<const T*>(src[ins.arg[2]]), o, count);
       case Op::Fma:
         // Two passes, so that no compiler can fuse the product into the sum. The third operand
         // is never in the output slot (it sits two places higher on the postfix stack).

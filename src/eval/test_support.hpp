@@ -135,7 +135,7 @@ T reference(const Expression& e, Op op, int k, T x, T y, T z) {
     switch (arity(op)) {
       case 1: return op == Op::IPow ? apply_ipow(x, k) : apply_unary(op, x);
       case 2: return apply_binary(op, x, y);
-      default: return apply_fma(x, y, z);
+      default: return apply_ternary(op, x, y, z);
     }
   }
 }

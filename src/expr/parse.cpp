@@ -61,7 +61,8 @@ class Parser {
     const char c = text_[pos_];
     const std::size_t start = pos_;
     if (std::isdigit(static_cast<unsigned char>(c)) ||
-        (c == '.' && pos_ + 1 < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_ + 1])))) {
+        (c == '.' && pos_ + 1 < text_.size() &&
+         std::isdigit(static_cast<unsigned char>(text_[pos_ + 1])))) {
       bool integral = true;
       while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_]))) ++pos_;
       if (pos_ < text_.size() && text_[pos_] == '.') {
@@ -75,7 +76,8 @@ class Parser {
         if (p < text_.size() && std::isdigit(static_cast<unsigned char>(text_[p]))) {
           integral = false;
           pos_ = p;
-          while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_]))) ++pos_;
+          while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_])))
+            ++pos_;
         } else {
           fail("malformed number: exponent has no digits", static_cast<int>(start) + 1);
         }
@@ -92,8 +94,10 @@ class Parser {
       if (ec != std::errc() || ptr != e) {
         fail("malformed number '" + std::string(tok_.text) + "'", tok_.column);
       }
-      if (pos_ < text_.size() && (std::isalpha(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_')) {
-        fail("unexpected '" + std::string(1, text_[pos_]) + "' after the number " + std::string(tok_.text),
+      if (pos_ < text_.size() &&
+          (std::isalpha(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_')) {
+        fail("unexpected '" + std::string(1, text_[pos_]) + "' after the number " +
+                 std::string(tok_.text),
              static_cast<int>(pos_) + 1);
       }
       return;
@@ -103,6 +107,12 @@ class Parser {
              (std::isalnum(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_'))
         ++pos_;
       tok_.kind = Token::Ident;
+      tok_.text = text_.substr(start, pos_ - start);
+      return;
+    }
+    if (c == '<' || c == '>') {  // comparisons: < <= > >=
+      pos_ += pos_ + 1 < text_.size() && text_[pos_ + 1] == '=' ? 2 : 1;
+      tok_.kind = Token::Symbol;
       tok_.text = text_.substr(start, pos_ - start);
       return;
     }
@@ -123,10 +133,12 @@ class Parser {
   }
 
   bool is_symbol(char c) const { return tok_.kind == Token::Symbol && tok_.text[0] == c; }
+  bool is_comparison() const { return is_symbol('<') || is_symbol('>'); }
 
   void expect(char c, const std::string& what) {
     if (!is_symbol(c)) {
-      fail("expected '" + std::string(1, c) + "' " + what + ", found " + describe(tok_), tok_.column);
+      fail("expected '" + std::string(1, c) + "' " + what + ", found " + describe(tok_),
+           tok_.column);
     }
     advance();
   }
@@ -157,8 +169,18 @@ class Parser {
     expr_.nodes.pop_back();
   }
 
-  // sum := product (('+' | '-') product)*
+  // A sum where a comparison may not follow: comparisons only appear in select's condition.
   void parse_sum() {
+    parse_terms();
+    if (is_comparison()) {
+      fail("a comparison ('" + std::string(tok_.text) +
+               "') is only allowed as the first argument of select",
+           tok_.column);
+    }
+  }
+
+  // sum := product (('+' | '-') product)*
+  void parse_terms() {
     parse_product();
     while (is_symbol('+') || is_symbol('-')) {
       const Op op = is_symbol('+') ? Op::Add : Op::Sub;
@@ -232,9 +254,11 @@ class Parser {
         advance();
       }
       if (tok_.kind != Token::Number || !tok_.integral) {
-        fail("the exponent after '^' must be an integer literal from -16 to 16 (use pow(a, b) or "
-             "exp2 for others), found " + describe(tok_),
-             tok_.kind == Token::End ? caret_col : tok_.column);
+        fail(
+            "the exponent after '^' must be an integer literal from -16 to 16 (use pow(a, b) or "
+            "exp2 for others), found " +
+                describe(tok_),
+            tok_.kind == Token::End ? caret_col : tok_.column);
       }
       emit_ipow(sign * tok_.number, col);
       advance();
@@ -266,7 +290,8 @@ class Parser {
       if (is_symbol(')')) fail("empty parentheses", col);
       parse_sum();
       if (!is_symbol(')')) {
-        fail("expected ')' to close the '(' at column " + std::to_string(col) + ", found " + describe(tok_),
+        fail("expected ')' to close the '(' at column " + std::to_string(col) + ", found " +
+                 describe(tok_),
              tok_.column);
       }
       advance();
@@ -282,7 +307,8 @@ class Parser {
       }
       return;
     }
-    if (tok_.kind == Token::End) fail("unexpected end of formula: an operand is missing", tok_.column);
+    if (tok_.kind == Token::End)
+      fail("unexpected end of formula: an operand is missing", tok_.column);
     fail("unexpected " + describe(tok_) + ": an operand is missing", tok_.column);
   }
 
@@ -324,6 +350,10 @@ class Parser {
     if (s == "inversesqrt") op = Op::Rsqrt;  // GLSL spelling
     if (op == Op::Count_ || op_info(op).infix) fail("unknown function '" + s + "'", name.column);
     advance();  // '('
+    if (op == Op::Select) {
+      parse_select(name);
+      return;
+    }
     const int want = arity(op);
     int got = 0;
     std::size_t second_start = 0;
@@ -344,17 +374,19 @@ class Parser {
       }
     }
     if (!is_symbol(')')) {
-      fail("expected ',' or ')' in the arguments of " + s + ", found " + describe(tok_), tok_.column);
+      fail("expected ',' or ')' in the arguments of " + s + ", found " + describe(tok_),
+           tok_.column);
     }
     if (got != want) {
-      fail(s + " takes " + std::to_string(want) + (want == 1 ? " argument" : " arguments") + ", got " +
-               std::to_string(got),
+      fail(s + " takes " + std::to_string(want) + (want == 1 ? " argument" : " arguments") +
+               ", got " + std::to_string(got),
            name.column);
     }
     const std::size_t close = static_cast<std::size_t>(tok_.column - 1);
     advance();  // ')'
     // pow(a, k) with an integer literal k ("5", "-2"; not "5.0") in range is the integer power.
-    if (op == Op::Pow && expr_.nodes.size() == second_start + 1 && expr_.nodes.back().op == Op::Const &&
+    if (op == Op::Pow && expr_.nodes.size() == second_start + 1 &&
+        expr_.nodes.back().op == Op::Const &&
         is_integer_literal(text_.substr(second_text_begin, close - second_text_begin))) {
       const double k = expr_.nodes.back().value;
       if (k >= kMinIntegerPower && k <= kMaxIntegerPower && k != 0 && k != 1) {
@@ -364,6 +396,87 @@ class Parser {
       }
     }
     emit(Node::op_node(op));
+  }
+
+  // select(X cmp Y, b, c), after the '('. The condition becomes the one operand a of
+  // select(a, b, c) = a >= 0 ? b : c: X >= Y is a = X - Y; X <= Y is a = Y - X; X > Y and X < Y
+  // are the negations of Y >= X and X >= Y, so they take those differences with b and c swapped.
+  // A literal zero on the right of the difference is dropped (a = P, not P - 0) and one on its
+  // left makes a negation (a = -Q, not 0 - Q). (Differences agree with the comparisons except
+  // where the difference is NaN: equal infinities, and NaN operands, where > and < take b.)
+  void parse_select(const Token& name) {
+    const std::size_t x_begin = expr_.nodes.size();
+    const int x_column = tok_.column;
+    if (is_symbol(')')) fail("select takes 3 arguments, got 0", name.column);
+    parse_terms();
+    if (!is_comparison()) {
+      fail(
+          "the first argument of select must be a comparison (X >= Y, X > Y, X <= Y or X < Y), "
+          "found " +
+              describe(tok_) + " after it",
+          is_symbol(',') || is_symbol(')') ? x_column : tok_.column);
+    }
+    const std::string cmp(tok_.text);
+    advance();
+    const std::size_t y_begin = expr_.nodes.size();
+    parse_sum();
+    // The condition as P >= Q, negated when `swap`.
+    const bool y_first = cmp == "<=" || cmp == ">";
+    const bool swap = cmp == ">" || cmp == "<";
+    const std::size_t end = expr_.nodes.size();
+    if (y_first) swap_last_two(x_begin, y_begin);
+    const std::size_t q_begin = y_first ? x_begin + (end - y_begin) : y_begin;
+    if (q_begin + 1 == end && is_zero_leaf(q_begin)) {
+      drop_last_leaf();
+    } else if (is_zero_leaf(x_begin) && q_begin == x_begin + 1) {
+      drop_node(x_begin);
+      emit(Node::op_node(Op::Neg));
+    } else {
+      emit(Node::op_node(Op::Sub));
+    }
+    std::size_t b_begin = 0, c_begin = 0;
+    for (std::size_t* begin : {&b_begin, &c_begin}) {
+      if (!is_symbol(',')) {
+        fail("expected ',' and two more arguments of select, found " + describe(tok_), tok_.column);
+      }
+      advance();
+      *begin = expr_.nodes.size();
+      parse_sum();
+    }
+    if (!is_symbol(')')) {
+      fail("expected ')' after the 3 arguments of select, found " + describe(tok_), tok_.column);
+    }
+    advance();
+    if (swap) swap_last_two(b_begin, c_begin);
+    emit(Node::op_node(Op::Select));
+  }
+
+  bool is_zero_leaf(std::size_t i) const {
+    const Node& n = expr_.nodes[i];
+    return n.op == Op::Const && n.value == 0.0 &&
+           std::find(exact_.begin(), exact_.end(), i) == exact_.end();
+  }
+
+  // Swaps the last two subtrees on the postfix stack, which begin at nodes `first` and `second`.
+  void swap_last_two(std::size_t first, std::size_t second) {
+    const std::size_t end = expr_.nodes.size();
+    std::rotate(expr_.nodes.begin() + static_cast<std::ptrdiff_t>(first),
+                expr_.nodes.begin() + static_cast<std::ptrdiff_t>(second), expr_.nodes.end());
+    for (std::size_t& i : exact_) {
+      if (i >= second)
+        i -= second - first;
+      else if (i >= first)
+        i += end - second;
+    }
+    std::swap(depths_[depths_.size() - 1], depths_[depths_.size() - 2]);
+  }
+
+  // Removes the leaf at node i, the second subtree from the top of the postfix stack.
+  void drop_node(std::size_t i) {
+    expr_.nodes.erase(expr_.nodes.begin() + static_cast<std::ptrdiff_t>(i));
+    for (std::size_t& k : exact_)
+      if (k > i) --k;
+    depths_.erase(depths_.end() - 2);
   }
 
   // ParseOptions::literals_as_parameters: every Const leaf but the named constants becomes a
@@ -392,7 +505,8 @@ class Parser {
     while (!t.empty() && std::isspace(static_cast<unsigned char>(t.front()))) t.remove_prefix(1);
     while (!t.empty() && std::isspace(static_cast<unsigned char>(t.back()))) t.remove_suffix(1);
     if (!t.empty() && (t.front() == '-' || t.front() == '+')) t.remove_prefix(1);
-    return !t.empty() && std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
+    return !t.empty() &&
+           std::all_of(t.begin(), t.end(), [](char c) { return c >= '0' && c <= '9'; });
   }
 
   std::string_view text_;

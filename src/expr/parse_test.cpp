@@ -6,6 +6,7 @@
 
 #include "expr/random_expression_test_util.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/forward.hpp"
 #include "shaderfit/expr/print.hpp"
 
 namespace shaderfit {
@@ -122,19 +123,80 @@ TEST_P(ParseErrors, NamesTheProblemAndColumn) {
 
 INSTANTIATE_TEST_SUITE_P(
     All, ParseErrors,
-    ::testing::Values(BadFormula{"x +", "operand is missing", 4},
-                      BadFormula{"r0 + (x - r0", "expected ')'", 13},
-                      BadFormula{"x + y", "unknown variable 'y' (known: x, r0)", 5},
-                      BadFormula{"foo(x)", "unknown function 'foo'", 1},
-                      BadFormula{"sqrt(x, x)", "sqrt takes 1 argument, got 2", 1},
-                      BadFormula{"x ^ 2.5", "integer literal", 5},
-                      BadFormula{"x^17", "out of range", 3}, BadFormula{"x ^ 1", "out of range", 5},
-                      BadFormula{"", "empty formula", 1}, BadFormula{"x $ 2", "unexpected character '$'", 3},
-                      BadFormula{"x )", "unexpected ')'", 3}, BadFormula{"()", "empty parentheses", 1},
-                      BadFormula{"2x", "after the number", 2}, BadFormula{"1e+", "exponent has no digits", 1},
-                      BadFormula{"sqrt", "needs arguments", 1}, BadFormula{"1e999", "out of range", 1},
-                      BadFormula{"min(x)", "min takes 2 arguments, got 1", 1}),
+    ::testing::Values(
+        BadFormula{"x +", "operand is missing", 4}, BadFormula{"r0 + (x - r0", "expected ')'", 13},
+        BadFormula{"x + y", "unknown variable 'y' (known: x, r0)", 5},
+        BadFormula{"foo(x)", "unknown function 'foo'", 1},
+        BadFormula{"sqrt(x, x)", "sqrt takes 1 argument, got 2", 1},
+        BadFormula{"x ^ 2.5", "integer literal", 5}, BadFormula{"x^17", "out of range", 3},
+        BadFormula{"x ^ 1", "out of range", 5}, BadFormula{"", "empty formula", 1},
+        BadFormula{"x $ 2", "unexpected character '$'", 3}, BadFormula{"x )", "unexpected ')'", 3},
+        BadFormula{"()", "empty parentheses", 1}, BadFormula{"2x", "after the number", 2},
+        BadFormula{"1e+", "exponent has no digits", 1}, BadFormula{"sqrt", "needs arguments", 1},
+        BadFormula{"1e999", "out of range", 1},
+        BadFormula{"min(x)", "min takes 2 arguments, got 1", 1},
+        BadFormula{"x >= 0", "only allowed as the first argument of select", 3},
+        BadFormula{"sqrt(x < r0)", "only allowed as the first argument of select", 8},
+        BadFormula{"select(x, 1, 2)", "must be a comparison", 8},
+        BadFormula{"select(x + 1 = 0, 1, 2)", "unexpected character '='", 14},
+        BadFormula{"select(x >= 0, 1 < x, 2)", "only allowed as the first", 18},
+        BadFormula{"select(x >= r0 >= 0, 1, 2)", "only allowed as the first", 16},
+        BadFormula{"select((x >= 0), 1, 2)", "only allowed as the first", 11},
+        BadFormula{"select(x >= 0, 1)", "expected ',' and two more", 17},
+        BadFormula{"select(x >= 0, 1, 2, 3)", "expected ')' after the 3", 20},
+        BadFormula{"select()", "select takes 3 arguments, got 0", 1},
+        BadFormula{"copysign(x)", "copysign takes 2 arguments, got 1", 1},
+        BadFormula{"sign(x, r0)", "sign takes 1 argument, got 2", 1}),
     [](const ::testing::TestParamInfo<BadFormula>& p) { return "case" + std::to_string(p.index); });
+
+TEST(Parse, SignAndCopySign) {
+  auto p = [](const char* s) { return to_infix(parse_formula(s, vars({"x", "y"}))); };
+  EXPECT_EQ(p("sign(x - 1)"), "sign(x - 1)");
+  EXPECT_EQ(p("copysign(x, -y)"), "copysign(x, -y)");
+  EXPECT_EQ(parse_formula("copysign(1, x)", vars({"x"})).nodes.back().op, Op::CopySign);
+  EXPECT_EQ(parse_formula("sign(x)", vars({"x"})).nodes.back().op, Op::Sign);
+}
+
+// Each comparison is lowered to select(a, b, c) = a >= 0 ? b : c on a difference, as the parser
+// documents; the printer writes the operand back as "a >= 0".
+TEST(Parse, SelectComparisonsLowerToOneOperator) {
+  auto p = [](const char* s) { return to_infix(parse_formula(s, vars({"x", "y"}))); };
+  EXPECT_EQ(p("select(x >= y, 1, 2)"), "select(x - y >= 0, 1, 2)");
+  EXPECT_EQ(p("select(x <= y, 1, 2)"), "select(y - x >= 0, 1, 2)");
+  EXPECT_EQ(p("select(x > y, 1, 2)"), "select(y - x >= 0, 2, 1)");
+  EXPECT_EQ(p("select(x < y, 1, 2)"), "select(x - y >= 0, 2, 1)");
+  // A literal zero side adds no node: x, or -x.
+  EXPECT_EQ(p("select(x >= 0, y, 2)"), "select(x >= 0, y, 2)");
+  EXPECT_EQ(p("select(x > 0, y, 2)"), "select(-x >= 0, 2, y)");
+  EXPECT_EQ(p("select(0 <= x * y, y, 2)"), "select(x * y >= 0, y, 2)");
+  EXPECT_EQ(p("select(0 < x, y, 2)"), "select(-x >= 0, 2, y)");
+  EXPECT_EQ(p("select(x < 0.0, y, 2)"), "select(x >= 0, 2, y)");
+  EXPECT_EQ(p("select(x + 1 >= y * 2, min(x, y), sqrt(y))"),
+            "select(x + 1 - y * 2 >= 0, min(x, y), sqrt(y))");
+  const Expression e = parse_formula("select(x >= y, x, y)", vars({"x", "y"}));
+  ASSERT_EQ(e.size(), 6u);
+  EXPECT_EQ(e.nodes[2].op, Op::Sub);
+  EXPECT_EQ(e.nodes.back().op, Op::Select);
+  // The swapped forms agree with the comparison they were written as (away from NaN).
+  for (const char* cmp : {">=", ">", "<=", "<"}) {
+    const Expression s =
+        parse_formula("select(x " + std::string(cmp) + " y, 1, 2)", vars({"x", "y"}));
+    for (double x : {-1.0, 0.0, 0.5, 2.0})
+      for (double y : {-1.0, 0.0, 0.5}) {
+        const bool holds =
+            cmp[0] == '>' ? (cmp[1] == '=' ? x >= y : x > y) : (cmp[1] == '=' ? x <= y : x < y);
+        const double row[] = {x, y};
+        EXPECT_EQ(evaluate_at<double>(s, std::span<const double>(row), {}), holds ? 1.0 : 2.0)
+            << cmp << " " << x << " " << y;
+      }
+  }
+  // pi and parameters next to a comparison keep their places.
+  ParseOptions o = vars({"x"});
+  o.literals_as_parameters = true;
+  const Expression q = parse_formula("select(pi > x, 0.5, 3)", o);
+  EXPECT_EQ(to_infix(q, {.substitute_parameters = true}),
+            "select(x - 3.141592653589793 >= 0, 3, 0.5)");
+}
 
 TEST(Parse, PrintThenParseRoundTripsRandomExpressions) {
   Rng rng(12345);

@@ -37,7 +37,8 @@ class InfixPrinter {
       case Op::Neg: return kUnary;
       case Op::IPow: return kPower;
       case Op::Const: return std::signbit(n.value) ? kUnary : kAtom;  // "-2" reads as unary
-      case Op::Param: return (o_.substitute_parameters && std::signbit(param_value(n))) ? kUnary : kAtom;
+      case Op::Param:
+        return (o_.substitute_parameters && std::signbit(param_value(n))) ? kUnary : kAtom;
       default: return kAtom;
     }
   }
@@ -94,6 +95,10 @@ class InfixPrinter {
           exponent += ".0";
         return "pow(" + text(c[0]) + ", " + exponent + ")";
       }
+      // The condition as the parser reads it back into the same operand (a literal 0 on the
+      // right of >= adds no node).
+      case Op::Select:
+        return "select(" + text(c[0]) + " >= 0, " + text(c[1]) + ", " + text(c[2]) + ")";
       default: {
         std::string s = std::string(op_info(n.op).name) + "(";
         for (int k = 0; k < n.arity; ++k) s += (k ? ", " : "") + text(c[k]);
@@ -158,6 +163,12 @@ class LatexPrinter {
         return std::string(n.op == Op::Min ? "\\min" : "\\max") + "\\left(" + text(c[0]) + ", " +
                text(c[1]) + "\\right)";
       case Op::Fma: return factor(c[0]) + " \\cdot " + factor(c[1]) + " + " + text(c[2]);
+      case Op::Sign: return call("\\operatorname{sign}");
+      case Op::CopySign:
+        return "\\operatorname{copysign}\\left(" + text(c[0]) + ", " + text(c[1]) + "\\right)";
+      case Op::Select:
+        return "\\begin{cases}" + text(c[1]) + " & " + text(c[0]) + " \\geq 0 \\\\ " + text(c[2]) +
+               " & \\text{otherwise}\\end{cases}";
       default: return "?";
     }
   }

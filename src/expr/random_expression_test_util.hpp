@@ -82,7 +82,7 @@ T eval_reference(const Expression& e, const std::vector<T>& vars, bool* all_fini
       st.pop_back();
       T y = st.back();
       st.pop_back();
-      st.back() = apply_fma(st.back(), y, z);
+      st.back() = apply_ternary(n.op, st.back(), y, z);
       check();
     }
   }

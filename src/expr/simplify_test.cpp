@@ -36,6 +36,15 @@ TEST(Simplify, Rules) {
   EXPECT_EQ(simp("x * 0 + y"), "y");
   EXPECT_EQ(simp("1 / 0 + x"), "rcp(0) + x");  // folding to inf is not done
   EXPECT_EQ(simp("x^8 * x^9"), "x^8 * x^9");   // would leave the exponent range
+  EXPECT_EQ(simp("sign(-2) * x"), "-x");
+  EXPECT_EQ(simp("sign(sign(x))"), "sign(x)");
+  EXPECT_EQ(simp("copysign(3, -0.0) + x"), "-3 + x");
+  EXPECT_EQ(simp("select(2 >= 0, x, y)"), "x");
+  EXPECT_EQ(simp("select(-1 > 0, x, y)"), "y");
+  EXPECT_EQ(simp("select(-0.0 >= 0, x, y)"), "x");
+  EXPECT_EQ(simp("select(x - y >= 0, x * 1, x)"), "x");
+  EXPECT_EQ(simp("select(x < y, x, y)"), "select(x - y >= 0, y, x)");
+  EXPECT_EQ(simp("copysign(x, y) * 1"), "copysign(x, y)");
 }
 
 TEST(Simplify, KeepsValuesOnRandomExpressions) {

@@ -158,8 +158,12 @@ struct DualBlocks {
     });
   }
 
-  // fma(a, b, c): partials b, a and 1 (op.hpp).
-  SF_ALWAYS_INLINE void ternary(Op /*fma*/, Dual& a, const Dual& b, const Dual& c) const {
+  // fma(a, b, c): partials b, a and 1; select(a, b, c): 0, cond and 1 - cond (op.hpp).
+  SF_ALWAYS_INLINE void ternary(Op o, Dual& a, const Dual& b, const Dual& c) const {
+    if (o == Op::Select) {
+      select(a, b, c);
+      return;
+    }
     for_each_bit(a.mask | b.mask | c.mask, [&](std::size_t j) {
       double* da = a.d + j * kBlock;
       const bool in_a = (a.mask >> j) & 1u, in_b = (b.mask >> j) & 1u, in_c = (c.mask >> j) & 1u;
@@ -172,6 +176,22 @@ struct DualBlocks {
     });
     for (std::size_t i = 0; i < nb; ++i) a.own[i] = apply_fma(a.v[i], b.v[i], c.v[i]);
     a.mask |= b.mask | c.mask;
+    a.v = a.own;
+  }
+
+  SF_ALWAYS_INLINE void select(Dual& a, const Dual& b, const Dual& c) const {
+    for_each_bit(b.mask | c.mask, [&](std::size_t j) {
+      double* da = a.d + j * kBlock;
+      const bool in_b = (b.mask >> j) & 1u, in_c = (c.mask >> j) & 1u;
+      for (std::size_t i = 0; i < nb; ++i) {
+        const TernaryPartials<double> p = ternary_partials(Op::Select, a.v[i], b.v[i], c.v[i]);
+        const double pb = in_b ? b.d[j * kBlock + i] * p.db : 0.0;
+        const double pc = in_c ? c.d[j * kBlock + i] * p.dc : 0.0;
+        da[i] = pb + pc;
+      }
+    });
+    for (std::size_t i = 0; i < nb; ++i) a.own[i] = apply_select(a.v[i], b.v[i], c.v[i]);
+    a.mask = b.mask | c.mask;
     a.v = a.own;
   }
 };

@@ -146,15 +146,20 @@ TEST(GpuKernelLogic, NonFiniteAndUnsuitableTargets) {
 TEST(GpuKernelLogic, AllOperatorsWithinFloat32Tolerance) {
   // The CPU evaluator's exp2, log2, sin, ... are SIMD approximations and the GPU's are CUDA's:
   // both within a few ulp of libm, so losses agree to float32 tolerance (a formula that
-  // magnifies an ulp without bound may not; nearly all must).
+  // magnifies an ulp without bound may not; nearly all must). Formulas with copysign are left
+  // out: with a NaN second operand it copies that NaN's sign bit, which x86 and CUDA set
+  // differently (op.hpp); InterpreterGivesTheScalarSemanticsBitForBit covers it on the CPU.
   Rng rng(93);
   const std::vector<std::string> vars = {"x", "y"};
   const std::size_t rows = 4096;
   const RandomColumns in(rng, 2, rows, 0.05, 2.0);
   std::vector<double> y(rows);
   for (double& t : y) t = uniform(rng, 0.1, 1.0);
-  const std::vector<Expression> pop =
-      gpu_test::random_population(rng, 300, vars, 10, 30, OpSet::All);
+  std::vector<Expression> pop = gpu_test::random_population(rng, 300, vars, 10, 30, OpSet::All);
+  std::erase_if(pop, [](const Expression& e) {
+    return std::any_of(e.nodes.begin(), e.nodes.end(),
+                       [](const Node& n) { return n.op == Op::CopySign; });
+  });
   const std::vector<const Expression*> ptrs = gpu_test::pointers_to(pop);
   HostPopulation host(ptrs, in.pointers, y);
   const std::vector<RowSums> sums = emulate_population(host.view(Loss::Mse), pop.size());

@@ -59,7 +59,8 @@ SF_CPU_GPU inline void binary_rows(float (&x)[R], const float (&y)[R]) {
 // Evaluates one packed program on R rows at once: columns holds the variables one after the
 // other (variable v of row r at columns[v * column_stride + r]); row[j] names the j-th row.
 // The program must be well formed with a stack depth <= kMaxStack (pack_population checks it).
-// Values are those of apply_unary / apply_binary / apply_ipow / apply_fma in float32.
+// Values are those of apply_unary / apply_binary / apply_ipow / apply_fma / apply_select in
+// float32.
 template <int R>
 SF_CPU_GPU inline void run_program(const GpuNode* code, std::uint32_t count, const float* columns,
                                    std::size_t column_stride, const std::size_t (&row)[R],
@@ -110,6 +111,10 @@ SF_CPU_GPU inline void run_program(const GpuNode* code, std::uint32_t count, con
         --sp;
         binary_rows<Op::Pow>(st[sp - 1], st[sp]);
         break;
+      case Op::CopySign:
+        --sp;
+        binary_rows<Op::CopySign>(st[sp - 1], st[sp]);
+        break;
       case Op::Neg: unary_rows<Op::Neg>(st[sp - 1]); break;
       case Op::IPow:
         for (int j = 0; j < R; ++j) st[sp - 1][j] = apply_ipow(st[sp - 1][j], int{n.index});
@@ -125,10 +130,16 @@ SF_CPU_GPU inline void run_program(const GpuNode* code, std::uint32_t count, con
       case Op::Saturate: unary_rows<Op::Saturate>(st[sp - 1]); break;
       case Op::Sin: unary_rows<Op::Sin>(st[sp - 1]); break;
       case Op::Cos: unary_rows<Op::Cos>(st[sp - 1]); break;
+      case Op::Sign: unary_rows<Op::Sign>(st[sp - 1]); break;
       case Op::Fma:
         sp -= 2;
         for (int j = 0; j < R; ++j)
           st[sp - 1][j] = apply_fma(st[sp - 1][j], st[sp][j], st[sp + 1][j]);
+        break;
+      case Op::Select:
+        sp -= 2;
+        for (int j = 0; j < R; ++j)
+          st[sp - 1][j] = apply_select(st[sp - 1][j], st[sp][j], st[sp + 1][j]);
         break;
       default: break;  // packing admits no other opcode
     }

@@ -94,8 +94,9 @@ ErrorMetrics SearchContext::score(const Expression& e) {
 namespace {
 
 // Operators whose result can be finite while an operand is not (x / inf = 0, rcp(inf) = 0,
-// min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2): a
-// NaN or an infinity can hide below them. Through every other operator it reaches the result.
+// min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2,
+// sign(inf) = 1, copysign(x, inf) = |x|, select's branch not taken): a NaN or an infinity can
+// hide below them. Through every other operator it reaches the result.
 bool absorbs_non_finite(const Node& n) {
   switch (n.op) {
     case Op::Div:
@@ -106,7 +107,10 @@ bool absorbs_non_finite(const Node& n) {
     case Op::Saturate:
     case Op::Exp2:
     case Op::Exp:
-    case Op::Pow: return true;
+    case Op::Pow:
+    case Op::Sign:
+    case Op::CopySign:
+    case Op::Select: return true;
     case Op::IPow: return n.index < 0;
     default: return false;
   }

@@ -59,7 +59,7 @@ Nodes fold_parameter_subtrees(const Nodes& in) {
       else if (a == 2)
         value = apply_binary(n.op, kids[0].value, kids[1].value);
       else
-        value = apply_fma(kids[0].value, kids[1].value, kids[2].value);
+        value = apply_ternary(n.op, kids[0].value, kids[1].value, kids[2].value);
     }
     if (constant && has_param && a > 0 && std::isfinite(value)) {
       out.resize(start);

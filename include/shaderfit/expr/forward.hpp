@@ -7,7 +7,7 @@
 //   value_type leaf(const Node& n, std::size_t depth);  // Const, Param, Var at stack depth `depth`
 //   void unary(const Node& n, value_type& a);           // a = n.op(a) (IPow: exponent n.index)
 //   void binary(Op op, value_type& a, const value_type& b);                      // a = op(a, b)
-//   void ternary(Op op, value_type& a, const value_type& b, const value_type& c);  // a = fma
+//   void ternary(Op op, value_type& a, const value_type& b, const value_type& c);  // fma, select
 // PointNumbers below is the policy of a scalar-like type (double, Jet): each operator is
 // expr/op.hpp's apply_* on it.
 #pragma once
@@ -74,7 +74,7 @@ struct PointNumbers {
     a = n.op == Op::IPow ? apply_ipow(a, n.index) : apply_unary(n.op, a);
   }
   void binary(Op op, T& a, const T& b) const { a = apply_binary(op, a, b); }
-  void ternary(Op /*fma*/, T& a, const T& b, const T& c) const { a = apply_fma(a, b, c); }
+  void ternary(Op op, T& a, const T& b, const T& c) const { a = apply_ternary(op, a, b, c); }
 };
 
 // e at one point, on numbers of type T (a Jet gives every derivative it carries).

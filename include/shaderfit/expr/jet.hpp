@@ -6,7 +6,8 @@
 // at a, Jet::variable(a, n), gives every derivative up to order n - 1 to rounding error: no step
 // size, no cancellation, unlike finite differences. Expressions are evaluated on jets by
 // expr/forward.hpp, with the operators' meaning from expr/op.hpp. Comparisons look at the value
-// c_0 only, so branches (min, max, abs, saturate) follow the branch taken at the point itself.
+// c_0 only, so branches (min, max, abs, saturate, sign, copysign, select) follow the branch
+// taken at the point itself.
 #pragma once
 
 #include <array>
@@ -176,6 +177,10 @@ inline Jet atan(const Jet& a) {
   return integrate_series(d, std::atan(a.c[0]), a.n);
 }
 inline Jet abs(const Jet& a) { return a.c[0] < 0 ? -a : a; }
+// |a| with b's sign bit, as std::copysign: a or -a by the sign bits of the two values.
+inline Jet copysign(const Jet& a, const Jet& b) {
+  return std::signbit(a.c[0]) != std::signbit(b.c[0]) ? -a : a;
+}
 // min and max by the value; a tie takes the first argument.
 inline Jet fmin(const Jet& a, const Jet& b) { return b.c[0] < a.c[0] ? b : a; }
 inline Jet fmax(const Jet& a, const Jet& b) { return b.c[0] > a.c[0] ? b : a; }

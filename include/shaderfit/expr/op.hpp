@@ -2,12 +2,13 @@
 // derivatives: the one statement of what each operator computes.
 //
 // Every backend (CPU evaluator, search, GPU, code generation) computes what `apply_unary`,
-// `apply_binary`, `apply_ipow` and `apply_fma` below define; the SIMD and GPU paths are tested
-// against them. They are templates on the number type: the scalar evaluator instantiates them on
-// float and double, the search's vector kernels on vectors, and forward-mode differentiation on
-// Taylor jets (expr/jet.hpp, through expr/forward.hpp), whose arithmetic and elementary functions
-// are found by argument-dependent lookup. The Jacobian evaluator pairs each value with the first
-// derivatives defined beside it (`unary_derivative`, `binary_partials`, `ipow_derivative`).
+// `apply_binary`, `apply_ipow`, `apply_fma` and `apply_select` below define; the SIMD and GPU paths
+// are tested against them. They are templates on the number type: the scalar evaluator instantiates
+// them on float and double, the search's vector kernels on vectors, and forward-mode
+// differentiation on Taylor jets (expr/jet.hpp, through expr/forward.hpp), whose arithmetic and
+// elementary functions are found by argument-dependent lookup. The Jacobian evaluator pairs each
+// value with the first derivatives defined beside it (`unary_derivative`, `binary_partials`,
+// `ipow_derivative`, `ternary_partials`).
 #pragma once
 
 #include <cmath>
@@ -55,6 +56,13 @@ enum class Op : std::uint8_t {
   Cos,
   // Ternary.
   Fma,  // fma(a, b, c) = a * b + c
+  // Operators added later go last: exact JSON stores operators by number.
+  Sign,  // unary: 1 for a > 0, -1 for a < 0, a itself for +-0 and NaN
+  // binary: |a| with the sign bit of b, as C's copysign: copysign(2, -0.0) = -2. For a NaN b the
+  // sign is that NaN's sign bit, which backends set differently (x86 makes negative NaNs, CUDA
+  // positive ones): the search rejects formulas with a NaN there (not finite everywhere).
+  CopySign,
+  Select,  // ternary: select(a, b, c) = a >= 0 ? b : c; -0.0 takes b, NaN takes c
   Count_
 };
 
@@ -70,14 +78,15 @@ struct OpInfo {
 };
 
 inline constexpr OpInfo kOpInfo[kOpCount] = {
-    {"const", 0, false, false}, {"param", 0, false, false}, {"var", 0, false, false},
-    {"+", 2, true, true},       {"-", 2, false, true},      {"*", 2, true, true},
-    {"/", 2, false, true},      {"min", 2, true, false},    {"max", 2, true, false},
-    {"pow", 2, false, false},   {"neg", 1, false, false},   {"ipow", 1, false, false},
-    {"sqrt", 1, false, false},  {"rsqrt", 1, false, false}, {"rcp", 1, false, false},
-    {"exp2", 1, false, false},  {"log2", 1, false, false},  {"exp", 1, false, false},
-    {"log", 1, false, false},   {"abs", 1, false, false},   {"saturate", 1, false, false},
-    {"sin", 1, false, false},   {"cos", 1, false, false},   {"fma", 3, false, false},
+    {"const", 0, false, false}, {"param", 0, false, false},    {"var", 0, false, false},
+    {"+", 2, true, true},       {"-", 2, false, true},         {"*", 2, true, true},
+    {"/", 2, false, true},      {"min", 2, true, false},       {"max", 2, true, false},
+    {"pow", 2, false, false},   {"neg", 1, false, false},      {"ipow", 1, false, false},
+    {"sqrt", 1, false, false},  {"rsqrt", 1, false, false},    {"rcp", 1, false, false},
+    {"exp2", 1, false, false},  {"log2", 1, false, false},     {"exp", 1, false, false},
+    {"log", 1, false, false},   {"abs", 1, false, false},      {"saturate", 1, false, false},
+    {"sin", 1, false, false},   {"cos", 1, false, false},      {"fma", 3, false, false},
+    {"sign", 1, false, false},  {"copysign", 2, false, false}, {"select", 3, false, false},
 };
 
 constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<int>(op)]; }
@@ -124,13 +133,15 @@ SF_OP_INLINE T apply_unary(Op op, T a) {
     case Op::Saturate: return a < T(0) ? T(0) : (a > T(1) ? T(1) : a);
     case Op::Sin: return sin(a);
     case Op::Cos: return cos(a);
+    // a * 0 keeps the zero's sign and a NaN, and has no derivative part (Taylor jets).
+    case Op::Sign: return a > T(0) ? T(1) : (a < T(0) ? T(-1) : a * T(0));
     default: return a / T(0) * T(0);  // NaN: not a unary operator
   }
 }
 
 template <typename T>
 SF_OP_INLINE T apply_binary(Op op, T a, T b) {
-  using std::exp2, std::fmax, std::fmin, std::log2;
+  using std::copysign, std::exp2, std::fmax, std::fmin, std::log2;
   switch (op) {
     case Op::Add: return a + b;
     case Op::Sub: return a - b;
@@ -139,6 +150,7 @@ SF_OP_INLINE T apply_binary(Op op, T a, T b) {
     case Op::Min: return fmin(a, b);
     case Op::Max: return fmax(a, b);
     case Op::Pow: return exp2(b * log2(a));
+    case Op::CopySign: return copysign(a, b);
     default: return a / T(0) * T(0);
   }
 }
@@ -146,6 +158,20 @@ SF_OP_INLINE T apply_binary(Op op, T a, T b) {
 template <typename T>
 SF_OP_INLINE T apply_fma(T a, T b, T c) {
   return a * b + c;
+}
+
+// select(a, b, c) = a >= 0 ? b : c: -0.0 takes b, NaN takes c. `zero` is T's 0 (given
+// explicitly by number types without a conversion from int: vectors, whose comparison gives a
+// lane mask that `?:` applies lane by lane).
+template <typename T>
+SF_OP_INLINE T apply_select(T a, T b, T c, T zero = T(0)) {
+  return a >= zero ? b : c;
+}
+
+// The ternary operators by name: Fma or Select.
+template <typename T>
+SF_OP_INLINE T apply_ternary(Op op, T a, T b, T c) {
+  return op == Op::Select ? apply_select(a, b, c) : apply_fma(a, b, c);
 }
 
 // d apply_unary(op, a) / da, given y = apply_unary(op, a). Kinks (abs at 0, saturate at 0 and 1)
@@ -167,6 +193,7 @@ SF_OP_INLINE T unary_derivative(Op op, T a, T y) {
     case Op::Saturate: return a > T(0) && a < T(1) ? T(1) : T(0);
     case Op::Sin: return cos(a);
     case Op::Cos: return -sin(a);
+    case Op::Sign: return T(0);
     default: return a / T(0) * T(0);  // NaN: not a unary operator (IPow: ipow_derivative)
   }
 }
@@ -186,7 +213,7 @@ struct BinaryPartials {
 
 template <typename T>
 SF_OP_INLINE BinaryPartials<T> binary_partials(Op op, T a, T b, T y) {
-  using std::log;
+  using std::copysign, std::log;
   switch (op) {
     case Op::Add: return {T(1), T(1)};
     case Op::Sub: return {T(1), T(-1)};
@@ -201,10 +228,26 @@ SF_OP_INLINE BinaryPartials<T> binary_partials(Op op, T a, T b, T y) {
       return {in_a, T(1) - in_a};
     }
     case Op::Pow: return {b * y / a, y * log(a)};
+    // d/da = sign(a) * (sign of b) (0 at a = +-0); b only contributes its sign bit: d/db = 0.
+    case Op::CopySign: return {apply_unary(Op::Sign, a) * copysign(T(1), b), T(0)};
     default: return {a / T(0) * T(0), a / T(0) * T(0)};  // NaN: not a binary operator
   }
 }
 
-// The partials of apply_fma(a, b, c) in a, b and c are b, a and 1.
+// The partials of a ternary operator in a, b and c: fma's are b, a and 1; select's are 0, the
+// condition (1 where a >= 0, else 0) and its complement (the condition is flat almost everywhere).
+template <typename T>
+struct TernaryPartials {
+  T da, db, dc;
+};
+
+template <typename T>
+SF_OP_INLINE TernaryPartials<T> ternary_partials(Op op, T a, T b, T /*c*/) {
+  if (op == Op::Select) {
+    const T in_b = apply_select(a, T(1), T(0));
+    return {T(0), in_b, T(1) - in_b};
+  }
+  return {b, a, T(1)};
+}
 
 }  // namespace shaderfit
