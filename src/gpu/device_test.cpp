@@ -237,12 +237,12 @@ TEST(GpuDevice, EnumerationStepMatchesTheCpuBitForBit) {
   const std::size_t columns = 50;
   for (std::size_t c = 0; c < columns * n; ++c)
     store.push_back(static_cast<float>(uniform(rng, -1.5, 2.0)));
-  const gpu_detail::ColumnOp kinds[] = {gpu_detail::ColumnOp::AddSub, gpu_detail::ColumnOp::Mul,
-                                        gpu_detail::ColumnOp::Div,    gpu_detail::ColumnOp::IPow,
-                                        gpu_detail::ColumnOp::Unary,  gpu_detail::ColumnOp::Min,
-                                        gpu_detail::ColumnOp::Max,    gpu_detail::ColumnOp::Pow};
-  const Op unary[] = {Op::Sqrt, Op::Rcp, Op::Exp2, Op::Log2,
-                      Op::Exp,  Op::Log, Op::Abs,  Op::Saturate};
+  const gpu_detail::ColumnOp kinds[] = {
+      gpu_detail::ColumnOp::AddSub, gpu_detail::ColumnOp::Mul,   gpu_detail::ColumnOp::Div,
+      gpu_detail::ColumnOp::IPow,   gpu_detail::ColumnOp::Unary, gpu_detail::ColumnOp::Min,
+      gpu_detail::ColumnOp::Max,    gpu_detail::ColumnOp::Pow,   gpu_detail::ColumnOp::CopySign};
+  const Op unary[] = {Op::Sqrt, Op::Rcp, Op::Exp2,     Op::Log2, Op::Exp,
+                      Op::Log,  Op::Abs, Op::Saturate, Op::Sign};
   for (Loss loss : {Loss::Mse, Loss::MaxAbs, Loss::Log}) {
     gpu_detail::GpuScreen gpu(y, w, log2_y, wyy, loss);
     gpu.add_columns(std::span(store).first(10 * n));  // in two appends, as an enumerator would

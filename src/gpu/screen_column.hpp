@@ -29,7 +29,7 @@ inline constexpr float kMaxRelativeError = 1e15f;
 
 // What a candidate computes from operand columns a and b (the enumerator's EKind without the
 // leaves; a fused sum is computed as AddSub).
-enum class ColumnOp : std::uint8_t { Unary, IPow, AddSub, Mul, Div, Min, Max, Pow };
+enum class ColumnOp : std::uint8_t { Unary, IPow, AddSub, Mul, Div, Min, Max, Pow, CopySign };
 
 struct ColumnCandidate {
   std::uint32_t a = 0, b = 0;  // operand columns (indices into the column store)
@@ -129,6 +129,7 @@ SF_CPU_GPU inline float screen_unary(Op op, float a) {
     case Op::Log: return screen_log2(a) * 0.69314718f;
     case Op::Abs: return screen_detail::abs_bits(a);
     case Op::Saturate: return a < 0.0f ? 0.0f : (a > 1.0f ? 1.0f : a);
+    case Op::Sign: return a > 0.0f ? 1.0f : (a < 0.0f ? -1.0f : a * 0.0f);
     default: return apply_unary(op, a);
   }
 }
@@ -152,6 +153,8 @@ SF_CPU_GPU inline float screen_row(const ColumnCandidate& c, float a, float b) {
       return y > a ? y : a;
     }
     case ColumnOp::Pow: return screen_exp2(sb * b * screen_log2(a));
+    case ColumnOp::CopySign:
+      return bits_float((float_bits(a) & 0x7fffffffu) | (float_bits(sb * b) & 0x80000000u));
   }
   return screen_detail::nan_value();
 }

@@ -28,7 +28,8 @@ bool sign_sensitive(Op op) {
     case Op::Rcp:
     case Op::Abs:
     case Op::Sin:
-    case Op::Cos: return false;
+    case Op::Cos:
+    case Op::Sign: return false;
     default: return true;
   }
 }
@@ -40,7 +41,7 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
   unary.fill(-1);
   binary.fill(-1);
   for (Op op : {Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2, Op::Log2, Op::Exp, Op::Log, Op::Abs,
-                Op::Saturate, Op::Sin, Op::Cos}) {
+                Op::Saturate, Op::Sin, Op::Cos, Op::Sign}) {
     if (has(o, op))
       unary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, Node::op_node(op)}) - leaf);
   }
@@ -52,7 +53,7 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
     binary[static_cast<int>(Op::Add)] =
         at_least_one(cost_of(o, {a, b, Node::op_node(Op::Add)}) - 2 * leaf);
   }
-  for (Op op : {Op::Mul, Op::Div, Op::Min, Op::Max, Op::Pow}) {
+  for (Op op : {Op::Mul, Op::Div, Op::Min, Op::Max, Op::Pow, Op::CopySign}) {
     if (has(o, op))
       binary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, b, Node::op_node(op)}) - 2 * leaf);
   }

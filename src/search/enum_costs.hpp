@@ -29,7 +29,8 @@ struct Enumerator::Costs {
   int literal = 0;                          // a literal constant
   std::array<int, kOpCount> unary{};        // -1: not enumerated
   std::vector<std::pair<int, int>> powers;  // (k, increment)
-  std::array<int, kOpCount> binary{};  // by Op::Add (for AddSub), Mul, Div, Min, Max, Pow; -1: off
+  // By Op::Add (for AddSub), Mul, Div, Min, Max, Pow, CopySign; -1: off.
+  std::array<int, kOpCount> binary{};
   int fused = -1;                      // m +- b over cost(m) + cost(b); -1: fusion saves nothing
   std::vector<LiteralGroup> literal_groups;  // filled once the literal classes exist
 

@@ -78,6 +78,11 @@ class Builder {
         nodes.push_back(Node::op_node(Op::Pow));
         if (neg) nodes.push_back(Node::op_node(Op::Neg));
         return;
+      case EKind::CopySign:  // -copysign(a, b) = copysign(a, -b)
+        build(r.a, false);
+        build(r.b, neg_b != neg);
+        nodes.push_back(Node::op_node(Op::CopySign));
+        return;
     }
   }
 

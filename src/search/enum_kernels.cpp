@@ -105,6 +105,8 @@ SF_INLINE v8f vunary(Op op, v8f a) {
     case Op::Log: return vlog2(a) * 0.69314718f;
     case Op::Abs: return std::bit_cast<v8f>(std::bit_cast<v8i>(a) & 0x7fffffff);
     case Op::Saturate: return select(a < 0.0f, splat(0.0f), select(a > 1.0f, splat(1.0f), a));
+    case Op::Sign:  // as apply_unary: +-1, and a * 0 for zeros and NaN
+      return select(a > 0.0f, splat(1.0f), select(a < 0.0f, splat(-1.0f), a * 0.0f));
     default: {
       v8f r = {};
       for (int l = 0; l < 8; ++l) r[l] = apply_unary(op, a[l]);  // sin, cos: rare, scalar
@@ -152,6 +154,13 @@ SF_KERNEL void compute_column(EKind kind, Op unary, int k, const float* a, const
     case EKind::Pow:
       for (std::size_t i = 0; i < n; i += 8)
         store(out + i, vexp2(sb * load(b + i) * vlog2(load(a + i))));
+      return;
+    case EKind::CopySign:
+      for (std::size_t i = 0; i < n; i += 8) {
+        const v8i x = std::bit_cast<v8i>(load(a + i)), y = std::bit_cast<v8i>(sb * load(b + i));
+        store(out + i, std::bit_cast<v8f>((x & 0x7fffffff) |
+                                          (y & std::numeric_limits<std::int32_t>::min())));
+      }
       return;
     case EKind::Var:
     case EKind::Literal: return;  // leaves are filled by the caller

@@ -32,6 +32,7 @@ enum class EKind : std::uint8_t {
   Max,       // max(a, +-b)
   Pow,       // pow(a, +-b)
   FusedAdd,  // m +- b where m's last instruction is a multiply (one FMA)
+  CopySign,  // copysign(a, +-b)
 };
 
 inline constexpr std::size_t kHashRows = 16;

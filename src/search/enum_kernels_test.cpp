@@ -32,6 +32,11 @@ TEST(EnumKernels, ArithmeticIsExactFloat) {
   for (std::size_t i = 0; i < kRows; ++i) EXPECT_EQ(out[i], apply_ipow(a[i], 5));
   compute_column(EKind::Min, Op::Const, 0, a.data(), b.data(), false, true, out.data(), kRows);
   for (std::size_t i = 0; i < kRows; ++i) EXPECT_EQ(out[i], std::fmin(a[i], -b[i]));
+  compute_column(EKind::CopySign, Op::Const, 0, a.data(), b.data(), false, true, out.data(), kRows);
+  for (std::size_t i = 0; i < kRows; ++i)
+    EXPECT_EQ(out[i], apply_binary(Op::CopySign, a[i], -b[i]));
+  compute_column(EKind::Unary, Op::Sign, 0, a.data(), nullptr, true, false, out.data(), kRows);
+  for (std::size_t i = 0; i < kRows; ++i) EXPECT_EQ(out[i], apply_unary(Op::Sign, -a[i]));
 }
 
 TEST(EnumKernels, TranscendentalsAreCloseToLibm) {

@@ -29,6 +29,7 @@ int pair_variants(EKind kind, Variant* v) {
       v[1] = {false, false, true};
       return 2;
     case EKind::Div:
+    case EKind::CopySign:  // copysign(b, a) too; signs are free (a's is dropped, b's negates)
       v[0] = {};
       v[1] = {true, false, false};
       return 2;
@@ -137,9 +138,10 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
     s.order = level - d;
     steps.push_back(s);
   }
-  const std::pair<EKind, Op> binaries[] = {{EKind::AddSub, Op::Add}, {EKind::Mul, Op::Mul},
-                                           {EKind::Div, Op::Div},    {EKind::Min, Op::Min},
-                                           {EKind::Max, Op::Max},    {EKind::Pow, Op::Pow}};
+  const std::pair<EKind, Op> binaries[] = {{EKind::AddSub, Op::Add},       {EKind::Mul, Op::Mul},
+                                           {EKind::Div, Op::Div},          {EKind::Min, Op::Min},
+                                           {EKind::Max, Op::Max},          {EKind::Pow, Op::Pow},
+                                           {EKind::CopySign, Op::CopySign}};
   for (const auto& [kind, op] : binaries) {
     const int d = c.binary[static_cast<std::size_t>(op)];
     if (d < 0) continue;

@@ -25,7 +25,8 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
   // differ elsewhere, so with them every screen row is checked.
   bool piecewise = false;
   for (Op op : o.operators)
-    piecewise = piecewise || op == Op::Min || op == Op::Max || op == Op::Abs || op == Op::Saturate;
+    piecewise = piecewise || op == Op::Min || op == Op::Max || op == Op::Abs ||
+                op == Op::Saturate || op == Op::Sign || op == Op::CopySign || op == Op::Select;
   store_ = std::make_unique<ClassStore>(screen_rows_, o.max_classes, piecewise ? screen_rows_ : 64);
   const std::size_t levels = static_cast<std::size_t>(std::max(o.max_enumeration_cost, 0)) + 2;
   level_ids_.resize(levels);

@@ -88,6 +88,33 @@ TEST(Variation, ChildrenAreWellFormedAndWithinLimits) {
   }
 }
 
+// With select, sign and copysign among the operators, random formulas and mutations use them
+// (select also by wrapping a subtree), and every child stays well formed.
+TEST(Variation, NewOperatorsAppearAndStayWellFormed) {
+  Rng rng(12);
+  VariationLimits l = limits();
+  l.operators = {Op::Add, Op::Mul, Op::Select, Op::Sign, Op::CopySign};
+  int seen[3] = {0, 0, 0};
+  Expression e;
+  for (int i = 0; i < 3000; ++i) {
+    while (e.empty()) e = random_formula(rng, l, 3);
+    Expression c = mutate(rng, e, l);
+    if (c.empty()) continue;
+    Expression copy = c;
+    ASSERT_NO_THROW(copy.update_lengths());
+    ASSERT_LE(c.parameters.size(), 3u);
+    for (const Node& n : c.nodes) {
+      seen[0] += n.op == Op::Select;
+      seen[1] += n.op == Op::Sign;
+      seen[2] += n.op == Op::CopySign;
+    }
+    e = bernoulli(rng, 0.1) ? Expression{} : c;
+  }
+  EXPECT_GT(seen[0], 0);
+  EXPECT_GT(seen[1], 0);
+  EXPECT_GT(seen[2], 0);
+}
+
 TEST(Variation, LinearScalingForm) {
   Expression e;
   e.variables = {"x"};

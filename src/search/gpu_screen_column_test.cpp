@@ -38,6 +38,7 @@ EKind ekind(ColumnOp op) {
     case ColumnOp::Min: return EKind::Min;
     case ColumnOp::Max: return EKind::Max;
     case ColumnOp::Pow: return EKind::Pow;
+    case ColumnOp::CopySign: return EKind::CopySign;
   }
   return EKind::AddSub;
 }
@@ -121,10 +122,11 @@ TEST(GpuKernelLogic, ColumnKeyTwinMatchesTheEnumerator) {
 
 TEST(GpuKernelLogic, ColumnStepMatchesTheEnumeratorBitForBit) {
   Rng rng(72);
-  const Op unary[] = {Op::Neg, Op::Sqrt, Op::Rsqrt, Op::Rcp,      Op::Exp2, Op::Log2,
-                      Op::Exp, Op::Log,  Op::Abs,   Op::Saturate, Op::Sin,  Op::Cos};
-  const ColumnOp kinds[] = {ColumnOp::Unary, ColumnOp::IPow, ColumnOp::AddSub, ColumnOp::Mul,
-                            ColumnOp::Div,   ColumnOp::Min,  ColumnOp::Max,    ColumnOp::Pow};
+  const Op unary[] = {Op::Neg, Op::Sqrt, Op::Rsqrt,    Op::Rcp, Op::Exp2, Op::Log2, Op::Exp,
+                      Op::Log, Op::Abs,  Op::Saturate, Op::Sin, Op::Cos,  Op::Sign};
+  const ColumnOp kinds[] = {ColumnOp::Unary, ColumnOp::IPow, ColumnOp::AddSub,
+                            ColumnOp::Mul,   ColumnOp::Div,  ColumnOp::Min,
+                            ColumnOp::Max,   ColumnOp::Pow,  ColumnOp::CopySign};
   const Loss losses[] = {Loss::Mse, Loss::Relative, Loss::MaxAbs, Loss::Log};
   int checked = 0;
   for (int trial = 0; trial < 400; ++trial) {
@@ -165,7 +167,7 @@ TEST(GpuKernelLogic, ColumnStepMatchesTheEnumeratorBitForBit) {
       ++checked;
     }
   }
-  EXPECT_EQ(checked, 400 * 32);
+  EXPECT_EQ(checked, 400 * 4 * static_cast<int>(std::size(kinds)));
 }
 
 TEST(GpuKernelLogic, FusedSumIsComputedAsAddSub) {

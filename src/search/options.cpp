@@ -16,10 +16,11 @@ namespace shaderfit {
 
 namespace {
 
-constexpr Op kSearchable[] = {Op::Add,  Op::Sub,   Op::Mul, Op::Div,      Op::IPow,
-                              Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2,     Op::Log2,
-                              Op::Exp,  Op::Log,   Op::Abs, Op::Saturate, Op::Sin,
-                              Op::Cos,  Op::Min,   Op::Max, Op::Pow};
+// The enumeration builds every unary and binary one; select (ternary) only the evolution does.
+constexpr Op kSearchable[] = {Op::Add,   Op::Sub,      Op::Mul,      Op::Div,   Op::IPow, Op::Sqrt,
+                              Op::Rsqrt, Op::Rcp,      Op::Exp2,     Op::Log2,  Op::Exp,  Op::Log,
+                              Op::Abs,   Op::Saturate, Op::Sin,      Op::Cos,   Op::Min,  Op::Max,
+                              Op::Pow,   Op::Sign,     Op::CopySign, Op::Select};
 
 bool searchable(Op op) {
   return std::find(std::begin(kSearchable), std::end(kSearchable), op) != std::end(kSearchable);

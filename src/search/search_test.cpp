@@ -76,6 +76,55 @@ SearchOptions small_budget(int threads) {
   return o;
 }
 
+// Inputs of both signs, with a target computed by `f`.
+SearchProblem signed_problem(double (*f)(double, double)) {
+  Rng rng(5);
+  SearchProblem p;
+  p.input_names = {"a", "b"};
+  p.inputs.assign(2, {});
+  for (int i = 0; i < 400; ++i) {
+    const double a = uniform(rng, -1.0, 1.0), b = uniform(rng, -1.0, 1.0);
+    p.inputs[0].push_back(a);
+    p.inputs[1].push_back(b);
+    p.target.push_back(f(a, b));
+  }
+  return p;
+}
+
+TEST(Search, EnumerationUsesSignAndCopysignWhenAsked) {
+  SearchOptions o;
+  o.evolve = false;
+  o.time_limit_s = 120;
+  o.max_enumeration_cost = 4;
+  o.operators = parse_operator_list("+,-,*,^,copysign,sign");
+  o.stop_at = SearchTarget{1e-20, 4};
+  for (auto f : {+[](double a, double b) { return std::copysign(a * a, b); },
+                 +[](double a, double b) { return (a > 0 ? 1.0 : -1.0) * b; }}) {
+    const SearchProblem p = signed_problem(f);
+    SearchSummary s;
+    run_search(o, p, &s);
+    const FrontMember* m = best_within(s, 4);
+    ASSERT_NE(m, nullptr);
+    EXPECT_LE(m->metrics.mse, 1e-20) << m->formula;
+    EXPECT_EQ(s.termination, Termination::TargetReached) << m->formula;
+    std::printf("found %s (cost %g)\n", m->formula.c_str(), m->cost);
+  }
+}
+
+TEST(Search, EvolutionUsesSelectWhenAsked) {
+  SearchOptions o = small_budget(1);
+  o.evolution_operators = parse_operator_list("select,sign");
+  const SearchProblem p =
+      signed_problem(+[](double a, double b) { return a >= 0 ? b * b : a + 0.5; });
+  SearchSummary s;
+  run_search(o, p, &s);
+  ASSERT_FALSE(s.front.empty());
+  bool any = false;
+  for (const FrontMember& m : s.front) any = any || m.formula.find("select(") != std::string::npos;
+  std::printf("front of %zu, select used: %d; best %s\n", s.front.size(), any ? 1 : 0,
+              s.front.back().formula.c_str());
+}
+
 void expect_same_front(const SearchSummary& a, const SearchSummary& b) {
   ASSERT_EQ(a.front.size(), b.front.size());
   for (std::size_t i = 0; i < a.front.size(); ++i) {

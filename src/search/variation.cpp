@@ -229,6 +229,10 @@ Expression mutate(Rng& rng, const Expression& e, const VariationLimits& l) {
           t.insert(t.end(), leaf.begin(), leaf.end());
         else
           t.insert(t.begin(), leaf.begin(), leaf.end());
+      } else if (op.op == Op::Select) {  // select(leaf, t, leaf): t taken where leaf >= 0
+        Nodes cond{random_leaf(rng, l, room_for_param)};
+        t.insert(t.begin(), cond.begin(), cond.end());
+        t.push_back(random_leaf(rng, l, false));
       } else if (arity(op.op) == 3) {
         break;
       }
