@@ -20,6 +20,10 @@ constexpr Op kShadingEvolutionOperators[] = {Op::Pow, Op::Rsqrt, Op::Saturate};
 // A target whose largest magnitude exceeds its median magnitude by this factor has a high dynamic
 // range (a sharp peak, as a specular lobe): pow with a variable exponent is enumerated for it.
 constexpr double kHighDynamicRange = 100;
+// Where an input takes both signs the function may be odd or even in it, or reflected at 0 (as
+// acos, erf, atan): the enumeration gets sign and copysign, the evolution select.
+constexpr Op kBothSignsOperators[] = {Op::Sign, Op::CopySign};
+constexpr Op kBothSignsEvolutionOperators[] = {Op::Select};
 
 bool high_dynamic_range(const std::vector<double>& y) {
   std::vector<double> a(y.size());
@@ -31,16 +35,32 @@ bool high_dynamic_range(const std::vector<double>& y) {
   return largest > kHighDynamicRange * median;
 }
 
+bool an_input_takes_both_signs(const SearchProblem& p) {
+  return std::any_of(p.inputs.begin(), p.inputs.end(), [](const std::vector<double>& c) {
+    const auto [lo, hi] = std::minmax_element(c.begin(), c.end());
+    return lo != c.end() && *lo < 0 && *hi > 0;
+  });
+}
+
 }  // namespace
 
 SearchOptions resolve_auto_operators(SearchOptions o, const SearchProblem& p) {
+  const bool both_signs = an_input_takes_both_signs(p);
   if (is_auto_operators(o.operators)) {
     o.operators.assign(std::begin(kShadingOperators), std::end(kShadingOperators));
     if (!p.target.empty() && high_dynamic_range(p.target)) o.operators.push_back(Op::Pow);
+    if (both_signs)
+      o.operators.insert(o.operators.end(), std::begin(kBothSignsOperators),
+                         std::end(kBothSignsOperators));
   }
   if (is_auto_operators(o.evolution_operators)) {
+    std::vector<Op> wanted(std::begin(kShadingEvolutionOperators),
+                           std::end(kShadingEvolutionOperators));
+    if (both_signs)
+      wanted.insert(wanted.end(), std::begin(kBothSignsEvolutionOperators),
+                    std::end(kBothSignsEvolutionOperators));
     o.evolution_operators.clear();
-    for (Op op : kShadingEvolutionOperators)
+    for (Op op : wanted)
       if (std::find(o.operators.begin(), o.operators.end(), op) == o.operators.end())
         o.evolution_operators.push_back(op);
   }

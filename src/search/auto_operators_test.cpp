@@ -57,6 +57,12 @@ TEST(AutoOperators, TheShadingSetAndPowForAHighDynamicRange) {
       resolve_auto_operators(o, one_input(0, 1, [](double x) { return std::pow(x, 40.0); }));
   EXPECT_TRUE(has(peak.operators, Op::Pow));
   EXPECT_EQ(operator_list_name(peak.evolution_operators), "rsqrt,saturate");
+  // An input of both signs: sign and copysign in the enumeration, select in the evolution.
+  const SearchOptions odd =
+      resolve_auto_operators(o, one_input(-1, 1, [](double x) { return std::atan(x); }));
+  EXPECT_EQ(operator_list_name(odd.operators),
+            "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,sign,copysign");
+  EXPECT_EQ(operator_list_name(odd.evolution_operators), "pow,rsqrt,saturate,select");
   // Lists that are not auto stay as given.
   SearchOptions given;
   const SearchOptions same =
