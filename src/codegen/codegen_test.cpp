@@ -65,6 +65,32 @@ TEST(Codegen, FunctionsPerLanguage) {
   EXPECT_NE(gen("x - 1 / y", Language::Cuda).find("x + -1.0f / y"), std::string::npos);
 }
 
+TEST(Codegen, SignCopysignSelectPerLanguage) {
+  const std::string f = "select(x >= y, sign(x), copysign(y, x)) + copysign(2, y)";
+  const std::string glsl = gen(f, Language::Glsl);
+  EXPECT_NE(glsl.find("uintBitsToFloat((floatBitsToUint(y) & 0x7fffffffu) | (floatBitsToUint(x) & "
+                      "0x80000000u))"),
+            std::string::npos)
+      << glsl;
+  EXPECT_NE(glsl.find("uintBitsToFloat(0x40000000u | (floatBitsToUint(y) & 0x80000000u))"),
+            std::string::npos)
+      << glsl;
+  EXPECT_NE(glsl.find("x < 0.0 ? -1.0 : x"), std::string::npos) << glsl;
+  EXPECT_NE(glsl.find(" >= 0.0 ? "), std::string::npos) << glsl;
+  const std::string hlsl = gen(f, Language::Hlsl);
+  EXPECT_NE(hlsl.find("asfloat((asuint(y) & 0x7fffffffu) | (asuint(x) & 0x80000000u))"),
+            std::string::npos)
+      << hlsl;
+  const std::string cuda = gen(f, Language::Cuda);
+  EXPECT_NE(cuda.find("fabsf(x) > 0.0f ? copysignf(1.0f, x) : x"), std::string::npos) << cuda;
+  EXPECT_NE(cuda.find("copysignf(y, x)"), std::string::npos) << cuda;
+  const std::string cpp = gen(f, Language::Cpp);
+  EXPECT_NE(cpp.find("std::copysign(2.0f, y)"), std::string::npos) << cpp;
+  // A negated condition is written a <= 0.
+  EXPECT_NE(gen("select(-x >= 0, y, 2)", Language::Metal).find("x <= 0.0f ? y : 2.0f"),
+            std::string::npos);
+}
+
 TEST(Codegen, ParametersAsArgumentsOrBaked) {
   ParseOptions po;
   po.parameters = {"s"};

@@ -37,6 +37,8 @@ std::vector<TargetInstruction> select(const Expression& e, InstructionTarget tar
 //   32-bit floating-point reciprocal, reciprocal square root, base-2 logarithm
 //   (__log2f), base-2 exponential (exp2f), sine (__sinf), cosine (__cosf) ......... 16
 //   compare, minimum, maximum ...................................................... 64
+//   (the MinMax unit; FSETP, FSEL and LOP3 are counted there too: 32-bit compare and
+//   bitwise AND/OR/XOR are 64 per clock in the same table)
 // PTX instructions run on the same units. The generic target has no hardware of its own; it uses
 // the same figures, taking sm_90 as the reference GPU (docs/cost-model.md).
 double throughput_weight(InstructionTarget /*target*/, InstructionUnit unit) {

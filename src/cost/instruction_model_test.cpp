@@ -112,6 +112,39 @@ TEST(InstructionModel, MufuOperations) {
   EXPECT_EQ(generic("exp(a)"), 1);
 }
 
+// sign, copysign and select: the counts nvcc and glslang gave (docs/cost-model.md; checked
+// against the compilers in src/codegen/compiler_check_test.cpp where they are installed).
+TEST(InstructionModel, SignCopysignSelect) {
+  struct Row {
+    const char* formula;
+    int sass, ptx, generic;
+  };
+  const Row rows[] = {
+      {"select(x - y >= 0, x * y, x + 1)", 4, 5, 5},
+      {"select(x >= 0, 2, 0.5) * y", 3, 3, 3},
+      {"sign(x) * y + sign(y)", 7, 9, 10},
+      {"copysign(x, y) * copysign(1, y) + copysign(x * x, -y)", 6, 6, 11},
+      {"select(-x >= 0, y, x * x) + select(-x >= 0, x * x, y) * y", 5, 5, 7},
+      {"select(x * y >= 0, sqrt(x), rcp(y))", 4, 5, 5},
+      {"sign(x - y) * copysign(y, x - y)", 6, 7, 9},
+      {"copysign(x + y, x - y) * 0.5", 4, 4, 6},
+      // Folds: a literal condition, equal branches, a literal sign.
+      {"select(2 >= 0, x, y) + select(x >= 0, y, y)", 1, 1, 1},
+      {"copysign(x, -2) * y", 1, 3, 3},
+  };
+  for (const Row& r : rows) {
+    const Expression e = parse_formula(r.formula);
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Sass), r.sass) << r.formula;
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Ptx), r.ptx) << r.formula;
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Generic), r.generic) << r.formula;
+  }
+  const InstructionCost c =
+      instruction_cost(parse_formula("select(x >= 0, 2, y * y)"), InstructionTarget::Sass);
+  EXPECT_EQ(c.instructions, 2);  // FSETP, FMUL under the predicate
+  EXPECT_EQ(c.minmax, 1);
+  EXPECT_EQ(c.listing[1].instruction.rfind("FSETP.GE", 0), 0u) << format_listing(c);
+}
+
 TEST(InstructionModel, WeightsFollowTheThroughputTable) {
   EXPECT_DOUBLE_EQ(throughput_weight(InstructionTarget::Sass, InstructionUnit::Fp32), 1.0);
   EXPECT_DOUBLE_EQ(throughput_weight(InstructionTarget::Sass, InstructionUnit::Mufu), 8.0);

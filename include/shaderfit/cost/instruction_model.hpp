@@ -35,7 +35,7 @@ enum class InstructionTarget : std::uint8_t { Sass, Ptx, Generic };
 // The hardware unit an instruction issues to; it sets the instruction's throughput weight.
 enum class InstructionUnit : std::uint8_t {
   Fp32,    // FADD, FMUL, FFMA (and their PTX / SPIR-V counterparts)
-  MinMax,  // FMNMX
+  MinMax,  // FMNMX, and the compares, selects and bit operations of select, sign and copysign
   Mufu,    // the multi-function unit: rcp, rsqrt, sqrt, exp2, log2, sin, cos
 };
 

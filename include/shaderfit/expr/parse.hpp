@@ -6,10 +6,20 @@
 //
 // Grammar: + - * / with the usual precedence, unary minus, `^` with an integer exponent from -16
 // to 16 (x^4, x^-2; binds tighter than unary minus, so -x^2 = -(x^2)), parentheses, calls
-// sqrt rsqrt rcp exp2 log2 exp log abs saturate sin cos (one argument), min max pow (two), fma
-// (three), `pow(a, k)` with an integer literal k in range becomes the integer power, numbers in
-// decimal or scientific notation, the constant `pi`, and identifiers [A-Za-z_][A-Za-z0-9_]*.
-// A minus sign directly before a number literal makes a negative constant (`-0.5`).
+// sqrt rsqrt rcp exp2 log2 exp log abs saturate sin cos sign (one argument), min max pow copysign
+// (two), fma (three), `pow(a, k)` with an integer literal k in range becomes the integer power,
+// numbers in decimal or scientific notation, the constant `pi`, and identifiers
+// [A-Za-z_][A-Za-z0-9_]*. A minus sign directly before a number literal makes a negative constant
+// (`-0.5`).
+//
+// `select(X cmp Y, b, c)` with cmp one of >= > <= < is the one comparison of the grammar (an
+// error anywhere else) and becomes the operator select(a, b, c) = a >= 0 ? b : c:
+//   select(X >= Y, b, c) -> select(X - Y, b, c)     select(X <= Y, b, c) -> select(Y - X, b, c)
+//   select(X > Y, b, c)  -> select(Y - X, c, b)     select(X < Y, b, c)  -> select(X - Y, c, b)
+// where a literal zero for the subtrahend is dropped (X >= 0: a = X) and one for the minuend makes
+// a negation (0 >= Y: a = -Y). The forms agree with the comparisons except where the difference
+// is NaN (X = Y = +-inf; and > and < take b for a NaN operand). The printer writes a select as
+// `select(a >= 0, b, c)`, which reads back to the same nodes.
 //
 // Size limits, far above any formula a shader would use, so that nothing that walks a parsed
 // formula recursively (the parser itself, the printers, simplify, the cost model) can run out of
