@@ -217,9 +217,12 @@ inline float eval1(const Expression& e, float x, float y) {
 
 // A random tree over variables x0..x{num_vars-1}, constants and one parameter, at most depth 4.
 inline void grow(Rng& rng, int depth, int num_vars, bool arithmetic_only, std::vector<Node>& out) {
-  static constexpr Op kArithmetic[] = {Op::Add, Op::Sub, Op::Mul,      Op::Div,  Op::Min,
-                                       Op::Max, Op::Neg, Op::IPow,     Op::Sqrt, Op::Rsqrt,
-                                       Op::Rcp, Op::Abs, Op::Saturate, Op::Fma};
+  // CopySign last: it is left out with the transcendental ops, whose NaNs carry a sign bit that
+  // differs between the SIMD functions and libm, and copysign reads that bit.
+  static constexpr Op kArithmetic[] = {Op::Add,    Op::Sub,     Op::Mul,      Op::Div,  Op::Min,
+                                       Op::Max,    Op::Neg,     Op::IPow,     Op::Sqrt, Op::Rsqrt,
+                                       Op::Rcp,    Op::Abs,     Op::Saturate, Op::Fma,  Op::Sign,
+                                       Op::Select, Op::CopySign};
   static constexpr Op kOther[] = {Op::Pow, Op::Exp2, Op::Log2, Op::Exp, Op::Log, Op::Sin, Op::Cos};
   if (depth == 0 || bernoulli(rng, 0.25)) {
     const double r = uniform01(rng);
@@ -231,7 +234,7 @@ inline void grow(Rng& rng, int depth, int num_vars, bool arithmetic_only, std::v
       out.push_back(Node::parameter(0));
     return;
   }
-  const std::size_t n_arith = std::size(kArithmetic);
+  const std::size_t n_arith = std::size(kArithmetic) - (arithmetic_only ? 0 : 1);
   const std::size_t pick =
       uniform_index(rng, arithmetic_only ? n_arith : n_arith + std::size(kOther));
   const Op op = pick < n_arith ? kArithmetic[pick] : kOther[pick - n_arith];
