@@ -18,6 +18,7 @@
 //  - copysign(a, b) is one LOP3 (a & 0x7fffffff | b & 0x80000000); sign(x), written
 //    |x| > 0 ? copysign(1, x) : x, is FSETP on |x|, LOP3 and FSEL.
 #include <cmath>
+#include <deque>
 #include <map>
 #include <tuple>
 
@@ -125,8 +126,13 @@ class SassSelector {
     return v;
   }
 
-  Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args, const std::string& comment) {
-    const Val d{next_reg_++};
+  Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args,
+           const std::string& comment, bool predicate = false) {
+    Val d{predicate ? -1 : next_reg_++};
+    if (predicate) {  // P0, P1, ... (named by a token that lives as long as the selector)
+      d.token =
+          predicate_names_.emplace_back("P" + std::to_string(predicate_names_.size())).c_str();
+    }
     TargetInstruction ins;
     ins.unit = unit;
     if (text_) {
@@ -233,8 +239,8 @@ class SassSelector {
         break;
       }
       case StepOp::Sign: {
-        const Val p =
-            emit(U::MinMax, "FSETP.GT.FTZ.AND", {Val{a.reg, false, true}, rz}, "|" + c + "| > 0");
+        const Val p = emit(U::MinMax, "FSETP.GT.FTZ.AND", {Val{a.reg, false, true}, rz},
+                           "test of " + c, true);
         const Val one =
             emit(U::MinMax, "LOP3.LUT", {Val{-1, false, false, true, 1.0f}, sign_mask(), a},
                  "copysign(1, ...)");
@@ -248,7 +254,7 @@ class SassSelector {
         auto it = predicates_.find(key);
         if (it == predicates_.end()) {
           const Val p = emit(U::MinMax, "FSETP.GE.FTZ.AND", {st.neg_arg ? negated(a) : a, rz},
-                             "condition of " + c);
+                             "condition of " + c, true);
           it = predicates_.emplace(key, p).first;
         }
         // A branch that is computed for this select alone is computed under the predicate.
@@ -282,6 +288,7 @@ class SassSelector {
   std::vector<Val> vals_;
   std::map<std::tuple<int, int>, Val> scaled_;
   std::map<std::tuple<int, int, int>, Val> predicates_;  // Select: FSETP per condition and sign
+  std::deque<std::string> predicate_names_;
   std::vector<TargetInstruction> out_;
   int next_reg_ = 0;
 };

@@ -111,15 +111,15 @@ class TextSelector {
         break;
       case StepOp::Sign:
         if (ptx_) {
-          const std::string t = emit(U::Fp32, "abs.ftz.f32", {a}, "|" + c + "|");
+          const std::string t = emit(U::Fp32, "abs.ftz.f32", {a}, "magnitude for " + c);
           const std::string p =
-              emit(U::MinMax, "setp.gt.ftz.f32", {t, ptx_const(0.0f)}, "|" + c + "| > 0");
+              emit(U::MinMax, "setp.gt.ftz.f32", {t, ptx_const(0.0f)}, "test of " + c);
           const std::string one =
               emit(U::MinMax, "copysign.f32", {a, ptx_const(1.0f)}, "copysign(1, ...)");
           out = emit(U::MinMax, "selp.f32", {one, a, p}, c);
         } else {
-          const std::string gt = emit(U::MinMax, "OpFOrdGreaterThan", {a, "0"}, c + " > 0");
-          const std::string lt = emit(U::MinMax, "OpFOrdLessThan", {a, "0"}, c + " < 0");
+          const std::string gt = emit(U::MinMax, "OpFOrdGreaterThan", {a, "0"}, "test of " + c);
+          const std::string lt = emit(U::MinMax, "OpFOrdLessThan", {a, "0"}, "test of " + c);
           const std::string in = emit(U::MinMax, "OpSelect", {lt, "-1", a}, "");
           out = emit(U::MinMax, "OpSelect", {gt, "1", in}, c);
         }
