@@ -118,6 +118,10 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   problem.validate();
   const double load_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  // "auto" operator lists become concrete here, so that the JSON and checkpoints name them.
+  const bool auto_ops =
+      is_auto_operators(options.operators) || is_auto_operators(options.evolution_operators);
+  options = resolve_auto_operators(options, problem);
 
   // With the JSON on stdout, everything for people goes to stderr.
   const bool json_stdout = a.json_path == "-";
@@ -129,6 +133,11 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
       cost_target_name(options.cost),
       options.device == ComputeDevice::Cuda ? "cuda (" + cuda_device_name() + ")" : "cpu",
       load_s * 1e3);
+  if (auto_ops)
+    human << fmt::format(
+        "operators (auto): {}; the evolution also {}\n", operator_list_name(options.operators),
+        options.evolution_operators.empty() ? "none"
+                                            : operator_list_name(options.evolution_operators));
   bool progress_shown = false;
   if (!a.quiet) {
     options.on_new_member = [&](const FrontMember& m) {

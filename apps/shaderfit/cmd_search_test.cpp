@@ -93,6 +93,22 @@ TEST(CmdSearch, DataSetWithOneRow) {
   expect_bad_input({"search", "--data", csv, "--inputs", "x", "--target", "y"}, "1 row");
 }
 
+TEST(CmdSearch, AutoOperatorsAreResolvedShownAndRecorded) {
+  const auto r = run({"search", "--dataset", "fresnel-seed", "--ops", "auto", "--evolve-ops",
+                      "auto", "--time", "60", "--threads", "1", "--strategy", "enumerate",
+                      "--max-enumeration-cost", "2", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("operators (auto): +,-,*,/,^,sqrt,exp2,log2,abs,min,max; the evolution "
+                       "also pow,rsqrt,saturate"),
+            std::string::npos)
+      << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["options"]["operators"], "+,-,*,/,^,sqrt,exp2,log2,abs,min,max");
+  EXPECT_EQ(j["options"]["evolution_operators"], "pow,rsqrt,saturate");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--ops", "auto,sqrt"},
+                   "shaderfit: error: --ops: unknown operator 'auto'");
+}
+
 TEST(CmdSearch, OtherBadOptions) {
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--loss", "l7"}, "unknown loss 'l7'");
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--cost", "watts"},

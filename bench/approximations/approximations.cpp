@@ -22,6 +22,7 @@
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -184,6 +185,12 @@ Samples grid(const std::vector<std::vector<double>>& axes,
 
 // ---- The cases ----
 
+// A published half-interval formula in x written for the whole interval: every x becomes abs(x),
+// as the published code takes |x| first (the cost model counts the shared abs once).
+std::string on_abs(const std::string& formula) {
+  return std::regex_replace(formula, std::regex("\\bx\\b"), "abs(x)");
+}
+
 struct Case {
   std::string name;
   std::string source;     // author, title / venue or blog, year
@@ -289,6 +296,17 @@ std::vector<Case> make_cases() {
        {"a"},
        [] {
          return grid({linspace(0.02, 1.6, 512)},
+                     [](const auto& p) { return beckmann_g1_of_a(p[0]); });
+       }});
+  add({"g1_beckmann_walter_full",
+       "Walter et al., Microfacet Models for Refraction through Rough Surfaces, EGSR 2007, eq. 27",
+       "Smith G1 for Beckmann in a = 1/(alpha tan), erf by series (here)",
+       "a 1024 in [0.02,4]",
+       "select(a >= 1.6, 1, (3.535*a + 2.181*a^2)/(1 + 2.276*a + 2.577*a^2))",
+       "both pieces: the rational one for a < 1.6, 1 above (the published select)",
+       {"a"},
+       [] {
+         return grid({linspace(0.02, 4, 1024)},
                      [](const auto& p) { return beckmann_g1_of_a(p[0]); });
        }});
   add({"d_blinn_phong_beckmann",
@@ -424,45 +442,42 @@ std::vector<Case> make_cases() {
        {"l"},
        [&] { return grid({s_axis()}, [](const auto& p) { return linear_to_srgb(p[0]); }); }});
 
-  // acos on [0, 1]: the published forms reflect to pi - f(-x) for x < 0 (a select), so only the
-  // half where the polynomial form is defined is sampled.
-  const std::string half = "x >= 0 half only (x < 0 is pi - f(-x): a select)";
-  auto acos_grid = [] {
-    return grid({linspace(0, 1, 1024)}, [](const auto& p) { return std::acos(p[0]); });
+  // acos: the published forms are r(|x|) = sqrt(1 - |x|) P(|x|) reflected to pi - r for x < 0 (a
+  // select in the published code). Each is measured twice: on x >= 0 alone (the half where r
+  // is the whole formula, cases without a suffix) and on the full interval [-1, 1] with the
+  // reflection written as the published code does (cases `_full`).
+  struct Published {
+    std::string name, source, formula;
   };
-  add({"acos_as_4445",
-       "Abramowitz and Stegun, Handbook of Mathematical Functions, 1964, 4.4.45",
-       "libm acos (float64)",
-       "x 1024 in [0,1]",
-       "sqrt(1 - x)*(1.5707288 + x*(-0.2121144 + x*(0.0742610 - 0.0187293*x)))",
-       half,
-       {"x"},
-       acos_grid});
-  add({"acos_eberly1",
-       "Eberly, Geometric Tools ACosEstimate, degree 1 (Lagarde's acosFast, 2014)",
-       "libm acos (float64)",
-       "x 1024 in [0,1]",
-       "sqrt(1 - x)*(1.5707963267948966 - 0.15658276442180141*x)",
-       half,
-       {"x"},
-       acos_grid});
-  add({"acos_eberly2",
-       "Eberly, Geometric Tools ACosEstimate, degree 2",
-       "libm acos (float64)",
-       "x 1024 in [0,1]",
-       "sqrt(1 - x)*(1.5707963267948966 + x*(-0.20347053865798365 + 0.046887774236182234*x))",
-       half,
-       {"x"},
-       acos_grid});
-  add({"acos_eberly3",
-       "Eberly, Geometric Tools ACosEstimate, degree 3",
-       "libm acos (float64)",
-       "x 1024 in [0,1]",
+  const std::vector<Published> acos_forms = {
+      {"acos_as_4445", "Abramowitz and Stegun, Handbook of Mathematical Functions, 1964, 4.4.45",
+       "sqrt(1 - x)*(1.5707288 + x*(-0.2121144 + x*(0.0742610 - 0.0187293*x)))"},
+      {"acos_eberly1", "Eberly, Geometric Tools ACosEstimate, degree 1 (Lagarde's acosFast, 2014)",
+       "sqrt(1 - x)*(1.5707963267948966 - 0.15658276442180141*x)"},
+      {"acos_eberly2", "Eberly, Geometric Tools ACosEstimate, degree 2",
+       "sqrt(1 - x)*(1.5707963267948966 + x*(-0.20347053865798365 + 0.046887774236182234*x))"},
+      {"acos_eberly3", "Eberly, Geometric Tools ACosEstimate, degree 3",
        "sqrt(1 - x)*(1.5707963267948966 + x*(-0.21253291899190285 + x*(0.074773789639484223 - "
-       "0.018823635069382449*x)))",
-       half,
-       {"x"},
-       acos_grid});
+       "0.018823635069382449*x)))"},
+  };
+  const std::string half = "x >= 0 half only (x < 0 is pi - f(-x): a select)";
+  for (const Published& f : acos_forms)
+    add({f.name, f.source, "libm acos (float64)", "x 1024 in [0,1]", f.formula, half, {"x"}, [] {
+           return grid({linspace(0, 1, 1024)}, [](const auto& p) { return std::acos(p[0]); });
+         }});
+  for (const Published& f : acos_forms) {
+    const std::string r = on_abs(f.formula);
+    add({f.name + "_full",
+         f.source,
+         "libm acos (float64)",
+         "x 1025 in [-1,1]",
+         "select(x >= 0, " + r + ", pi - " + r + ")",
+         "full interval: r = f(|x|), pi - r for x < 0 (the published code's reflection)",
+         {"x"},
+         [] {
+           return grid({linspace(-1, 1, 1025)}, [](const auto& p) { return std::acos(p[0]); });
+         }});
+  }
 
   // atan on [-1, 1]: both forms are odd and written with abs, so the whole interval is sampled.
   auto atan_grid = [] {
@@ -495,48 +510,49 @@ std::vector<Case> make_cases() {
        {"x"},
        atan_grid});
 
-  // erf on [0, 4]: the published forms are sign(x) f(|x|), so only x >= 0 is sampled.
+  // erf: the published forms are sign(x) f(|x|) (odd). Measured on x >= 0 alone (no suffix) and
+  // on [-4, 4] with the sign written as the published code does (`_full`).
   const std::string erf_ref = "erf by its positive-term series (here; checked against std::erf)";
   const std::string erf_half = "x >= 0 half only (x < 0 is -f(-x): sign)";
-  auto erf_grid = [] {
-    return grid({linspace(0, 4, 1024)}, [](const auto& p) { return erf_series(p[0]); });
-  };
-  add({"erf_as_7125",
-       "Abramowitz and Stegun 1964, 7.1.25 (after Hastings 1955)",
-       erf_ref,
-       "x 1024 in [0,4]",
+  const std::string erf_full = "full interval: sign(x) f(|x|) (the published code's symmetry)";
+  const std::string winitzki_a = "; a = 8(pi - 3)/(3 pi (4 - pi))";
+  const std::vector<Published> erf_forms = {
+      {"erf_as_7125", "Abramowitz and Stegun 1964, 7.1.25 (after Hastings 1955)",
        "1 - (0.3480242/(1 + 0.47047*x) - 0.0958798/(1 + 0.47047*x)^2 + 0.7478556/(1 + "
-       "0.47047*x)^3)*exp(-x^2)",
-       erf_half,
-       {"x"},
-       erf_grid});
-  add({"erf_as_7126",
-       "Abramowitz and Stegun 1964, 7.1.26 (after Hastings 1955)",
-       erf_ref,
-       "x 1024 in [0,4]",
+       "0.47047*x)^3)*exp(-x^2)"},
+      {"erf_as_7126", "Abramowitz and Stegun 1964, 7.1.26 (after Hastings 1955)",
        "1 - (1/(1 + 0.3275911*x))*(0.254829592 + (1/(1 + 0.3275911*x))*(-0.284496736 + (1/(1 + "
        "0.3275911*x))*"
        "(1.421413741 + (1/(1 + 0.3275911*x))*(-1.453152027 + 1.061405429/(1 + "
-       "0.3275911*x)))))*exp(-x^2)",
-       erf_half,
-       {"x"},
-       erf_grid});
-  add({"erf_as_7127",
-       "Abramowitz and Stegun 1964, 7.1.27 (after Hastings 1955)",
-       erf_ref,
-       "x 1024 in [0,4]",
-       "1 - 1/(1 + x*(0.278393 + x*(0.230389 + x*(0.000972 + 0.078108*x))))^4",
-       erf_half,
-       {"x"},
-       erf_grid});
-  add({"erf_winitzki",
+       "0.3275911*x)))))*exp(-x^2)"},
+      {"erf_as_7127", "Abramowitz and Stegun 1964, 7.1.27 (after Hastings 1955)",
+       "1 - 1/(1 + x*(0.278393 + x*(0.230389 + x*(0.000972 + 0.078108*x))))^4"},
+      {"erf_winitzki",
        "Winitzki, A handy approximation for the error function and its inverse, 2008",
-       erf_ref,
-       "x 1024 in [0,4]",
-       "sqrt(1 - exp(-x^2*(4/pi + 0.1400122886866665*x^2)/(1 + 0.1400122886866665*x^2)))",
-       erf_half + "; a = 8(pi - 3)/(3 pi (4 - pi))",
-       {"x"},
-       erf_grid});
+       "sqrt(1 - exp(-x^2*(4/pi + 0.1400122886866665*x^2)/(1 + 0.1400122886866665*x^2)))"},
+  };
+  for (const Published& f : erf_forms)
+    add({f.name,
+         f.source,
+         erf_ref,
+         "x 1024 in [0,4]",
+         f.formula,
+         erf_half + (f.name == "erf_winitzki" ? winitzki_a : ""),
+         {"x"},
+         [] {
+           return grid({linspace(0, 4, 1024)}, [](const auto& p) { return erf_series(p[0]); });
+         }});
+  for (const Published& f : erf_forms)
+    add({f.name + "_full",
+         f.source,
+         erf_ref,
+         "x 1025 in [-4,4]",
+         "sign(x)*(" + on_abs(f.formula) + ")",
+         erf_full + (f.name == "erf_winitzki" ? winitzki_a : ""),
+         {"x"},
+         [] {
+           return grid({linspace(-4, 4, 1025)}, [](const auto& p) { return erf_series(p[0]); });
+         }});
 
   // Parabolic sine on [-pi, pi]: odd, written with abs.
   auto sin_grid = [] {

@@ -24,6 +24,8 @@ namespace shaderfit::gpu_detail {
 
 inline constexpr int kScreenLanes = 8;      // the CPU kernels' vector width
 inline constexpr int kScreenHashRows = 16;  // rows the key hashes (search_detail::kHashRows)
+// The rel loss's cap on a row's relative error (search_detail::kMaxRelativeError).
+inline constexpr float kMaxRelativeError = 1e15f;
 
 // What a candidate computes from operand columns a and b (the enumerator's EKind without the
 // leaves; a fused sum is computed as AddSub).
@@ -216,7 +218,7 @@ struct ScreenTargetView {
 // One lane's accumulators of column_loss: rows lane, lane + 8, ... in order.
 struct ScreenLane {
   float vmin = screen_detail::kInf, vmax = -screen_detail::kInf;
-  float a = 0, b = 0;  // squared losses: sum w x^2, sum w x y; otherwise the +- losses
+  float a = 0, b = 0;  // mse, rmse: sum w x^2, sum w x y; otherwise the +- losses
   float nan = 0;
 
   SF_CPU_GPU void add(float x, std::size_t i, const ScreenTargetView& t) {
@@ -231,6 +233,16 @@ struct ScreenLane {
         const float an = w * screen_detail::abs_bits(x + y);
         a = ap > a ? ap : a;
         b = an > b ? an : b;
+        break;
+      }
+      case Loss::Relative: {  // |x / y -+ 1| capped at kMaxRelativeError, as the CPU's
+        nan += x * 0.0f;
+        const float r = x / t.y[i];
+        float fp = screen_detail::abs_bits(r - 1.0f), fn = screen_detail::abs_bits(r + 1.0f);
+        fp = fp > kMaxRelativeError ? kMaxRelativeError : fp;
+        fn = fn > kMaxRelativeError ? kMaxRelativeError : fn;
+        a += w * fp * fp;
+        b += w * fn * fn;
         break;
       }
       case Loss::Log: {
@@ -256,7 +268,7 @@ struct ScreenLane {
 SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
                                         const ScreenTargetView& t, ScreenResult* out) {
   const Loss loss = t.loss;
-  const bool squared = loss != Loss::MaxAbs && loss != Loss::Log;
+  const bool squared = loss == Loss::Mse || loss == Loss::Rmse;  // expanded around wyy
   float mn = screen_detail::kInf, mx = -screen_detail::kInf, nans = 0;
   double p = 0, m = 0;
   for (int l = 0; l < kScreenLanes; ++l) {
@@ -278,7 +290,7 @@ SF_CPU_GPU inline void screen_loss_fold(const ScreenLane (&lanes)[kScreenLanes],
     constexpr double kLn2Sq = 0.4804530139182014;
     p *= kLn2Sq;
     m *= kLn2Sq;
-  } else if (loss != Loss::MaxAbs) {
+  } else if (squared) {
     p = p + t.wyy < 0.0 ? 0.0 : p + t.wyy;  // std::max(p + wyy, 0.0), NaN kept
     m = m + t.wyy < 0.0 ? 0.0 : m + t.wyy;
   }

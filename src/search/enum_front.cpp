@@ -46,8 +46,11 @@ void Enumerator::setup_full_rows() {
     const double w = p.weights.empty() ? 1.0 : p.weights[i];
     const double y = p.target[i];
     double wi = w / sum_w;
-    if (loss == Loss::Relative) wi = y != 0 ? wi / (y * y) : 0.0;
     if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
+    if (loss == Loss::Relative && !relative_screen_row(y)) {
+      wi = 0;
+      f.y[i] = 1.0f;
+    }
     f.w[i] = static_cast<float>(wi);
     f.log2_y[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
     f.wyy += wi * static_cast<double>(f.y[i]) * f.y[i];

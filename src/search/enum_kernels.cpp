@@ -219,7 +219,7 @@ SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnSta
   const std::size_t n = target.n;
   v8f vmin = splat(kInf), vmax = splat(-kInf), lp = {}, ln = {}, nan = {};
   const Loss loss = target.loss;
-  if (loss != Loss::MaxAbs && loss != Loss::Log) {
+  if (loss == Loss::Mse || loss == Loss::Rmse) {
     // sum w (x -+ y)^2 = sum w x^2 -+ 2 sum w x y + sum w y^2: two accumulators serve both signs.
     v8f sxx = {}, sxy = {};
     for (std::size_t i = 0; i < n; i += 8) {
@@ -241,6 +241,24 @@ SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnSta
       const v8f an = w * std::bit_cast<v8f>(std::bit_cast<v8i>(x + y) & 0x7fffffff);
       lp = select(ap > lp, ap, lp);
       ln = select(an > ln, an, ln);
+    }
+  } else if (loss == Loss::Relative) {
+    // sum w (x / y -+ 1)^2, divided row by row: weights w / y^2 would overflow float32 on a
+    // target spanning many orders of magnitude. A row's relative error counts at most
+    // kMaxRelativeError, so that rows where every candidate is astronomically off (a lobe's
+    // tail) do not overflow the sums and drop every candidate.
+    const v8f cap = splat(kMaxRelativeError);
+    for (std::size_t i = 0; i < n; i += 8) {
+      const v8f x = load(v + i), w = load(target.w + i), r = x / load(target.y + i);
+      nan += x * 0.0f;
+      vmin = select(x < vmin, x, vmin);
+      vmax = select(x > vmax, x, vmax);
+      v8f fp = std::bit_cast<v8f>(std::bit_cast<v8i>(r - 1.0f) & 0x7fffffff);
+      v8f fn = std::bit_cast<v8f>(std::bit_cast<v8i>(r + 1.0f) & 0x7fffffff);
+      fp = select(fp > cap, cap, fp);
+      fn = select(fn > cap, cap, fn);
+      lp += w * fp * fp;
+      ln += w * fn * fn;
     }
   } else {  // log: ln p - ln y with p floored at 1e-30, as the full metric
     for (std::size_t i = 0; i < n; i += 8) {
@@ -272,7 +290,7 @@ SF_KERNEL void column_loss(const float* v, const ScreenTarget& target, ColumnSta
     constexpr double kLn2Sq = 0.4804530139182014;  // (ln 2)^2: log2 differences to natural log
     p *= kLn2Sq;
     m *= kLn2Sq;
-  } else if (loss != Loss::MaxAbs) {
+  } else if (loss == Loss::Mse || loss == Loss::Rmse) {
     p = std::max(p + target.wyy, 0.0);
     m = std::max(m + target.wyy, 0.0);
   }

@@ -9,6 +9,7 @@
 // same bits (no contraction).
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -44,12 +45,24 @@ void compute_column(EKind kind, Op unary, int k, const float* a, const float* b,
 // The screen target: y and per-row weights, normalised so that the loss is sum w * e(row).
 struct ScreenTarget {
   const float* y = nullptr;
-  const float* w = nullptr;       // for Relative: w / y^2; for MaxAbs: 1 or 0 (row selected)
+  const float* w = nullptr;       // for MaxAbs: 1 or 0 (row selected)
   const float* log2_y = nullptr;  // log2(y), for the Log loss
-  double wyy = 0;                 // sum w y^2 (squared losses expand around it)
+  double wyy = 0;                 // sum w y^2 (mse and rmse expand around it)
   Loss loss = Loss::Mse;
   std::size_t n = 0;
 };
+
+// The rel loss's screens count a row's relative error |x / y - 1| as at most this, so that the
+// float32 sums stay finite (64 rows of 1e30 each).
+inline constexpr float kMaxRelativeError = 1e15f;
+
+// The rel loss divides by y in float32: a row whose target is not a normal float (below 1.2e-38
+// in magnitude, as in the far tail of a lobe) is left out of the float32 screens (weight 0, y
+// replaced by 1 so that 0 * (x / y) stays finite); the float64 scoring of front members keeps it.
+inline bool relative_screen_row(double y) {
+  const float f = static_cast<float>(y);
+  return std::isnormal(f);
+}
 
 struct ColumnStats {
   // Key (column_key).
@@ -77,7 +90,7 @@ inline ColumnStats analyze_column(const float* v, const ScreenTarget& target) {
 bool columns_equivalent(const float* a, const float* b, bool negate_b, float scale, std::size_t n);
 
 // Closed-form screening of the fused sums m +- c of a product m with every leaf c (an input or a
-// literal), for the squared losses: sum w (a m + b c - y)^2 = Smm + 2ab Smc - 2a Smy + K(b, c)
+// literal), for mse and rmse: sum w (a m + b c - y)^2 = Smm + 2ab Smc - 2a Smy + K(b, c)
 // with a, b = +-1, from one pass of dot products over m. `k_plus[j]`, `k_minus[j]` hold
 // K(+1, c_j), K(-1, c_j); a leaf is a column (inputs) or a value (literals, column null).
 struct FusedScreen {

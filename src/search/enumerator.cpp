@@ -74,10 +74,10 @@ void Enumerator::setup_screen(Rng& rng) {
     const std::size_t r = picked[i];
     const double w = i < real ? (p.weights.empty() ? 1.0 : p.weights[r]) : 0.0;
     const double y = p.target[r];
-    screen_y_[i] = static_cast<float>(y);
+    const bool left_out = loss == Loss::Relative && !relative_screen_row(y);
+    screen_y_[i] = left_out ? 1.0f : static_cast<float>(y);
     screen_log2_y_[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
-    double wi = w;
-    if (loss == Loss::Relative) wi = y != 0 ? w / (y * y) : 0.0;
+    double wi = left_out ? 0.0 : w;
     if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
     screen_w_[i] = static_cast<float>(wi);
     sum_w += w;

@@ -19,6 +19,10 @@ namespace {
 
 using search_detail::EKind;
 
+// The twin's constants are the enumerator's (gpu/ cannot include search/).
+static_assert(kScreenHashRows == search_detail::kHashRows);
+static_assert(kMaxRelativeError == search_detail::kMaxRelativeError);
+
 bool same_bits(float a, float b) {
   return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b) ||
          (std::isnan(a) && std::isnan(b));

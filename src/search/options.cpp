@@ -47,6 +47,9 @@ std::string in_range(const SearchOptions& o, double lo, double hi) {
 }
 
 std::string searchable_ops(const std::vector<Op>& ops) {
+  if (is_auto_operators(ops)) return {};
+  for (Op op : ops)
+    if (op == Op::Count_) return "'auto' must be the only operator";
   for (Op op : ops)
     if (!searchable(op))
       return "operator '" + std::string(op_info(op).name) + "' cannot be searched";
@@ -117,7 +120,7 @@ const SearchOptionField kFields[] = {
      .role = Role::Search,
      .help =
          "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs saturate sin "
-         "cos min max pow",
+         "cos min max pow; or auto: chosen from the data",
      .check =
          [](const O& o) {
            return o.operators.empty() ? "no operators given" : searchable_ops(o.operators);
@@ -125,7 +128,7 @@ const SearchOptionField kFields[] = {
     {.name = "evolution_operators",
      .member = &O::evolution_operators,
      .role = Role::Search,
-     .help = "more operators for the evolution only, or 'none'",
+     .help = "more operators for the evolution only, 'none', or 'auto'",
      .may_be_empty = true,
      .check = [](const O& o) { return searchable_ops(o.evolution_operators); }},
     {.name = "literals",
@@ -439,6 +442,8 @@ void set_search_option(SearchOptions& o, const SearchOptionField& f, std::string
           [&](std::vector<Op> O::*m) {
             if (f.may_be_empty && (text.empty() || text == "none"))
               (o.*m).clear();
+            else if (text == "auto")
+              o.*m = kAutoOperators;
             else
               o.*m = parse_operator_list(text, {search_option_location(f)});
           },
@@ -501,6 +506,7 @@ std::vector<Op> parse_operator_list(std::string_view list, const SourceLocation&
 }
 
 std::string operator_list_name(const std::vector<Op>& ops) {
+  if (is_auto_operators(ops)) return "auto";
   std::string s;
   for (Op op : ops) {
     if (!s.empty()) s += ',';

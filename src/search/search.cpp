@@ -165,10 +165,12 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
 
 }  // namespace
 
-void run_search(const SearchOptions& options, const SearchProblem& problem,
+void run_search(const SearchOptions& given, const SearchProblem& problem,
                 SearchSummary* summary) {
   problem.validate();
-  options.validate();
+  given.validate();
+  // From here on the operator lists are concrete (checkpoints record them so).
+  const SearchOptions options = resolve_auto_operators(given, problem);
   if (options.loss == Loss::Relative &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
     throw Error("the rel loss needs a target that is never 0", {"SearchOptions::loss"});

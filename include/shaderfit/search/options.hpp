@@ -47,6 +47,12 @@ struct SearchTarget {
   double max_cost = 0;
 };
 
+// The operator list that stands for "auto" (text "auto", `--ops auto`): resolved from the data
+// by resolve_auto_operators (search.hpp) before any search work; never seen by the enumeration
+// or the evolution.
+inline const std::vector<Op> kAutoOperators = {Op::Count_};
+inline bool is_auto_operators(const std::vector<Op>& ops) { return ops == kAutoOperators; }
+
 struct SearchOptions {
   // Out of line (options.cpp): the defaults below are built in one place rather than in every
   // caller (GCC 12 also warns falsely, -Wmaybe-uninitialized, on the inlined operator lists).
@@ -69,7 +75,8 @@ struct SearchOptions {
   CostTarget cost = CostTarget::Instructions;
 
   // Operators formulas may use (Op::IPow stands for x^2 .. x^max_power) and literal constants
-  // (their negatives come free with negation).
+  // (their negatives come free with negation). Either list may be kAutoOperators ("auto"):
+  // a set chosen from the data when the search starts (resolve_auto_operators, search.hpp).
   std::vector<Op> operators = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow};
   // Operators the evolution may use besides `operators` (the enumeration keeps to those): the
   // larger formulas gain most from a fitted exponent or exponential.
@@ -194,7 +201,8 @@ std::string search_option_location(const SearchOptionField& field);
 
 // The value as text: numbers shortest round-trip, booleans true/false, lists comma-separated
 // ("+,-,*,/,^", "0.5,1,2"; formulas, which hold commas, separated by "; "), choices by name, an
-// unset optional as "". set_search_option reads it back (and "none" for an empty operator list); it
+// unset optional as "", kAutoOperators as "auto". set_search_option reads it back (and "none" for
+// an empty operator list); it
 // throws Error located at the field for text that does not parse. The checkpoint records Search
 // options in this form.
 std::string search_option_text(const SearchOptions& options, const SearchOptionField& field);
@@ -208,7 +216,7 @@ void set_search_option(SearchOptions& options, std::string_view name, std::strin
 std::vector<Op> parse_operator_list(std::string_view list,
                                     const SourceLocation& where = {"SearchOptions::operators"});
 
-// "+,-,*,/,^": the names parse_operator_list reads back.
+// "+,-,*,/,^": the names parse_operator_list reads back ("auto" for kAutoOperators).
 std::string operator_list_name(const std::vector<Op>& ops);
 
 }  // namespace shaderfit

@@ -84,6 +84,15 @@ struct SearchSummary {
 // options (the message says which).
 void run_search(const SearchOptions& options, const SearchProblem& problem, SearchSummary* summary);
 
+// `options` with each "auto" operator list (kAutoOperators, `--ops auto`) replaced by the set
+// chosen from the problem's data; other lists are returned unchanged. run_search does this
+// itself; a caller that shows or records the options (the CLI's JSON) does it first.
+// The choice (docs/search.md, "Operators"): the enumeration gets + - * / ^ sqrt exp2 log2 abs
+// min max, pow when the target has a high dynamic range (max |y| > 100 median |y|), and sign
+// and copysign when an input takes both signs; the evolution gets pow rsqrt saturate besides,
+// and select when an input takes both signs.
+SearchOptions resolve_auto_operators(SearchOptions options, const SearchProblem& problem);
+
 // The device run_search computes on: options.device with Auto decided. Throws Error located at
 // SearchOptions::device when it is Cuda and no GPU can be used.
 ComputeDevice search_device(const SearchOptions& options);
