@@ -106,6 +106,8 @@ TEST(Codegen, ParametersAsArgumentsOrBaked) {
 
 TEST(Codegen, BadNamesAreErrors) {
   EXPECT_THROW(gen("in + 1", Language::Glsl), Error);   // reserved
+  EXPECT_THROW(gen("copysignf + 1", Language::Cuda), Error);        // called by copysign
+  EXPECT_THROW(gen("floatBitsToUint * 2", Language::Glsl), Error);  // and by its GLSL form
   CodegenOptions o;
   o.name = "2f";
   EXPECT_THROW(generate_function(parse_formula("x"), o), Error);

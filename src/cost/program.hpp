@@ -19,27 +19,9 @@
 namespace shaderfit::lowering {
 
 enum class StepOp : std::uint8_t {
-  Add,
-  Sub,
-  Mul,
-  Div,
-  Fma,
-  Neg,
-  Abs,
-  Sqrt,
-  Rsqrt,
-  Exp2,
-  Log2,
-  Exp,
-  Log,
-  Sin,
-  Cos,
-  Sat,
-  Min,
-  Max,
-  Sign,
-  CopySign,
-  Select,
+  Add, Sub, Mul, Div, Fma, Neg, Abs,
+  Sqrt, Rsqrt, Exp2, Log2, Exp, Log, Sin, Cos, Sat, Min, Max,
+  Sign, CopySign, Select,
 };
 
 struct Operand {
