@@ -7,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "search/constant_fit.hpp"
 #include "search/nsga2.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/evaluate.hpp"
@@ -24,11 +25,17 @@ constexpr double kFrontMargin = 1.1;
 constexpr int kFitIterations = 4;     // Levenberg-Marquardt on the fit rows, warm-started: the
                                       // fitted values are inherited, so few steps suffice
 constexpr int kRefitIterations = 10;  // and on every row, from there, for front candidates
+// For a minimax loss, front candidates then get this many Lawson passes (kFitIterations steps
+// each) on every row: the fit rows' least-squares constants choose shapes cheaply, the front
+// shows minimax ones.
+constexpr int kRefitPasses = 30;
 constexpr std::size_t kMigrants = 4;
 // Near the end of the time budget, the front's fitted constants are refined on every row with a
-// full Levenberg-Marquardt run (the evolution fits a few steps on the fit rows only).
+// full Levenberg-Marquardt run (the evolution fits a few steps on the fit rows only), then, for
+// a minimax loss, Lawson passes of kRefitIterations steps.
 constexpr double kPolishAt = 0.9;
 constexpr int kPolishIterations = 100;
+constexpr int kPolishPasses = 100;
 
 double best_at(const std::vector<std::pair<double, double>>& front, double cost) {
   double best = std::numeric_limits<double>::infinity();
@@ -141,14 +148,10 @@ bool Evolution::evaluate(Individual& ind, Island& island, std::vector<double>& v
 }
 
 Evolution::Candidate Evolution::score_on_all_rows(Expression e) const {
-  if (!e.parameters.empty()) {
-    FitOptions fo;
-    fo.max_iterations = kRefitIterations;
-    FitProblem fp{&e, ctx_.columns, ctx_.problem.target, ctx_.problem.weights};
-    FitSummary fs;
-    fit_parameters(fo, fp, &fs);
-    e.parameter_values = fs.parameters;
-  }
+  e = fit_on_all_rows(std::move(e), ctx_,
+                      {.least_squares_steps = kRefitIterations,
+                       .minimax_passes = kRefitPasses,
+                       .minimax_steps = kFitIterations});
   Candidate c;
   c.metrics = ctx_.score(e);
   c.expr = std::move(e);
@@ -271,13 +274,10 @@ void Evolution::polish_front() {
       todo.size(), 1,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
-          FitOptions fo;
-          fo.max_iterations = kPolishIterations;
-          Expression x = todo[i];
-          FitProblem fp{&x, ctx_.columns, ctx_.problem.target, ctx_.problem.weights};
-          FitSummary fs;
-          fit_parameters(fo, fp, &fs);
-          x.parameter_values = fs.parameters;
+          Expression x = fit_on_all_rows(todo[i], ctx_,
+                                         {.least_squares_steps = kPolishIterations,
+                                          .minimax_passes = kPolishPasses,
+                                          .minimax_steps = kRefitIterations});
           done[i].metrics = ctx_.score(x);
           done[i].expr = std::move(x);
         }

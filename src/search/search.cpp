@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "search/checkpoint.hpp"
+#include "search/constant_fit.hpp"
 #include "search/enumerator.hpp"
 #include "search/evolution.hpp"
 #include "search/float32_check.hpp"
@@ -158,6 +159,10 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
       checkpoints->write_enumeration();
     }
   }
+  // At most this share of the time budget goes to the final minimax polish.
+  constexpr double kPolishShare = 0.05;
+  if (ctx.stop_reason() != Termination::Interrupted)
+    search_detail::polish_front_minimax(ctx, kPolishShare * options.time_limit_s);
   s.total_time_s = ctx.elapsed();
   s.evolution_time_s = s.total_time_s - s.enumeration_time_s;
   s.front = ctx.front.members();

@@ -1,0 +1,85 @@
+#include "search/constant_fit.hpp"
+
+#include <chrono>
+
+#include "search/variation.hpp"
+#include "shaderfit/core/parallel.hpp"
+#include "shaderfit/fit/fit.hpp"
+
+namespace shaderfit::search_detail {
+
+namespace {
+
+// The final polish: a full least-squares start is not needed (the member's values are already
+// fitted), so its passes go to Lawson.
+constexpr ConstantFitBudget kPolish{.least_squares_steps = 0, .minimax_passes = 200,
+                                    .minimax_steps = 10};
+
+}  // namespace
+
+bool fits_minimax(Loss loss) { return loss == Loss::MaxAbs; }
+
+Expression fit_on_all_rows(Expression e, const SearchContext& ctx,
+                           const ConstantFitBudget& budget) {
+  if (e.parameters.empty()) return e;
+  const SearchProblem& p = ctx.problem;
+  if (budget.least_squares_steps > 0) {
+    FitOptions fo;
+    fo.max_iterations = budget.least_squares_steps;
+    FitSummary fs;
+    fit_parameters(fo, {&e, ctx.columns, p.target, p.weights}, &fs);
+    e.parameter_values = fs.parameters;
+  }
+  if (budget.minimax_passes > 0 && fits_minimax(ctx.options.loss)) {
+    std::vector<double> select;
+    if (!p.weights.empty()) {
+      select.resize(p.weights.size());
+      for (std::size_t i = 0; i < select.size(); ++i) select[i] = p.weights[i] > 0 ? 1.0 : 0.0;
+    }
+    FitOptions fo;
+    fo.minimax = true;
+    fo.max_iterations = budget.minimax_steps;
+    fo.minimax_iterations = budget.minimax_passes;
+    FitSummary fs;
+    fit_parameters(fo, {&e, ctx.columns, p.target, select}, &fs);
+    e.parameter_values = fs.parameters;
+  }
+  return e;
+}
+
+void polish_front_minimax(SearchContext& ctx, double seconds) {
+  if (!fits_minimax(ctx.options.loss)) return;
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<FrontMember> members = ctx.front.members();
+  struct Refit {
+    Expression expr;
+    ErrorMetrics metrics;
+    bool done = false;
+  };
+  std::vector<Refit> refits(members.size());
+  parallel_for(
+      members.size(), 1,
+      [&](std::size_t b, std::size_t end) {
+        for (std::size_t i = b; i < end; ++i) {
+          const std::chrono::duration<double> spent = std::chrono::steady_clock::now() - start;
+          if (spent.count() >= seconds) return;
+          Expression free = with_literals_as_parameters(members[i].expression);
+          if (free.parameters.empty()) continue;
+          refits[i].expr = fit_on_all_rows(std::move(free), ctx, kPolish);
+          refits[i].metrics = ctx.score(refits[i].expr);
+          refits[i].done = true;
+        }
+      },
+      ctx.threads);
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    Refit& r = refits[i];
+    if (!r.done) continue;
+    const double loss = loss_value(ctx.options.loss, r.metrics);
+    if (!(loss < members[i].loss) ||
+        expression_cost(r.expr, ctx.options.cost) > members[i].cost)
+      continue;
+    ctx.offer(std::move(r.expr), loss, members[i].origin);
+  }
+}
+
+}  // namespace shaderfit::search_detail
