@@ -149,8 +149,7 @@ TEST(CmdSearch, StartFromSchlickUnderMaxAbs) {
     // Schlick's 1 refitted to the minimax: 0.88, max |error| 0.119 against 0.177; it stays
     // unless a member dominates it (the final minimax polish gives the enumeration's cost-3
     // (r0 a - x)^4 + r0 0.116).
-    refitted = refitted || (m["cost"].get<double>() <= 5 &&
-                            m["max_abs"].get<double>() <= 0.119 &&
+    refitted = refitted || (m["cost"].get<double>() <= 5 && m["max_abs"].get<double>() <= 0.119 &&
                             (m["origin"] == "start" || m["cost"].get<double>() < 5));
   }
   EXPECT_TRUE(met) << r.out;

@@ -5,12 +5,11 @@
 #include <cstdio>
 #include <limits>
 
+#include "fixed_form_internal.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/fit/least_squares.hpp"
 #include "shaderfit/fit/linear.hpp"
-
-#include "fixed_form_internal.hpp"
 
 namespace shaderfit {
 
@@ -259,8 +258,7 @@ void fit_parameters(const FitOptions& options, const FitProblem& problem, FitSum
   e.parameter_values.resize(e.parameters.size(), 0.0);
   FitSummary s;
   std::vector<double> values;
-  s.initial_cost =
-      options.minimax ? max_error(problem, e, values) : cost_at(problem, e, values);
+  s.initial_cost = options.minimax ? max_error(problem, e, values) : cost_at(problem, e, values);
   s.final_cost = s.initial_cost;
   s.parameters = e.parameter_values;
   const bool linear = options.use_linear_solver && is_linear_in_parameters(e);
@@ -279,8 +277,8 @@ std::string FitSummary::brief_report() const {
   char buf[256];
   std::snprintf(buf, sizeof buf, "%s%s: cost %.6g -> %.6g in %d iteration%s (%s)\n",
                 linear ? "linear least squares" : "Levenberg-Marquardt",
-                minimax_passes > 0 ? " + Lawson minimax" : "", initial_cost, final_cost,
-                iterations, iterations == 1 ? "" : "s", termination.c_str());
+                minimax_passes > 0 ? " + Lawson minimax" : "", initial_cost, final_cost, iterations,
+                iterations == 1 ? "" : "s", termination.c_str());
   return buf;
 }
 

@@ -12,8 +12,8 @@ namespace {
 
 // The final polish: a full least-squares start is not needed (the member's values are already
 // fitted), so its passes go to Lawson.
-constexpr ConstantFitBudget kPolish{.least_squares_steps = 0, .minimax_passes = 200,
-                                    .minimax_steps = 10};
+constexpr ConstantFitBudget kPolish{
+    .least_squares_steps = 0, .minimax_passes = 200, .minimax_steps = 10};
 
 }  // namespace
 
@@ -75,8 +75,7 @@ void polish_front_minimax(SearchContext& ctx, double seconds) {
     Refit& r = refits[i];
     if (!r.done) continue;
     const double loss = loss_value(ctx.options.loss, r.metrics);
-    if (!(loss < members[i].loss) ||
-        expression_cost(r.expr, ctx.options.cost) > members[i].cost)
+    if (!(loss < members[i].loss) || expression_cost(r.expr, ctx.options.cost) > members[i].cost)
       continue;
     ctx.offer(std::move(r.expr), loss, members[i].origin);
   }

@@ -57,11 +57,11 @@ struct FitSummary {
   std::vector<double> parameters;  // the fitted values (the start when nothing improved)
   double initial_cost = 0;         // weighted mean squared error (minimax: max error) at the start
   double final_cost = 0;           // and at `parameters`
-  int iterations = 0;       // LM steps (or linear solves), over all minimax passes
-  int minimax_passes = 0;   // Lawson passes (minimax only)
-  bool linear = false;      // solved by linear least squares
-  std::string termination;  // "linear", "function tolerance", ..., "minimax converged",
-                            // "minimax iterations"
+  int iterations = 0;              // LM steps (or linear solves), over all minimax passes
+  int minimax_passes = 0;          // Lawson passes (minimax only)
+  bool linear = false;             // solved by linear least squares
+  std::string termination;         // "linear", "function tolerance", ..., "minimax converged",
+                                   // "minimax iterations"
 
   [[nodiscard]] std::string brief_report() const;
 };
