@@ -17,7 +17,15 @@ constexpr ConstantFitBudget kPolish{
 
 }  // namespace
 
-bool fits_minimax(Loss loss) { return loss == Loss::MaxAbs; }
+bool fits_minimax(Loss loss) { return loss == Loss::MaxAbs || loss == Loss::MaxRel; }
+
+std::vector<double> minimax_weights(Loss loss, const SearchProblem& problem) {
+  std::vector<double> w(problem.target.size());
+  for (std::size_t i = 0; i < w.size(); ++i)
+    w[i] =
+        screen_weight(loss, problem.weights.empty() ? 1.0 : problem.weights[i], problem.target[i]);
+  return w;
+}
 
 Expression fit_on_all_rows(Expression e, const SearchContext& ctx,
                            const ConstantFitBudget& budget) {
@@ -31,17 +39,13 @@ Expression fit_on_all_rows(Expression e, const SearchContext& ctx,
     e.parameter_values = fs.parameters;
   }
   if (budget.minimax_passes > 0 && fits_minimax(ctx.options.loss)) {
-    std::vector<double> select;
-    if (!p.weights.empty()) {
-      select.resize(p.weights.size());
-      for (std::size_t i = 0; i < select.size(); ++i) select[i] = p.weights[i] > 0 ? 1.0 : 0.0;
-    }
+    const std::vector<double> w = minimax_weights(ctx.options.loss, p);
     FitOptions fo;
     fo.minimax = true;
     fo.max_iterations = budget.minimax_steps;
     fo.minimax_iterations = budget.minimax_passes;
     FitSummary fs;
-    fit_parameters(fo, {&e, ctx.columns, p.target, select}, &fs);
+    fit_parameters(fo, {&e, ctx.columns, p.target, w}, &fs);
     e.parameter_values = fs.parameters;
   }
   return e;

@@ -6,9 +6,14 @@
 
 namespace shaderfit::search_detail {
 
-// Whether the search fits constants minimax for this loss (max_abs): its front members' fitted
-// constants are then Lawson-refined from the least-squares fit.
+// Whether the search fits constants minimax for this loss (max_abs, max_rel): its front members'
+// fitted constants are then Lawson-refined from the least-squares fit.
 bool fits_minimax(Loss loss);
+
+// The rows' weights w of the minimax fit, max_i w_i |f_i - y_i|, for a minimax loss (as the
+// screening weighs them, screen_weight): max_abs 1 on the rows of non-zero weight, max_rel
+// 1/|y| there (0 where y = 0).
+std::vector<double> minimax_weights(Loss loss, const SearchProblem& problem);
 
 struct ConstantFitBudget {
   int least_squares_steps = 10;  // Levenberg-Marquardt steps of the least-squares fit
@@ -18,8 +23,8 @@ struct ConstantFitBudget {
 
 // e (over the problem's inputs, its parameter values the start) with its parameters fitted on
 // every row: weighted least squares (the problem's weights), then, when fits_minimax and the
-// budget has passes, the minimax over the rows of non-zero weight (max |f - y|, the weights only
-// select rows as in the search's max_abs), never ending worse in it than the least-squares fit.
+// budget has passes, the minimax with minimax_weights, never ending worse in it than the
+// least-squares fit.
 Expression fit_on_all_rows(Expression e, const SearchContext& ctx, const ConstantFitBudget& budget);
 
 // For a minimax loss: every front member refitted minimax with its number literals and

@@ -23,20 +23,17 @@ SearchProblem seed_problem() {
   return p;
 }
 
-double max_abs_of(const Expression& e, const SearchProblem& p) {
+ErrorMetrics metrics_of(const Expression& e, const SearchProblem& p) {
   std::vector<const double*> cols;
   for (const auto& c : p.inputs) cols.push_back(c.data());
   std::vector<double> f(p.target.size());
   evaluate(e, cols, f, {.threads = 1});
-  return error_metrics(f, p.target).max_abs;
+  return error_metrics(f, p.target);
 }
 
-// Acceptance: with loss max_abs, every front member with fitted constants errs by no more than
-// the same formula with its constants refitted by least squares.
-TEST(SearchMinimax, FrontMembersBeatTheirLeastSquaresRefit) {
-  const SearchProblem p = seed_problem();
+SearchOptions max_loss_search(Loss loss) {
   SearchOptions o;
-  o.loss = Loss::MaxAbs;
+  o.loss = loss;
   o.threads = 1;
   o.time_limit_s = 600;  // counts stop it, never the clock
   o.max_enumeration_cost = 3;
@@ -44,23 +41,38 @@ TEST(SearchMinimax, FrontMembersBeatTheirLeastSquaresRefit) {
   o.max_candidates = 20000;
   o.population = 32;
   o.seed = 3;
-  SearchSummary s;
-  run_search(o, p, &s);
-  std::vector<const double*> cols;
-  for (const auto& c : p.inputs) cols.push_back(c.data());
-  int fitted = 0;
-  for (const FrontMember& m : s.front) {
-    if (m.expression.parameters.empty()) continue;
-    ++fitted;
-    Expression lsq = m.expression;
-    FitOptions fo;
-    fo.max_iterations = 200;
-    FitSummary fs;
-    fit_parameters(fo, {&lsq, cols, p.target}, &fs);
-    lsq.parameter_values = fs.parameters;
-    EXPECT_LE(m.metrics.max_abs, max_abs_of(lsq, p) * (1 + 1e-12)) << m.formula;
+  return o;
+}
+
+// Acceptance: with loss max_abs, every front member with fitted constants errs by no more than
+// the same formula with its constants refitted by least squares. For max_rel the same in the
+// relative error (least squares weighted by 1/y^2, the rel loss's fit).
+TEST(SearchMinimax, FrontMembersBeatTheirLeastSquaresRefit) {
+  const SearchProblem p = seed_problem();
+  std::vector<double> inverse_square;
+  for (double y : p.target) inverse_square.push_back(1 / (y * y));
+  for (Loss loss : {Loss::MaxAbs, Loss::MaxRel}) {
+    SearchSummary s;
+    run_search(max_loss_search(loss), p, &s);
+    const bool rel = loss == Loss::MaxRel;
+    std::vector<const double*> cols;
+    for (const auto& c : p.inputs) cols.push_back(c.data());
+    int fitted = 0;
+    for (const FrontMember& m : s.front) {
+      EXPECT_EQ(m.loss, rel ? m.metrics.max_rel : m.metrics.max_abs);
+      if (m.expression.parameters.empty()) continue;
+      ++fitted;
+      Expression lsq = m.expression;
+      FitOptions fo;
+      fo.max_iterations = 200;
+      FitSummary fs;
+      fit_parameters(fo, {&lsq, cols, p.target, rel ? inverse_square : std::vector<double>{}}, &fs);
+      lsq.parameter_values = fs.parameters;
+      const ErrorMetrics e = metrics_of(lsq, p);
+      EXPECT_LE(m.loss, (rel ? e.max_rel : e.max_abs) * (1 + 1e-12)) << m.formula;
+    }
+    EXPECT_GT(fitted, 0) << loss_name(loss);
   }
-  EXPECT_GT(fitted, 0);
 }
 
 // The polish frees a member's literals and fits them minimax: Schlick's 1 becomes 0.88 and the

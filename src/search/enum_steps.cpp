@@ -367,8 +367,8 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
 
 FusedBest Enumerator::screen_fused_sums(const float* m, TileOutput& out) const {
   const std::size_t leaves = fused_leaf_ids_.size();
-  out.evaluated += 2 * leaves;  // m + c and m - c for each leaf (their negations come free)
-  const Loss loss = ctx_.options.loss;
+  out.evaluated += 2 * leaves;     // m + c and m - c for each leaf (their negations come free)
+  const Loss loss = target_.loss;  // the screening's
   if (loss != Loss::MaxAbs && loss != Loss::Log) return screen_fused(m, fused_screen_);
   // No closed form: compute each sum's column and analyse it.
   FusedBest best;

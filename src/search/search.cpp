@@ -30,6 +30,11 @@ std::string_view termination_name(Termination t) {
 }
 
 ComputeDevice search_device(const SearchOptions& options) {
+  if (options.loss == Loss::MaxRel) {
+    if (options.device == ComputeDevice::Cuda)
+      throw Error("the max_rel loss is scored on the CPU only", {"SearchOptions::device"});
+    return ComputeDevice::Cpu;
+  }
   return resolve_device(options.device, {"SearchOptions::device"});
 }
 
@@ -87,9 +92,11 @@ void run_search(const SearchOptions& options, const SearchProblem& problem,
                 SearchSummary* summary) {
   problem.validate();
   options.validate();
-  if (options.loss == Loss::Relative &&
+  if ((options.loss == Loss::Relative || options.loss == Loss::MaxRel) &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
-    throw Error("the rel loss needs a target that is never 0", {"SearchOptions::loss"});
+    throw Error(
+        "the " + std::string(loss_name(options.loss)) + " loss needs a target that is never 0",
+        {"SearchOptions::loss"});
   if (options.loss == Loss::Log &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});

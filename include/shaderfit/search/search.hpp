@@ -80,8 +80,9 @@ struct SearchSummary {
 // options (the message says which).
 void run_search(const SearchOptions& options, const SearchProblem& problem, SearchSummary* summary);
 
-// The device run_search computes on: options.device with Auto decided. Throws Error located at
-// SearchOptions::device when it is Cuda and no GPU can be used.
+// The device run_search computes on: options.device with Auto decided (the CPU for the max_rel
+// loss, which the GPU does not score). Throws Error located at SearchOptions::device when it is
+// Cuda and no GPU can be used, or the loss is max_rel.
 ComputeDevice search_device(const SearchOptions& options);
 
 // What a checkpoint file holds, to announce a resumed run. Throws shaderfit::Error as run_search
