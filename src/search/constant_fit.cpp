@@ -19,12 +19,26 @@ constexpr ConstantFitBudget kPolish{
 
 bool fits_minimax(Loss loss) { return loss == Loss::MaxAbs || loss == Loss::MaxRel; }
 
-std::vector<double> minimax_weights(Loss loss, const SearchProblem& problem) {
-  std::vector<double> w(problem.target.size());
+std::vector<double> minimax_weights(Loss loss, std::span<const double> target,
+                                    std::span<const double> weights) {
+  std::vector<double> w(target.size());
   for (std::size_t i = 0; i < w.size(); ++i)
-    w[i] =
-        screen_weight(loss, problem.weights.empty() ? 1.0 : problem.weights[i], problem.target[i]);
+    w[i] = screen_weight(loss, weights.empty() ? 1.0 : weights[i], target[i]);
   return w;
+}
+
+void fit_minimax(Expression* e, Loss loss, std::span<const double* const> columns,
+                 std::span<const double> target, std::span<const double> weights, int passes,
+                 int steps) {
+  if (e->parameters.empty() || !fits_minimax(loss)) return;
+  const std::vector<double> w = minimax_weights(loss, target, weights);
+  FitOptions fo;
+  fo.minimax = true;
+  fo.max_iterations = steps;
+  fo.minimax_iterations = passes;
+  FitSummary fs;
+  fit_parameters(fo, {e, {columns.begin(), columns.end()}, target, w}, &fs);
+  e->parameter_values = fs.parameters;
 }
 
 Expression fit_on_all_rows(Expression e, const SearchContext& ctx,
@@ -38,16 +52,9 @@ Expression fit_on_all_rows(Expression e, const SearchContext& ctx,
     fit_parameters(fo, {&e, ctx.columns, p.target, p.weights}, &fs);
     e.parameter_values = fs.parameters;
   }
-  if (budget.minimax_passes > 0 && fits_minimax(ctx.options.loss)) {
-    const std::vector<double> w = minimax_weights(ctx.options.loss, p);
-    FitOptions fo;
-    fo.minimax = true;
-    fo.max_iterations = budget.minimax_steps;
-    fo.minimax_iterations = budget.minimax_passes;
-    FitSummary fs;
-    fit_parameters(fo, {&e, ctx.columns, p.target, w}, &fs);
-    e.parameter_values = fs.parameters;
-  }
+  if (budget.minimax_passes > 0)
+    fit_minimax(&e, ctx.options.loss, ctx.columns, p.target, p.weights, budget.minimax_passes,
+                budget.minimax_steps);
   return e;
 }
 

@@ -2,6 +2,9 @@
 // the final front (internal; docs/search.md, "Constants").
 #pragma once
 
+#include <span>
+#include <vector>
+
 #include "search/search_context.hpp"
 
 namespace shaderfit::search_detail {
@@ -13,7 +16,15 @@ bool fits_minimax(Loss loss);
 // The rows' weights w of the minimax fit, max_i w_i |f_i - y_i|, for a minimax loss (as the
 // screening weighs them, screen_weight): max_abs 1 on the rows of non-zero weight, max_rel
 // 1/|y| there (0 where y = 0).
-std::vector<double> minimax_weights(Loss loss, const SearchProblem& problem);
+std::vector<double> minimax_weights(Loss loss, std::span<const double> target,
+                                    std::span<const double> weights);
+
+// *e's parameters fitted minimax for `loss` (nothing when not fits_minimax) on the rows given
+// (one column per variable of *e; weights as the problem's, empty: all 1), from their values:
+// at most `passes` Lawson passes of at most `steps` LM steps, never worse than the start.
+void fit_minimax(Expression* e, Loss loss, std::span<const double* const> columns,
+                 std::span<const double> target, std::span<const double> weights, int passes,
+                 int steps);
 
 struct ConstantFitBudget {
   int least_squares_steps = 10;  // Levenberg-Marquardt steps of the least-squares fit

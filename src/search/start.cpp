@@ -39,7 +39,7 @@ Expression refit_for_loss(Expression e, const SearchOptions& options,
     case Loss::MaxAbs:
     case Loss::MaxRel:
       fo.loss = Loss::MaxAbs;
-      block.weights = minimax_weights(options.loss, problem);
+      block.weights = minimax_weights(options.loss, problem.target, problem.weights);
       break;
     case Loss::Relative:
       fo.loss = Loss::Mse;
