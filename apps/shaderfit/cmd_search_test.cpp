@@ -187,9 +187,11 @@ TEST(CmdSearch, StartFromSchlickUnderMaxAbs) {
   bool met = false, refitted = false;
   for (const auto& m : j["front"]) {
     met = met || (m["cost"].get<double>() <= 5 && m["max_abs"].get<double>() <= schlick);
-    // Schlick's 1 refitted to the minimax: 0.88, max |error| 0.119 against 0.177.
-    refitted = refitted || (m["origin"] == "start" && m["cost"].get<double>() == 5 &&
-                            m["max_abs"].get<double>() < 0.7 * schlick);
+    // Schlick's 1 refitted to the minimax: 0.88, max |error| 0.119 against 0.177; it stays
+    // unless a member dominates it (the final minimax polish gives the enumeration's cost-3
+    // (r0 a - x)^4 + r0 0.116).
+    refitted = refitted || (m["cost"].get<double>() <= 5 && m["max_abs"].get<double>() <= 0.119 &&
+                            (m["origin"] == "start" || m["cost"].get<double>() < 5));
   }
   EXPECT_TRUE(met) << r.out;
   EXPECT_TRUE(refitted) << r.out;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "fixed_form_internal.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/fit/least_squares.hpp"
@@ -138,6 +139,69 @@ void fit_levenberg_marquardt(const FitOptions& o, const FitProblem& p, Expressio
   s->termination = termination_name(ls.termination);
 }
 
+double max_error(const FitProblem& p, const Expression& e, std::vector<double>& values) {
+  values.resize(p.target.size());
+  shaderfit::evaluate(e, p.columns, values, {.threads = 1});
+  double m = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    const double wi = p.weights.empty() ? 1.0 : p.weights[i];
+    if (wi == 0) continue;
+    const double d = wi * std::abs(values[i] - p.target[i]);
+    if (!(d <= m)) m = std::isnan(d) ? std::numeric_limits<double>::infinity() : d;
+  }
+  return m;
+}
+
+// One least-squares fit of e (from its values) with the problem's rows and the given weights.
+void least_squares(const FitOptions& o, const FitProblem& p, bool linear, Expression& e,
+                   FitSummary* s) {
+  std::vector<double> values;
+  s->initial_cost = cost_at(p, e, values);
+  s->final_cost = s->initial_cost;
+  s->parameters = e.parameter_values;
+  if (linear)
+    fit_linear(p, e, s);
+  else
+    fit_levenberg_marquardt(o, p, e, s);
+}
+
+// Lawson's reweighting (fit_detail::lawson) around least_squares.
+void fit_minimax(const FitOptions& o, const FitProblem& p, bool linear, Expression& e,
+                 FitSummary* s) {
+  std::vector<double> w(p.target.size(), 1.0), values;
+  if (!p.weights.empty()) w.assign(p.weights.begin(), p.weights.end());
+  const std::vector<double> start = e.parameter_values;
+  std::vector<double> best = start;
+  FitProblem pass = p;
+  int iterations = 0;
+  fit_detail::LawsonSteps steps;
+  steps.solve = [&](std::span<const double> eff) {
+    pass.weights = eff;
+    FitSummary t;
+    least_squares(o, pass, linear, e, &t);
+    iterations += t.iterations;
+    ++s->minimax_passes;
+    return fit_detail::Failure{};
+  };
+  steps.residuals = [&](std::vector<double>* r) {
+    values.resize(p.target.size());
+    shaderfit::evaluate(e, p.columns, values, {.threads = 1});
+    for (std::size_t i = 0; i < values.size(); ++i) (*r)[i] = std::abs(values[i] - p.target[i]);
+  };
+  steps.keep = [&] { best = e.parameter_values; };
+  steps.restore = [&] { e.parameter_values = best; };
+  fit_detail::lawson(w, o.minimax_iterations, steps, &s->termination);
+  double cost = max_error(p, e, values);
+  if (!(cost < s->initial_cost)) {
+    e.parameter_values = start;
+    cost = s->initial_cost;
+  }
+  s->parameters = e.parameter_values;
+  s->final_cost = cost;
+  s->iterations = iterations;
+  s->linear = linear;
+}
+
 }  // namespace
 
 bool FitOptions::is_valid(std::string* why) const {
@@ -146,6 +210,7 @@ bool FitOptions::is_valid(std::string* why) const {
     return false;
   };
   if (max_iterations < 1) return fail("max_iterations must be at least 1");
+  if (minimax_iterations < 1) return fail("minimax_iterations must be at least 1");
   if (!(function_tolerance > 0) || !(parameter_tolerance > 0))
     return fail("tolerances must be positive");
   if (!(initial_lambda > 0)) return fail("initial_lambda must be positive");
@@ -193,24 +258,27 @@ void fit_parameters(const FitOptions& options, const FitProblem& problem, FitSum
   e.parameter_values.resize(e.parameters.size(), 0.0);
   FitSummary s;
   std::vector<double> values;
-  s.initial_cost = cost_at(problem, e, values);
+  s.initial_cost = options.minimax ? max_error(problem, e, values) : cost_at(problem, e, values);
   s.final_cost = s.initial_cost;
   s.parameters = e.parameter_values;
-  if (e.parameters.empty()) {
+  const bool linear = options.use_linear_solver && is_linear_in_parameters(e);
+  if (e.parameters.empty())
     s.termination = "no parameters";
-  } else if (options.use_linear_solver && is_linear_in_parameters(e)) {
+  else if (options.minimax)
+    fit_minimax(options, problem, linear, e, &s);
+  else if (linear)
     fit_linear(problem, e, &s);
-  } else {
+  else
     fit_levenberg_marquardt(options, problem, e, &s);
-  }
   *summary = std::move(s);
 }
 
 std::string FitSummary::brief_report() const {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%s: cost %.6g -> %.6g in %d iteration%s (%s)\n",
-                linear ? "linear least squares" : "Levenberg-Marquardt", initial_cost, final_cost,
-                iterations, iterations == 1 ? "" : "s", termination.c_str());
+  std::snprintf(buf, sizeof buf, "%s%s: cost %.6g -> %.6g in %d iteration%s (%s)\n",
+                linear ? "linear least squares" : "Levenberg-Marquardt",
+                minimax_passes > 0 ? " + Lawson minimax" : "", initial_cost, final_cost, iterations,
+                iterations == 1 ? "" : "s", termination.c_str());
   return buf;
 }
 

@@ -33,6 +33,7 @@ Failure lawson(std::span<const double> w, int iterations, const LawsonSteps& ste
       u[i] *= s[i];
       sum += u[i];
     }
+    if (!std::isfinite(error)) break;  // e.g. a step into a pole: the best so far stays
     if (error < best) {
       best = error;
       steps.keep();

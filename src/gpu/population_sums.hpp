@@ -113,7 +113,7 @@ inline double loss_from_sums(Loss kind, const RowSums& s) {
     case Loss::MaxAbs: return s.max_e;
     case Loss::Relative:
     case Loss::Log: return s.bad_target != 0 ? NAN : s.we / s.w;
-    case Loss::MaxRel: return NAN;  // not a search loss (SearchOptions::is_valid)
+    case Loss::MaxRel: return NAN;  // scored on the CPU only (search_device)
   }
   return s.we / s.w;
 }

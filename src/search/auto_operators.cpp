@@ -52,8 +52,7 @@ SearchOptions resolve_auto_operators(SearchOptions o, const SearchProblem& p) {
   std::optional<DataSymmetry> symmetry;
   if (o.symmetry && (is_auto_operators(o.operators) || is_auto_operators(o.evolution_operators)))
     symmetry = detect_symmetry(p);
-  const bool both_signs =
-      an_input_takes_both_signs(symmetry ? symmetric_half(p, *symmetry) : p);
+  const bool both_signs = an_input_takes_both_signs(symmetry ? symmetric_half(p, *symmetry) : p);
   if (is_auto_operators(o.operators)) {
     o.operators.assign(std::begin(kShadingOperators), std::end(kShadingOperators));
     if (!p.target.empty() && high_dynamic_range(p.target)) o.operators.push_back(Op::Pow);

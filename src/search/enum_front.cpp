@@ -45,8 +45,8 @@ void Enumerator::setup_full_rows() {
   for (std::size_t i = 0; i < rows; ++i) {
     const double w = p.weights.empty() ? 1.0 : p.weights[i];
     const double y = p.target[i];
-    double wi = w / sum_w;
-    if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
+    double wi = screen_weight(loss, w, y);
+    if (screen_loss(loss) != Loss::MaxAbs) wi /= sum_w;
     if (loss == Loss::Relative && !relative_screen_row(y)) {
       wi = 0;
       f.y[i] = 1.0f;
@@ -55,7 +55,7 @@ void Enumerator::setup_full_rows() {
     f.log2_y[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
     f.wyy += wi * static_cast<double>(f.y[i]) * f.y[i];
   }
-  f.target = {f.y.data(), f.w.data(), f.log2_y.data(), f.wyy, loss, f.n};
+  f.target = {f.y.data(), f.w.data(), f.log2_y.data(), f.wyy, screen_loss(loss), f.n};
 }
 
 // Class `id` on every row, in float32, by the same kernels as its screen column; each operator

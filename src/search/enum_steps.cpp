@@ -369,8 +369,8 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
 
 FusedBest Enumerator::screen_fused_sums(const float* m, TileOutput& out) const {
   const std::size_t leaves = fused_leaf_ids_.size();
-  out.evaluated += 2 * leaves;  // m + c and m - c for each leaf (their negations come free)
-  const Loss loss = ctx_.options.loss;
+  out.evaluated += 2 * leaves;     // m + c and m - c for each leaf (their negations come free)
+  const Loss loss = target_.loss;  // the screening's
   if (loss == Loss::Mse || loss == Loss::Rmse) return screen_fused(m, fused_screen_);
   // No closed form (rel would need the sums over w / y^2, which overflow float32 on a high
   // dynamic range): compute each sum's column and analyse it.

@@ -77,18 +77,17 @@ void Enumerator::setup_screen(Rng& rng) {
     const bool left_out = loss == Loss::Relative && !relative_screen_row(y);
     screen_y_[i] = left_out ? 1.0f : static_cast<float>(y);
     screen_log2_y_[i] = y > 0 ? static_cast<float>(std::log2(y)) : 0.0f;
-    double wi = left_out ? 0.0 : w;
-    if (loss == Loss::MaxAbs) wi = w > 0 ? 1.0 : 0.0;
-    screen_w_[i] = static_cast<float>(wi);
+    screen_w_[i] = left_out ? 0.0f : static_cast<float>(screen_weight(loss, w, y));
     sum_w += w;
   }
-  if (loss != Loss::MaxAbs && sum_w > 0) {
+  if (screen_loss(loss) != Loss::MaxAbs && sum_w > 0) {
     for (float& w : screen_w_) w = static_cast<float>(w / sum_w);
   }
   double wyy = 0;
   for (std::size_t i = 0; i < screen_rows_; ++i)
     wyy += static_cast<double>(screen_w_[i]) * screen_y_[i] * screen_y_[i];
-  target_ = {screen_y_.data(), screen_w_.data(), screen_log2_y_.data(), wyy, loss, screen_rows_};
+  target_ = {screen_y_.data(),  screen_w_.data(), screen_log2_y_.data(), wyy,
+             screen_loss(loss), screen_rows_};
 }
 
 void Enumerator::add_leaves() {

@@ -70,7 +70,9 @@ class Evolution {
                       std::vector<double>& values) const;
   void evaluate_on_gpu(std::vector<Individual>& batch, Island& island) const;
   void consider(const Individual& ind, Island& island, const Snapshot& front) const;
-  Candidate score_on_all_rows(Expression e) const;
+  // e refitted (and, for a minimax loss near front_loss, the front's loss at its cost, minimax
+  // fitted) and scored on every row.
+  Candidate score_on_all_rows(Expression e, double front_loss) const;
   [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
                                              const std::vector<double>& crowd) const;
   void migrate();

@@ -129,6 +129,7 @@ json front_member_json(const FrontMember& m, FrontJson style) {
             {"mse", number(m.metrics.mse)},
             {"rmse", number(m.metrics.rmse)},
             {"max_abs", number(m.metrics.max_abs)},
+            {"max_rel", number(m.metrics.max_rel)},
             {"rel", number(m.metrics.rel)},
             {"log", number(m.metrics.log)},
             {"time_s", number(m.time_s)},
@@ -165,6 +166,7 @@ FrontMember exact_member_from(const json& j) {
   m.metrics.max_abs = exact_number_from(j.at("max_abs"));
   m.metrics.rel = exact_number_from(j.at("rel"));
   m.metrics.log = exact_number_from(j.at("log"));
+  if (j.contains("max_rel")) m.metrics.max_rel = exact_number_from(j.at("max_rel"));
   m.time_s = exact_number_from(j.at("time_s"));
   const auto origin = search_phase_from_name(j.at("origin").get<std::string>());
   if (!origin) throw search_detail::BadExactJson("an unknown origin");
@@ -224,6 +226,7 @@ ReadFrontMember front_member_from_json(const json& m, const std::vector<std::str
   f.metrics.max_abs = result_number(m, "max_abs", where);
   f.metrics.rel = result_number(m, "rel", where);
   f.metrics.log = result_number(m, "log", where);
+  if (m.contains("max_rel")) f.metrics.max_rel = result_number(m, "max_rel", where);
   f.time_s = result_number(m, "time_s", where);
   f.float32_max_abs_diff = result_number(m, "float32_max_abs_diff", where);
   if (m.contains("origin") && m["origin"].is_string())

@@ -103,13 +103,8 @@ const SearchOptionField kFields[] = {
     {.name = "loss",
      .member = &O::loss,
      .role = Role::Search,
-     .help = "mse, rmse, max_abs, rel or log",
-     .choices = "mse, rmse, max_abs, rel, log",
-     .check =
-         [](const O& o) {
-           return o.loss == Loss::MaxRel ? std::string("must be mse, rmse, max_abs, rel or log")
-                                         : std::string();
-         }},
+     .help = "mse, rmse, max_abs, max_rel, rel or log",
+     .choices = "mse, rmse, max_abs, max_rel, rel, log"},
     {.name = "cost",
      .member = &O::cost,
      .role = Role::Search,
@@ -308,12 +303,6 @@ std::vector<std::string_view> split(std::string_view list, char separator = ',')
   return out;
 }
 
-// max_rel ranks rational forms; the search cannot use it.
-std::optional<Loss> search_loss_from_name(std::string_view name) {
-  const auto loss = loss_from_name(name);
-  return loss == Loss::MaxRel ? std::nullopt : loss;
-}
-
 template <class E, class FromName>
 E choice_from(const SearchOptionField& f, std::string_view text, FromName from_name) {
   const auto v = from_name(text);
@@ -447,7 +436,7 @@ void set_search_option(SearchOptions& o, const SearchOptionField& f, std::string
             else
               o.*m = parse_operator_list(text, {search_option_location(f)});
           },
-          [&](Loss O::*m) { o.*m = choice_from<Loss>(f, text, search_loss_from_name); },
+          [&](Loss O::*m) { o.*m = choice_from<Loss>(f, text, loss_from_name); },
           [&](CostTarget O::*m) { o.*m = choice_from<CostTarget>(f, text, cost_target_from_name); },
           [&](ComputeDevice O::*m) {
             o.*m = choice_from<ComputeDevice>(f, text, device_from_name);

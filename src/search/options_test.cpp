@@ -104,14 +104,24 @@ TEST(Search, LossesCheckTheirTarget) {
   EXPECT_THROW(run_search(o, p, &s), Error);
   o.loss = Loss::Relative;
   EXPECT_THROW(run_search(o, p, &s), Error);
+  o.loss = Loss::MaxRel;
+  EXPECT_THROW(run_search(o, p, &s), Error);
 }
 
-TEST(SearchOptions, MaxRelIsNotASearchLoss) {
+// max_rel is a search loss, scored on the CPU: Auto resolves to it, Cuda is refused.
+TEST(SearchOptions, MaxRelIsScoredOnTheCpu) {
   SearchOptions o;
   o.loss = Loss::MaxRel;
   std::string why;
-  EXPECT_FALSE(o.is_valid(&why));
-  EXPECT_NE(why.find("loss"), std::string::npos) << why;
+  EXPECT_TRUE(o.is_valid(&why)) << why;
+  EXPECT_EQ(search_device(o), ComputeDevice::Cpu);
+  o.device = ComputeDevice::Cuda;
+  try {
+    search_device(o);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "SearchOptions::device");
+  }
 }
 
 }  // namespace
@@ -165,7 +175,7 @@ TEST(SearchOptions, ErrorsNameTheField) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_EQ(e.where().source, "SearchOptions::loss");
-    EXPECT_EQ(e.message(), "unknown loss 'l7' (known: mse, rmse, max_abs, rel, log)");
+    EXPECT_EQ(e.message(), "unknown loss 'l7' (known: mse, rmse, max_abs, max_rel, rel, log)");
   }
 }
 

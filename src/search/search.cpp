@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "search/checkpoint.hpp"
+#include "search/constant_fit.hpp"
 #include "search/enumerator.hpp"
 #include "search/evolution.hpp"
 #include "search/float32_check.hpp"
@@ -30,6 +31,11 @@ std::string_view termination_name(Termination t) {
 }
 
 ComputeDevice search_device(const SearchOptions& options) {
+  if (options.loss == Loss::MaxRel) {
+    if (options.device == ComputeDevice::Cuda)
+      throw Error("the max_rel loss is scored on the CPU only", {"SearchOptions::device"});
+    return ComputeDevice::Cpu;
+  }
   return resolve_device(options.device, {"SearchOptions::device"});
 }
 
@@ -151,6 +157,10 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
       checkpoints->write_enumeration();
     }
   }
+  // At most this share of the time budget goes to the final minimax polish.
+  constexpr double kPolishShare = 0.05;
+  if (ctx.stop_reason() != Termination::Interrupted)
+    search_detail::polish_front_minimax(ctx, kPolishShare * options.time_limit_s);
   s.total_time_s = ctx.elapsed();
   s.evolution_time_s = s.total_time_s - s.enumeration_time_s;
   s.front = ctx.front.members();
@@ -165,15 +175,16 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
 
 }  // namespace
 
-void run_search(const SearchOptions& given, const SearchProblem& problem,
-                SearchSummary* summary) {
+void run_search(const SearchOptions& given, const SearchProblem& problem, SearchSummary* summary) {
   problem.validate();
   given.validate();
   // From here on the operator lists are concrete (checkpoints record them so).
   const SearchOptions options = resolve_auto_operators(given, problem);
-  if (options.loss == Loss::Relative &&
+  if ((options.loss == Loss::Relative || options.loss == Loss::MaxRel) &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
-    throw Error("the rel loss needs a target that is never 0", {"SearchOptions::loss"});
+    throw Error(
+        "the " + std::string(loss_name(options.loss)) + " loss needs a target that is never 0",
+        {"SearchOptions::loss"});
   if (options.loss == Loss::Log &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});

@@ -11,6 +11,16 @@
 
 namespace shaderfit::search_detail {
 
+Loss screen_loss(Loss loss) { return loss == Loss::MaxRel ? Loss::MaxAbs : loss; }
+
+double screen_weight(Loss loss, double w, double y) {
+  switch (loss) {
+    case Loss::MaxAbs: return w > 0 ? 1.0 : 0.0;
+    case Loss::MaxRel: return w > 0 && y != 0 ? 1 / std::abs(y) : 0.0;
+    default: return w;
+  }
+}
+
 SearchContext::SearchContext(const SearchOptions& opts, const SearchProblem& prob)
     : options(opts),
       problem(prob),

@@ -19,6 +19,14 @@ namespace shaderfit::search_detail {
 
 class Checkpointer;
 
+// How the enumeration's screening scores a search loss, and a row's weight there and in the
+// minimax fits (w the row's weight, y its target; the squared losses' weights are then
+// normalised to sum 1): rel keeps w (its screens divide by y row by row), max_abs counts the rows
+// of non-zero weight alike, and max_rel is max_abs with weights 1/|y| (rows with y = 0 do not
+// count, as in the metric).
+Loss screen_loss(Loss loss);
+double screen_weight(Loss loss, double w, double y);
+
 class SearchContext {
  public:
   SearchContext(const SearchOptions& options, const SearchProblem& problem);

@@ -1,5 +1,6 @@
 #include "search/start.hpp"
 
+#include "search/constant_fit.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/fit/fixed_form.hpp"
 
@@ -36,9 +37,9 @@ Expression refit_for_loss(Expression e, const SearchOptions& options,
   fo.threads = 1;
   switch (options.loss) {
     case Loss::MaxAbs:
-      // The search's max_abs uses the weights only to select rows.
+    case Loss::MaxRel:
       fo.loss = Loss::MaxAbs;
-      for (double& w : block.weights) w = w > 0 ? 1.0 : 0.0;
+      block.weights = minimax_weights(options.loss, problem.target, problem.weights);
       break;
     case Loss::Relative:
       fo.loss = Loss::Mse;

@@ -20,9 +20,9 @@ std::vector<StartFormula> parse_start_formulas(const SearchOptions& options,
                                                const SearchProblem& problem);
 
 // e (over the problem's inputs) with its parameters fitted on every row for options.loss: the
-// (weighted) minimax by Lawson's reweighting for max_abs, least squares in the loss's own terms
-// for mse and rmse, rel (weights 1 / target^2) and log (of the target). Where the fit fails, e
-// keeps its values.
+// (weighted) minimax by Lawson's reweighting for max_abs and max_rel (minimax_weights), least
+// squares in the loss's own terms for mse and rmse, rel (weights 1 / target^2) and log (of the
+// target). Where the fit fails, e keeps its values.
 Expression refit_for_loss(Expression e, const SearchOptions& options, const SearchProblem& problem);
 
 // Offers each start formula to ctx's front as written and refitted (origin SearchPhase::Start),

@@ -179,6 +179,17 @@ Expression with_linear_scaling(const Expression& e, double a, double b) {
   return finish(std::move(n), unlimited);
 }
 
+Expression with_literals_as_parameters(const Expression& e) {
+  Nodes n = inline_parameters(e);
+  for (Node& x : n)
+    if (x.op == Op::Const) x = param_node(x.value);
+  VariationLimits unlimited;
+  unlimited.variables = e.variables;
+  unlimited.max_nodes = n.size();
+  unlimited.max_parameters = 1 << 20;
+  return finish(std::move(n), unlimited);
+}
+
 Expression mutate(Rng& rng, const Expression& e, const VariationLimits& l) {
   Nodes n = inline_parameters(e);  // lengths valid: e is well formed
   const bool room_for_param = count_params(n) < l.max_parameters;

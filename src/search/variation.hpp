@@ -40,4 +40,7 @@ Expression normalize_parameters(Expression e, const VariationLimits& limits);
 // a * e + b with two new parameters (the optimal linear scaling's form).
 Expression with_linear_scaling(const Expression& e, double a, double b);
 
+// e with each number literal turned into a parameter at the literal's value (no limits).
+Expression with_literals_as_parameters(const Expression& e);
+
 }  // namespace shaderfit::search_detail

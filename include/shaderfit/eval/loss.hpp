@@ -8,7 +8,7 @@
 //
 // Not every caller minimises every loss; each documents which it takes and refuses the others
 // with an Error naming its field:
-//   search    SearchOptions::loss: mse, rmse, max_abs, rel, log
+//   search    SearchOptions::loss: mse, rmse, max_abs, max_rel, rel, log
 //   fit       FixedFormOptions::loss: mse, log (in log2 space), max_abs (weighted minimax)
 //   rational  RationalOptions::rank_by: rmse, max_abs, max_rel
 #pragma once

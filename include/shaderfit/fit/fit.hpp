@@ -12,7 +12,9 @@
 //
 // Formulas linear in their parameters (each parameter enters as a coefficient: p * g(x) + ...)
 // are solved directly by linear least squares; others by Levenberg-Marquardt with the exact
-// Jacobian from forward-mode differentiation. Both minimise the weighted mean squared error.
+// Jacobian from forward-mode differentiation. Both minimise the weighted mean squared error, or,
+// with FitOptions::minimax, the weighted max error by Lawson's reweighting of that same fit (the
+// one Lawson loop, src/fit/minimax.cpp, which solve_fixed_form's Loss::MaxAbs also runs).
 #pragma once
 
 #include <span>
@@ -31,8 +33,16 @@ struct FitOptions {
       1e-10;  // stop when a step moves the parameters by less than this, relatively
   double initial_lambda = 1e-3;   // damping, relative to the diagonal of J^T J
   bool use_linear_solver = true;  // solve formulas linear in their parameters directly
+  // Minimise max_i w_i |f_i - y_i| (w = FitProblem::weights, 1 when empty; rows of weight 0 do
+  // not count) instead of the weighted mean square: Lawson's iteratively reweighted least
+  // squares, each pass a weighted fit of the kind above (LM passes warm-started, at most
+  // max_iterations steps each), at most minimax_iterations passes. The result is the best
+  // point met, never worse than the start. The summary's costs are then max errors.
+  bool minimax = false;
+  int minimax_iterations = 300;
 
-  // False, with the reason in *why, for max_iterations < 1 or a tolerance or lambda <= 0.
+  // False, with the reason in *why, for max_iterations or minimax_iterations < 1 or a tolerance
+  // or lambda <= 0.
   bool is_valid(std::string* why) const;
 };
 
@@ -45,11 +55,13 @@ struct FitProblem {
 
 struct FitSummary {
   std::vector<double> parameters;  // the fitted values (the start when nothing improved)
-  double initial_cost = 0;         // weighted mean squared error at the start
+  double initial_cost = 0;         // weighted mean squared error (minimax: max error) at the start
   double final_cost = 0;           // and at `parameters`
-  int iterations = 0;
-  bool linear = false;      // solved by linear least squares
-  std::string termination;  // "linear", "function tolerance", "parameter tolerance", ...
+  int iterations = 0;              // LM steps (or linear solves), over all minimax passes
+  int minimax_passes = 0;          // Lawson passes (minimax only)
+  bool linear = false;             // solved by linear least squares
+  std::string termination;         // "linear", "function tolerance", ..., "minimax converged",
+                                   // "minimax iterations"
 
   [[nodiscard]] std::string brief_report() const;
 };

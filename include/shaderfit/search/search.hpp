@@ -93,8 +93,9 @@ void run_search(const SearchOptions& options, const SearchProblem& problem, Sear
 // and select when an input takes both signs.
 SearchOptions resolve_auto_operators(SearchOptions options, const SearchProblem& problem);
 
-// The device run_search computes on: options.device with Auto decided. Throws Error located at
-// SearchOptions::device when it is Cuda and no GPU can be used.
+// The device run_search computes on: options.device with Auto decided (the CPU for the max_rel
+// loss, which the GPU does not score). Throws Error located at SearchOptions::device when it is
+// Cuda and no GPU can be used, or the loss is max_rel.
 ComputeDevice search_device(const SearchOptions& options);
 
 // What a checkpoint file holds, to announce a resumed run. Throws shaderfit::Error as run_search
