@@ -50,8 +50,8 @@ SearchOptions resolve_auto_operators(SearchOptions o, const SearchProblem& p) {
   // Where the search will fold symmetric data, it sees the half x >= 0 (symmetry.hpp): an input
   // that takes both signs only there needs no sign operators.
   std::optional<DataSymmetry> symmetry;
-  if (o.symmetry && (is_auto_operators(o.operators) || is_auto_operators(o.evolution_operators)))
-    symmetry = detect_symmetry(p);
+  if (is_auto_operators(o.operators) || is_auto_operators(o.evolution_operators))
+    symmetry = search_symmetry(o, p);
   const bool both_signs = an_input_takes_both_signs(symmetry ? symmetric_half(p, *symmetry) : p);
   if (is_auto_operators(o.operators)) {
     o.operators.assign(std::begin(kShadingOperators), std::end(kShadingOperators));

@@ -58,11 +58,21 @@ TEST(AutoOperators, TheShadingSetAndPowForAHighDynamicRange) {
   EXPECT_TRUE(has(peak.operators, Op::Pow));
   EXPECT_EQ(operator_list_name(peak.evolution_operators), "rsqrt,saturate");
   // An input of both signs: sign and copysign in the enumeration, select in the evolution.
-  const SearchOptions odd =
-      resolve_auto_operators(o, one_input(-1, 1, [](double x) { return std::atan(x); }));
-  EXPECT_EQ(operator_list_name(odd.operators),
+  const SearchOptions both =
+      resolve_auto_operators(o, one_input(-1, 1, [](double x) { return std::exp(x); }));
+  EXPECT_EQ(operator_list_name(both.operators),
             "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,sign,copysign");
-  EXPECT_EQ(operator_list_name(odd.evolution_operators), "pow,rsqrt,saturate,select");
+  EXPECT_EQ(operator_list_name(both.evolution_operators), "pow,rsqrt,saturate,select");
+  // Odd data is searched on its half x >= 0 (symmetry.hpp), where x has one sign; with the
+  // folding off the sign operators are back.
+  const auto atan_data = one_input(-1, 1, [](double x) { return std::atan(x); });
+  const SearchOptions odd = resolve_auto_operators(o, atan_data);
+  EXPECT_EQ(operator_list_name(odd.operators), "+,-,*,/,^,sqrt,exp2,log2,abs,min,max");
+  EXPECT_EQ(operator_list_name(odd.evolution_operators), "pow,rsqrt,saturate");
+  SearchOptions unfolded = o;
+  unfolded.symmetry = false;
+  EXPECT_EQ(operator_list_name(resolve_auto_operators(unfolded, atan_data).operators),
+            "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,sign,copysign");
   // Lists that are not auto stay as given.
   SearchOptions given;
   const SearchOptions same =

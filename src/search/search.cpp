@@ -195,15 +195,8 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
   std::optional<Checkpoint> resumed;
   if (!options.resume_path.empty()) resumed = search_detail::read_checkpoint(options.resume_path);
   // A resumed search keeps the decision its checkpoint recorded (none in older checkpoints).
-  std::optional<DataSymmetry> symmetry;
-  if (resumed)
-    symmetry = resumed->symmetry;
-  else if (options.symmetry)
-    symmetry = detect_symmetry(problem);
-  // Point symmetry fits y - m on the half, which would change what rel and log measure.
-  if (!resumed && symmetry && symmetry->kind == SymmetryKind::Point &&
-      (options.loss == Loss::Relative || options.loss == Loss::Log))
-    symmetry.reset();
+  std::optional<DataSymmetry> symmetry =
+      resumed ? resumed->symmetry : search_symmetry(options, problem);
   if (!symmetry || symmetry->input >= problem.inputs.size()) {
     search_on(options, problem, starts, std::move(resumed), std::nullopt, summary);
     return;

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/search/options.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -144,6 +145,16 @@ std::optional<SymmetryKind> symmetry_kind_from_name(std::string_view name) {
   for (SymmetryKind k : {SymmetryKind::Even, SymmetryKind::Odd, SymmetryKind::Point})
     if (symmetry_kind_name(k) == name) return k;
   return std::nullopt;
+}
+
+std::optional<DataSymmetry> search_symmetry(const SearchOptions& options,
+                                            const SearchProblem& problem) {
+  if (!options.symmetry) return std::nullopt;
+  const bool ratio_loss = options.loss == Loss::Relative || options.loss == Loss::MaxRel ||
+                          options.loss == Loss::Log;
+  if (!ratio_loss) return detect_symmetry(problem);
+  const std::optional<DataSymmetry> s = detect_symmetry(problem);
+  return s.has_value() && s->kind == SymmetryKind::Point ? std::nullopt : s;
 }
 
 std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem, double tolerance) {

@@ -17,6 +17,7 @@
 
 namespace shaderfit {
 
+struct SearchOptions;
 struct SearchProblem;
 
 // g is fitted on the half x >= 0 to t = s (y - m), s = DataSymmetry::sign, m = 0 but for Point;
@@ -60,6 +61,12 @@ inline constexpr double kSymmetryTolerance = 1e-9;
 // A constant target is not taken as symmetric. `problem` must be valid (SearchProblem::validate).
 std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem,
                                             double tolerance = kSymmetryTolerance);
+
+// The symmetry a search with `options` folds the problem by: none when options.symmetry is off;
+// otherwise detect_symmetry's, except a point symmetry under the rel, max_rel and log losses (the
+// half's target y - m would change what they measure).
+std::optional<DataSymmetry> search_symmetry(const SearchOptions& options,
+                                            const SearchProblem& problem);
 
 // The rows with x >= 0 (x = -0 included), in their order, with the target t = s (y - m) (s = 1
 // where sign is 0).
