@@ -150,8 +150,8 @@ std::optional<SymmetryKind> symmetry_kind_from_name(std::string_view name) {
 std::optional<DataSymmetry> search_symmetry(const SearchOptions& options,
                                             const SearchProblem& problem) {
   if (!options.symmetry) return std::nullopt;
-  const bool ratio_loss = options.loss == Loss::Relative || options.loss == Loss::MaxRel ||
-                          options.loss == Loss::Log;
+  const bool ratio_loss =
+      options.loss == Loss::Relative || options.loss == Loss::MaxRel || options.loss == Loss::Log;
   if (!ratio_loss) return detect_symmetry(problem);
   const std::optional<DataSymmetry> s = detect_symmetry(problem);
   return s.has_value() && s->kind == SymmetryKind::Point ? std::nullopt : s;
@@ -185,14 +185,18 @@ SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& s
   return half;
 }
 
-Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
-                              const std::vector<std::string>& input_names) {
+namespace {
+
+// g's nodes with `input_names` as variables and |x| for x, but for the leaf at `keep` (and x
+// under an even integer power, as |x|^2k = x^2k).
+Expression with_abs_input(const Expression& g, const DataSymmetry& symmetry,
+                          const std::vector<std::string>& input_names,
+                          std::size_t keep = static_cast<std::size_t>(-1)) {
   Expression e;
   e.variables = input_names;
   e.parameters = g.parameters;
   e.parameter_values = g.parameter_values;
   const int x = static_cast<int>(symmetry.input);
-  if (symmetry.kind == SymmetryKind::Point) e.nodes.push_back(Node::constant(symmetry.center));
   for (std::size_t k = 0; k < g.size(); ++k) {
     const Node& n = g.nodes[k];
     if (n.op != Op::Var) {
@@ -207,11 +211,26 @@ Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
                   {"reflect_expression"});
     const int i = static_cast<int>(at - input_names.begin());
     e.nodes.push_back(Node::variable(i));
-    // |x|^2k = x^2k: an even power (the next node, whose operand this leaf is) needs no abs.
     const bool even_power =
         k + 1 < g.size() && g.nodes[k + 1].op == Op::IPow && g.nodes[k + 1].index % 2 == 0;
-    if (i == x && !even_power) e.nodes.push_back(Node::op_node(Op::Abs));
+    if (i == x && !even_power && k != keep) e.nodes.push_back(Node::op_node(Op::Abs));
   }
+  return e;
+}
+
+bool is_input(const Expression& g, const Node& n, const DataSymmetry& symmetry) {
+  return n.op == Op::Var &&
+         g.variables.at(static_cast<std::size_t>(n.index)) == symmetry.input_name;
+}
+
+}  // namespace
+
+Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
+                              const std::vector<std::string>& input_names) {
+  Expression e = with_abs_input(g, symmetry, input_names);
+  const int x = static_cast<int>(symmetry.input);
+  if (symmetry.kind == SymmetryKind::Point)
+    e.nodes.insert(e.nodes.begin(), Node::constant(symmetry.center));
   if (symmetry.kind != SymmetryKind::Even) {
     e.nodes.push_back(Node::variable(x));
     if (symmetry.sign == 0) {  // G * sign(x)
@@ -239,6 +258,25 @@ Expression unreflected_expression(const Expression& g, const DataSymmetry& symme
   }
   e.update_lengths();
   return e;
+}
+
+std::optional<Expression> factored_expression(const Expression& g, const DataSymmetry& symmetry,
+                                              const std::vector<std::string>& input_names) {
+  if (symmetry.kind == SymmetryKind::Even || g.size() < 3) return std::nullopt;
+  const std::size_t root = g.size() - 1;
+  const Op op = g.nodes[root].op;
+  const std::size_t right = root - 1;  // the right operand's root; the left one ends before it
+  const bool left_leaf = g.nodes[right].length + 3 == g.size();  // the left operand is node 0
+  std::size_t keep;
+  if ((op == Op::Mul || op == Op::Div) && left_leaf && is_input(g, g.nodes[0], symmetry))
+    keep = 0;
+  else if (op == Op::Mul && g.nodes[right].length == 0 && is_input(g, g.nodes[right], symmetry))
+    keep = right;
+  else
+    return std::nullopt;
+  Expression e = with_abs_input(g, symmetry, input_names, keep);
+  e.update_lengths();
+  return unreflected_expression(e, symmetry);
 }
 
 std::string describe_symmetry(const DataSymmetry& symmetry) {

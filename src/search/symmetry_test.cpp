@@ -164,6 +164,32 @@ TEST(Symmetry, ReflectExpression) {
                Error);
 }
 
+TEST(Symmetry, FactoredExpression) {
+  const std::vector<std::string> names = {"r", "x"};
+  auto text = [&](const char* g, const DataSymmetry& s) {
+    const auto e = factored_expression(parse_formula(g, {.variables = names}), s, names);
+    return e ? to_infix(*e) : std::string("none");
+  };
+  const DataSymmetry odd{1, "x", SymmetryKind::Odd, 0};
+  // x as a whole factor stays x; every other x becomes |x|: odd without a copysign.
+  EXPECT_EQ(text("x * (r + x^3)", odd), "x * (r + abs(x)^3)");
+  EXPECT_EQ(text("(r + x) * x", odd), "(r + abs(x)) * x");
+  EXPECT_EQ(text("x / (r + x*x)", odd), "x / (r + abs(x) * abs(x))");
+  EXPECT_EQ(text("x * (r + x)", {1, "x", SymmetryKind::Point, 0.5, -1}), "0.5 - x * (r + abs(x))");
+  EXPECT_EQ(text("x * (r + x)", {1, "x", SymmetryKind::Odd, 0, -1}), "-(x * (r + abs(x)))");
+  // Not a product with x, or even data: none.
+  EXPECT_EQ(text("r * (r + x)", odd), "none");
+  EXPECT_EQ(text("(r + x) / x", odd), "none");
+  EXPECT_EQ(text("x + r", odd), "none");
+  EXPECT_EQ(text("x * (r + x)", {1, "x", SymmetryKind::Even, 0}), "none");
+  // Its values: -g(|x|) at -x.
+  const Expression f =
+      *factored_expression(parse_formula("x * (r + x^3)", {.variables = names}), odd, names);
+  std::vector<double> r = {0.5, 0.5}, x = {0.75, -0.75}, v(2);
+  evaluate(f, std::vector<const double*>{r.data(), x.data()}, v, {.threads = 1});
+  EXPECT_DOUBLE_EQ(v[1], -v[0]);
+}
+
 // Every row's error of e.
 ErrorMetrics metrics_on(const Expression& e, const SearchProblem& p) {
   std::vector<const double*> cols;

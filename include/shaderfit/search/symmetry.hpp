@@ -81,6 +81,12 @@ Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
 // g as it is on every row: m + s g (s = 1 where sign is 0).
 Expression unreflected_expression(const Expression& g, const DataSymmetry& symmetry);
 
+// For odd and point-symmetric data, g = x * h, h * x or x / h (x the symmetric input as the
+// whole operand) extended as x * h(|x|) (or x / h(|x|)), which is odd without a copysign: m + s
+// that; nullopt for other g and for even data.
+std::optional<Expression> factored_expression(const Expression& g, const DataSymmetry& symmetry,
+                                              const std::vector<std::string>& input_names);
+
 // "odd in x", "even in x", "point-symmetric in x about 1.5707963267948966".
 std::string describe_symmetry(const DataSymmetry& symmetry);
 
