@@ -188,7 +188,7 @@ SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& s
 namespace {
 
 // g's nodes with `input_names` as variables and |x| for x, but for the leaf at `keep` (and x
-// under an even integer power, as |x|^2k = x^2k).
+// under an even integer power or abs, which ignore its sign).
 Expression with_abs_input(const Expression& g, const DataSymmetry& symmetry,
                           const std::vector<std::string>& input_names,
                           std::size_t keep = static_cast<std::size_t>(-1)) {
@@ -211,9 +211,11 @@ Expression with_abs_input(const Expression& g, const DataSymmetry& symmetry,
                   {"reflect_expression"});
     const int i = static_cast<int>(at - input_names.begin());
     e.nodes.push_back(Node::variable(i));
-    const bool even_power =
-        k + 1 < g.size() && g.nodes[k + 1].op == Op::IPow && g.nodes[k + 1].index % 2 == 0;
-    if (i == x && !even_power && k != keep) e.nodes.push_back(Node::op_node(Op::Abs));
+    // No |x| where the next node (whose operand this leaf is) ignores x's sign already.
+    const bool sign_free =
+        k + 1 < g.size() && ((g.nodes[k + 1].op == Op::IPow && g.nodes[k + 1].index % 2 == 0) ||
+                             g.nodes[k + 1].op == Op::Abs);
+    if (i == x && !sign_free && k != keep) e.nodes.push_back(Node::op_node(Op::Abs));
   }
   return e;
 }

@@ -181,6 +181,9 @@ TEST(Symmetry, FactoredExpression) {
   EXPECT_EQ(text("r * (r + x)", odd), "none");
   EXPECT_EQ(text("(r + x) / x", odd), "none");
   EXPECT_EQ(text("x + r", odd), "none");
+  EXPECT_EQ(to_infix(reflect_expression(parse_formula("abs(x) * x", {.variables = names}), odd,
+                                        names)),
+            "copysign(abs(x) * abs(x), x)");
   EXPECT_EQ(text("x * (r + x)", {1, "x", SymmetryKind::Even, 0}), "none");
   // Its values: -g(|x|) at -x.
   const Expression f =
