@@ -90,7 +90,8 @@ void run_search(const SearchOptions& options, const SearchProblem& problem, Sear
 // The choice (docs/search.md, "Operators"): the enumeration gets + - * / ^ sqrt exp2 log2 abs
 // min max, pow when the target has a high dynamic range (max |y| > 100 median |y|), and sign
 // and copysign when an input takes both signs; the evolution gets pow rsqrt saturate besides,
-// and select when an input takes both signs.
+// and select when an input takes both signs. "Takes both signs" is judged on the rows the search
+// will see: the half x >= 0 where it folds symmetric data (search_symmetry, symmetry.hpp).
 SearchOptions resolve_auto_operators(SearchOptions options, const SearchProblem& problem);
 
 // The device run_search computes on: options.device with Auto decided (the CPU for the max_rel
