@@ -178,8 +178,8 @@ SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& s
     if (!(x[r] >= 0)) continue;
     for (std::size_t i = 0; i < problem.inputs.size(); ++i)
       half.inputs[i].push_back(problem.inputs[i][r]);
-    half.target.push_back(symmetry.sign < 0 ? symmetry.center - problem.target[r]
-                                            : problem.target[r] - symmetry.center);
+    const double y = problem.target[r];
+    half.target.push_back(symmetry.kind == SymmetryKind::Odd && symmetry.sign < 0 ? -y : y);
     if (!problem.weights.empty()) half.weights.push_back(problem.weights[r]);
   }
   return half;
@@ -231,40 +231,49 @@ Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
                               const std::vector<std::string>& input_names) {
   Expression e = with_abs_input(g, symmetry, input_names);
   const int x = static_cast<int>(symmetry.input);
-  if (symmetry.kind == SymmetryKind::Point)
-    e.nodes.insert(e.nodes.begin(), Node::constant(symmetry.center));
-  if (symmetry.kind != SymmetryKind::Even) {
-    e.nodes.push_back(Node::variable(x));
-    if (symmetry.sign == 0) {  // G * sign(x)
-      e.nodes.push_back(Node::op_node(Op::Sign));
-      e.nodes.push_back(Node::op_node(Op::Mul));
-    } else {  // copysign(G, x), or copysign(G, -x) for odd data negative on the half
-      if (symmetry.sign < 0 && symmetry.kind == SymmetryKind::Odd)
-        e.nodes.push_back(Node::op_node(Op::Neg));
-      e.nodes.push_back(Node::op_node(Op::CopySign));
-    }
+  const bool point = symmetry.kind == SymmetryKind::Point;
+  const auto op = [&](Op o) { e.nodes.push_back(Node::op_node(o)); };
+  const auto center = [&] { e.nodes.push_back(Node::constant(symmetry.center)); };
+  if (symmetry.kind == SymmetryKind::Even) {
+    e.update_lengths();
+    return e;
   }
-  if (symmetry.kind == SymmetryKind::Point)
-    e.nodes.push_back(Node::op_node(symmetry.sign < 0 ? Op::Sub : Op::Add));
+  if (point) {  // the value relative to m: G - m, or m - G where y <= m on the half
+    if (symmetry.sign < 0) {
+      e.nodes.insert(e.nodes.begin(), Node::constant(symmetry.center));
+    } else {
+      center();
+    }
+    op(Op::Sub);
+  }
+  e.nodes.push_back(Node::variable(x));
+  if (symmetry.sign == 0) {  // H * sign(x)
+    op(Op::Sign);
+    op(Op::Mul);
+  } else {  // copysign(H, x), or copysign(H, -x) for odd data negative on the half
+    if (symmetry.sign < 0 && !point) op(Op::Neg);
+    op(Op::CopySign);
+  }
+  if (point) {  // m + that, or m - that
+    e.nodes.insert(e.nodes.begin(), Node::constant(symmetry.center));
+    op(symmetry.sign < 0 ? Op::Sub : Op::Add);
+  }
   e.update_lengths();
   return e;
 }
 
 Expression unreflected_expression(const Expression& g, const DataSymmetry& symmetry) {
   Expression e = g;
-  if (symmetry.kind == SymmetryKind::Point) {
-    e.nodes.insert(e.nodes.begin(), Node::constant(symmetry.center));
-    e.nodes.push_back(Node::op_node(symmetry.sign < 0 ? Op::Sub : Op::Add));
-  } else if (symmetry.sign < 0) {
+  if (symmetry.kind == SymmetryKind::Odd && symmetry.sign < 0) {
     e.nodes.push_back(Node::op_node(Op::Neg));
+    e.update_lengths();
   }
-  e.update_lengths();
   return e;
 }
 
 std::optional<Expression> factored_expression(const Expression& g, const DataSymmetry& symmetry,
                                               const std::vector<std::string>& input_names) {
-  if (symmetry.kind == SymmetryKind::Even || g.size() < 3) return std::nullopt;
+  if (symmetry.kind != SymmetryKind::Odd || g.size() < 3) return std::nullopt;
   const std::size_t root = g.size() - 1;
   const Op op = g.nodes[root].op;
   const std::size_t right = root - 1;  // the right operand's root; the left one ends before it

@@ -4,7 +4,7 @@
 //   std::optional<DataSymmetry> s = detect_symmetry(problem);    // e.g. odd in x
 //   SearchProblem half = symmetric_half(problem, *s);             // rows with x >= 0
 //   Expression full = reflect_expression(g, *s, problem.input_names);  // copysign(g(|x|), x)
-//   Expression plain = unreflected_expression(g, *s);  // m + s g: g as it is on every row
+//   Expression plain = unreflected_expression(g, *s);  // g as it is on every row
 #pragma once
 
 #include <cstddef>
@@ -20,12 +20,13 @@ namespace shaderfit {
 struct SearchOptions;
 struct SearchProblem;
 
-// g is fitted on the half x >= 0 to t = s (y - m), s = DataSymmetry::sign, m = 0 but for Point;
+// g is fitted on the half x >= 0 to t: y, or -y for odd data with s = DataSymmetry::sign = -1;
 // G = g with x replaced by |x|. The formula for every row:
 enum class SymmetryKind {
-  Even,   // y(-x) = y(x):          G (s = 1, m = 0: t = y)
+  Even,   // y(-x) = y(x):          G
   Odd,    // y(-x) = -y(x):         copysign(G, s x), or G * sign(x) where s = 0
-  Point,  // y(-x) = 2 m - y(x):    m + s copysign(G, x), or m + G * sign(x) where s = 0
+  Point,  // y(-x) = 2 m - y(x):    m + copysign(G - m, x) (s = 1), m - copysign(m - G, x)
+          //                        (s = -1), or m + (G - m) * sign(x) where s = 0
 };
 // "even", "odd", "point" (and back; nullopt for anything else).
 std::string_view symmetry_kind_name(SymmetryKind kind);
@@ -37,8 +38,8 @@ struct DataSymmetry {
   SymmetryKind kind = SymmetryKind::Even;
   double center = 0;  // m: Point only (0 otherwise)
   // Odd and Point: 1 when y - m >= 0 on the half, -1 when it is <= 0 (within the tolerance), so
-  // that t >= 0 and copysign carries the sign (|t - g| <= |t + g| wherever g < 0, so copysign
-  // never adds error); 0 when it changes sign (the slower form with sign). Even: 1.
+  // that copysign carries the sign of s (y - m) >= 0 (|t - g| <= |t + g| wherever t >= 0 > g, so
+  // copysign never adds error); 0 when it changes sign (the slower form with sign). Even: 1.
   int sign = 1;
 
   friend bool operator==(const DataSymmetry&, const DataSymmetry&) = default;
@@ -68,8 +69,7 @@ std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem,
 std::optional<DataSymmetry> search_symmetry(const SearchOptions& options,
                                             const SearchProblem& problem);
 
-// The rows with x >= 0 (x = -0 included), in their order, with the target t = s (y - m) (s = 1
-// where sign is 0).
+// The rows with x >= 0 (x = -0 included), in their order, with the target t (above).
 SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& symmetry);
 
 // g (over `input_names`, fitted on the half) as the formula for every row (above), with |x|^2k
@@ -78,12 +78,12 @@ SearchProblem symmetric_half(const SearchProblem& problem, const DataSymmetry& s
 Expression reflect_expression(const Expression& g, const DataSymmetry& symmetry,
                               const std::vector<std::string>& input_names);
 
-// g as it is on every row: m + s g (s = 1 where sign is 0).
+// g as it is on every row: g, or -g for odd data with s = -1.
 Expression unreflected_expression(const Expression& g, const DataSymmetry& symmetry);
 
-// For odd and point-symmetric data, g = x * h, h * x or x / h (x the symmetric input as the
-// whole operand) extended as x * h(|x|) (or x / h(|x|)), which is odd without a copysign: m + s
-// that; nullopt for other g and for even data.
+// For odd data, g = x * h, h * x or x / h (x the symmetric input as the whole operand) extended
+// as x * h(|x|) (or x / h(|x|)), which is odd without a copysign (negated for s = -1); nullopt
+// for other g and for even and point-symmetric data.
 std::optional<Expression> factored_expression(const Expression& g, const DataSymmetry& symmetry,
                                               const std::vector<std::string>& input_names);
 
