@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "shaderfit/data/fresnel_seed.hpp"
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/fit/fit.hpp"
@@ -13,15 +13,7 @@
 namespace shaderfit::search_detail {
 namespace {
 
-SearchProblem seed_problem() {
-  Rng rng(1);
-  const Dataset d = make_fresnel_seed_dataset(rng);
-  SearchProblem p;
-  p.input_names = {"r0", "x"};
-  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
-  p.target = d.numeric("R").values;
-  return p;
-}
+using test::fresnel_seed_problem;
 
 ErrorMetrics metrics_of(const Expression& e, const SearchProblem& p) {
   std::vector<const double*> cols;
@@ -48,7 +40,7 @@ SearchOptions max_loss_search(Loss loss) {
 // the same formula with its constants refitted by least squares. For max_rel the same in the
 // relative error (least squares weighted by 1/y^2, the rel loss's fit).
 TEST(SearchMinimax, FrontMembersBeatTheirLeastSquaresRefit) {
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   std::vector<double> inverse_square;
   for (double y : p.target) inverse_square.push_back(1 / (y * y));
   for (Loss loss : {Loss::MaxAbs, Loss::MaxRel}) {
@@ -78,7 +70,7 @@ TEST(SearchMinimax, FrontMembersBeatTheirLeastSquaresRefit) {
 // The polish frees a member's literals and fits them minimax: Schlick's 1 becomes 0.88 and the
 // max error falls from 0.177 to 0.119 at the same cost (docs/search.md). Not for other losses.
 TEST(SearchMinimax, PolishFreesLiteralsAndKeepsOnlyImprovements) {
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   const Expression schlick = parse_formula("r0 + (1 - r0) * x^5", {.variables = {"r0", "x"}});
   for (Loss loss : {Loss::MaxAbs, Loss::Mse}) {
     SearchOptions o;

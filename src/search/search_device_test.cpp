@@ -5,9 +5,9 @@
 
 #include <vector>
 
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/random.hpp"
-#include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/gpu/device.hpp"
 #include "shaderfit/search/search.hpp"
 
@@ -35,12 +35,7 @@ TEST(GpuSelection, WithoutAGpuTheSearchNeedsAuto) {
 
 TEST(GpuDevice, SearchOnTheGpu) {
   SF_REQUIRE_GPU();
-  Rng data_rng(1);
-  const Dataset d = make_fresnel_seed_dataset(data_rng);
-  SearchProblem p;
-  p.input_names = {"r0", "x"};
-  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
-  p.target = d.numeric("R").values;
+  const SearchProblem p = test::fresnel_seed_problem();
   // The evolution alone, with a candidate budget (a count): reproducible, GPU scoring included.
   SearchOptions o;
   o.device = ComputeDevice::Cuda;

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "shaderfit/data/fresnel_seed.hpp"
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/search/report.hpp"
@@ -15,15 +15,7 @@
 namespace shaderfit {
 namespace {
 
-SearchProblem seed_problem(std::uint64_t data_seed = 1) {
-  Rng rng(data_seed);
-  const Dataset d = make_fresnel_seed_dataset(rng);
-  SearchProblem p;
-  p.input_names = {"r0", "x"};
-  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
-  p.target = d.numeric("R").values;
-  return p;
-}
+using test::fresnel_seed_problem;
 
 double mse_of(const char* formula, const SearchProblem& p) {
   ParseOptions po;
@@ -44,7 +36,7 @@ const FrontMember* best_within(const SearchSummary& s, double max_cost) {
 }
 
 TEST(Search, EnumerationReachesTheSeedFormula) {
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   const double target_mse = mse_of("r0 + (x - r0) * x^4", p);
   SearchOptions o;
   o.evolve = false;
@@ -137,7 +129,7 @@ void expect_same_front(const SearchSummary& a, const SearchSummary& b) {
 }
 
 TEST(Search, SameSeedSameResultWithOneThread) {
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   SearchSummary a, b;
   run_search(small_budget(1), p, &a);
   run_search(small_budget(1), p, &b);
@@ -148,7 +140,7 @@ TEST(Search, SameSeedSameResultWithOneThread) {
 TEST(Search, SameSeedSameResultWithTwoThreads) {
   // Documented in docs/search.md: tiles merge in order and islands synchronise, so the thread
   // count does not change the result when no stop is by the clock.
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   SearchSummary a, b;
   run_search(small_budget(1), p, &a);
   run_search(small_budget(2), p, &b);
@@ -156,7 +148,7 @@ TEST(Search, SameSeedSameResultWithTwoThreads) {
 }
 
 TEST(Search, NewMembersAreReportedAsFoundAndTheFrontIsSorted) {
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   SearchOptions o;
   o.evolve = false;
   o.max_enumeration_cost = 2;
@@ -180,7 +172,7 @@ TEST(Search, NewMembersAreReportedAsFoundAndTheFrontIsSorted) {
 }
 
 TEST(Search, InterruptReturnsTheFrontSoFar) {
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   std::atomic<bool> stop{false};
   SearchOptions o;
   o.interrupt = &stop;
@@ -195,7 +187,7 @@ TEST(Search, InterruptReturnsTheFrontSoFar) {
 }
 
 TEST(Search, EveryLossRuns) {
-  const SearchProblem p = seed_problem();
+  const SearchProblem p = fresnel_seed_problem();
   for (Loss k : {Loss::Mse, Loss::Rmse, Loss::MaxAbs, Loss::Relative, Loss::Log}) {
     SearchOptions o;
     o.loss = k;
@@ -209,7 +201,7 @@ TEST(Search, EveryLossRuns) {
 }
 
 TEST(Search, WeightsAndNodeCost) {
-  SearchProblem p = seed_problem();
+  SearchProblem p = fresnel_seed_problem();
   p.weights.assign(p.target.size(), 1.0);
   for (std::size_t i = 0; i < p.weights.size(); i += 2) p.weights[i] = 3.0;
   SearchOptions o;

@@ -1,0 +1,23 @@
+// Seed 001's Fresnel task as a search problem, for the search's tests: inputs r0 and x, target R
+// of the fresnel-seed data drawn with `data_seed`.
+#pragma once
+
+#include <cstdint>
+
+#include "shaderfit/core/random.hpp"
+#include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/search/search.hpp"
+
+namespace shaderfit::test {
+
+inline SearchProblem fresnel_seed_problem(std::uint64_t data_seed = 1) {
+  Rng rng(data_seed);
+  const Dataset d = make_fresnel_seed_dataset(rng);
+  SearchProblem p;
+  p.input_names = {"r0", "x"};
+  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
+  p.target = d.numeric("R").values;
+  return p;
+}
+
+}  // namespace shaderfit::test
