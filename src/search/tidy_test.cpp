@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "search/search_context.hpp"
+#include "shaderfit/core/random.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/expr/parse.hpp"
 
@@ -68,7 +69,8 @@ TEST(Tidy, SimpleValues) {
   EXPECT_EQ(nearest_simple_value(-1.6512056166817444e-11), 0.0);
   EXPECT_EQ(nearest_simple_value(6.283185307906383), 2 * kPi);
   EXPECT_EQ(nearest_simple_value(0.0795774715), 1 / (4 * kPi));
-  EXPECT_EQ(nearest_simple_value(0.3), 1.0 / 3);
+  EXPECT_EQ(nearest_simple_value(0.34), 1.0 / 3);
+  EXPECT_EQ(nearest_simple_value(0.3), 1 / kPi);
   EXPECT_EQ(nearest_simple_value(-2.74), -2.75);
   EXPECT_EQ(nearest_simple_value(0.69), std::numbers::ln2);
   EXPECT_EQ(nearest_simple_value(1e6), 32.0);
@@ -136,19 +138,25 @@ bool noise_constant(double c) {
   return c != s && std::abs(c - s) <= 1e-7 * std::max(1.0, std::abs(s));
 }
 
-// Issue 17's acceptance: exact physics formulas, searched; the members that fit exactly print
-// with no constant fitted to noise.
+// Issue 17's acceptance: exact physics formulas, searched (with a start formula whose constants
+// the search refits, to rounding noise); the members that fit exactly print with no constant
+// fitted to noise.
 TEST(Tidy, ExactPhysicsFormulasPrintWithoutNoiseConstants) {
   struct Case {
     const char* name;
     std::vector<std::string> inputs;
     std::function<double(const std::vector<double>&)> f;
+    std::vector<std::string> start;  // formulas the search refits (SearchOptions::start)
   };
   const std::vector<Case> cases = {
       {"q / (4 pi epsilon r^2)",
        {"q", "epsilon", "r"},
-       [](const auto& v) { return v[0] / (4 * kPi * v[1] * v[2] * v[2]); }},
-      {"m g z", {"m", "g", "z"}, [](const auto& v) { return v[0] * v[1] * v[2]; }},
+       [](const auto& v) { return v[0] / (4 * kPi * v[1] * v[2] * v[2]); },
+       {"0.08 * q / (epsilon * r^2) + 0.01"}},
+      {"m g z",
+       {"m", "g", "z"},
+       [](const auto& v) { return v[0] * v[1] * v[2]; },
+       {"1.1 * m * g * z - 0.1"}},
   };
   for (const Case& c : cases) {
     const SearchProblem p = exact_problem(c.inputs, 0.5, 2.0, c.f);
@@ -156,7 +164,9 @@ TEST(Tidy, ExactPhysicsFormulasPrintWithoutNoiseConstants) {
     o.threads = 1;
     o.seed = 3;
     o.time_limit_s = 600;  // the candidate budget stops it
-    o.max_candidates = 400000;
+    o.max_candidates = 1000000;
+    o.max_enumeration_cost = 3;
+    o.start = c.start;
     SearchSummary s;
     run_search(o, p, &s);
     double scale = 0;
@@ -166,8 +176,9 @@ TEST(Tidy, ExactPhysicsFormulasPrintWithoutNoiseConstants) {
       std::printf("%s: cost %g loss %.3g  %s\n", c.name, m.cost, m.loss, m.formula.c_str());
       if (!(m.metrics.mse <= 1e-24 * scale)) continue;
       ++exact;
-      for (const Node& n : m.expression.nodes)
+      for (const Node& n : m.expression.nodes) {
         if (n.op == Op::Const) EXPECT_FALSE(noise_constant(n.value)) << m.formula;
+      }
       for (double v : m.expression.parameter_values) EXPECT_FALSE(noise_constant(v)) << m.formula;
       EXPECT_EQ(m.formula.find("e-"), std::string::npos) << m.formula;
     }
