@@ -11,11 +11,13 @@
 namespace shaderfit {
 namespace {
 
-std::string simp(const char* s) {
+std::string simp(const char* s, const SimplifyOptions& options = {}) {
   ParseOptions o;
   o.variables = {"x", "y"};
-  return to_infix(simplify(parse_formula(s, o)));
+  return to_infix(simplify(parse_formula(s, o), options));
 }
+
+std::string regroup(const char* s) { return simp(s, {.regroup_constants = true}); }
 
 TEST(Simplify, Rules) {
   EXPECT_EQ(simp("(x * x) * 1 + 0"), "x^2");
@@ -45,6 +47,86 @@ TEST(Simplify, Rules) {
   EXPECT_EQ(simp("select(x - y >= 0, x * 1, x)"), "x");
   EXPECT_EQ(simp("select(x < y, x, y)"), "select(x - y >= 0, y, x)");
   EXPECT_EQ(simp("copysign(x, y) * 1"), "copysign(x, y)");
+}
+
+TEST(Simplify, RegroupsConstantsOnlyWhenAsked) {
+  EXPECT_EQ(simp("2 * (3 * x)"), "2 * (3 * x)");
+  EXPECT_EQ(simp("pow(pow(3, x), x)"), "pow(pow(3, x), x)");
+  EXPECT_EQ(simp("0.5 * (x - 3) + 1"), "0.5 * (x - 3) + 1");
+}
+
+TEST(Simplify, MergesConstantProducts) {
+  EXPECT_EQ(regroup("2 * (3 * x)"), "6 * x");
+  EXPECT_EQ(regroup("(x * 3) * 2"), "x * 6");
+  EXPECT_EQ(regroup("2 * (x * y * 3)"), "x * y * 6");
+  EXPECT_EQ(regroup("2 * (x / 8)"), "x / 4");
+  EXPECT_EQ(regroup("(6 * x) / 4"), "1.5 * x");
+  EXPECT_EQ(regroup("(x / 2) / 4"), "x / 8");
+  EXPECT_EQ(regroup("3 * -x"), "-3 * x");
+  EXPECT_EQ(regroup("2 * -(3 * x)"), "-6 * x");
+  EXPECT_EQ(regroup("x / 3"), "x / 3");  // nothing to merge into: stays as written
+  EXPECT_EQ(regroup("2 * (x + y)"), "2 * (x + y)");
+}
+
+TEST(Simplify, AbsorbsScaleAndOffsetWrappers) {
+  EXPECT_EQ(regroup("2 * (3 * x + 1) + 5"), "6 * x + 7");
+  EXPECT_EQ(regroup("0.5 * (x * 4 - y * 2) - 1"), "x * 2 - y - 1");
+  EXPECT_EQ(regroup("0.5 * (x - 3) + 1"), "0.5 * (x - 1)");
+  EXPECT_EQ(regroup("(x + 1) + 2"), "x + 3");
+  EXPECT_EQ(regroup("2 + (x - 5)"), "x - 3");
+  EXPECT_EQ(regroup("4 - (x - 1)"), "5 - x");
+  EXPECT_EQ(regroup("1 - (3 - x)"), "x - 2");
+  EXPECT_EQ(regroup("(x * y - 4) / 2 + 2"), "x * y / 2");
+  EXPECT_EQ(regroup("fma(x, y, 1) + 2"), "fma(x, y, 3)");
+  EXPECT_EQ(regroup("3 * fma(2, x, 1)"), "fma(6, x, 3)");
+  // A large constant added and subtracted cancels into the small one left.
+  EXPECT_EQ(regroup("0.25 * (x * y - 65536) + 16384"), "0.25 * (x * y)");
+  // Not where a zero's sign reaches the result through copysign.
+  EXPECT_EQ(regroup("copysign(1, 2 * (3 * x))"), "copysign(1, 2 * (3 * x))");
+}
+
+TEST(Simplify, FoldsPowersOfPowers) {
+  EXPECT_EQ(regroup("pow(pow(3, x), x)"), "pow(3, x^2)");
+  EXPECT_EQ(regroup("pow(pow(x, y), 2 * x)"), "pow(x, y * (2 * x))");
+  // With a cost that counts pow dearer than exp2, the exp2 form with c = log2(3).
+  SimplifyOptions dear_pow{.regroup_constants = true, .cost = [](const Expression& e) {
+                             double c = 0;
+                             for (const Node& n : e.nodes) c += n.op == Op::Pow ? 10 : 1;
+                             return c;
+                           }};
+  EXPECT_EQ(simp("pow(pow(4, x), x)", dear_pow), "exp2(2 * x^2)");
+  // A tie keeps pow.
+  SimplifyOptions flat{.regroup_constants = true, .cost = [](const Expression&) { return 1.0; }};
+  EXPECT_EQ(simp("pow(pow(4, x), x)", flat), "pow(4, x^2)");
+}
+
+TEST(Simplify, RegroupingKeepsValuesOnRandomExpressions) {
+  Rng rng(4242);
+  const std::vector<std::string> names = {"x", "y"};
+  const SimplifyOptions options{.regroup_constants = true};
+  int compared = 0, changed = 0;
+  for (int i = 0; i < 10000; ++i) {
+    Expression e = testing::random_expression(rng, names, 1 + static_cast<int>(i % 6), i % 4 == 0);
+    Expression s = simplify(e, options);
+    EXPECT_LE(s.size(), e.size()) << to_infix(e);
+    if (s.size() < simplify(e).size()) ++changed;
+    for (int r = 0; r < 8; ++r) {
+      const double x = uniform(rng, -3.0, 3.0), y = uniform(rng, -3.0, 3.0);
+      bool finite = true;
+      const double orig = testing::eval_reference<double>(e, {x, y}, &finite);
+      if (!finite) continue;
+      const long double orig_ld = testing::eval_reference<long double>(e, {x, y});
+      if (!(std::fabs(static_cast<double>(orig_ld) - orig) <= 1e-7 * (1.0 + std::fabs(orig))))
+        continue;
+      const long double simp_ld = testing::eval_reference<long double>(s, {x, y});
+      ASSERT_NEAR(static_cast<double>(simp_ld), static_cast<double>(orig_ld),
+                  1e-6 * (1.0 + std::fabs(orig)))
+          << to_infix(e) << "  =>  " << to_infix(s) << "  at x=" << x << " y=" << y;
+      ++compared;
+    }
+  }
+  EXPECT_GT(compared, 20000);
+  EXPECT_GT(changed, 50);  // the rules do fire on random formulas
 }
 
 TEST(Simplify, KeepsValuesOnRandomExpressions) {
@@ -85,6 +167,9 @@ TEST(Simplify, IsIdempotent) {
     Expression s = simplify(e);
     Expression t = simplify(s);
     EXPECT_LE(t.size(), s.size()) << to_infix(e);
+    const SimplifyOptions regroup{.regroup_constants = true};
+    Expression u = simplify(e, regroup);
+    EXPECT_LE(simplify(u, regroup).size(), u.size()) << to_infix(e);
   }
 }
 

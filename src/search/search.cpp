@@ -16,6 +16,7 @@
 #include "search/search_context.hpp"
 #include "search/start.hpp"
 #include "search/symmetry_front.hpp"
+#include "search/tidy.hpp"
 
 namespace shaderfit {
 
@@ -199,15 +200,18 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
       resumed ? resumed->symmetry : search_symmetry(options, problem);
   if (!symmetry || symmetry->input >= problem.inputs.size()) {
     search_on(options, problem, starts, std::move(resumed), std::nullopt, summary);
-    return;
+  } else {
+    // The half x >= 0; the start formulas, written for every row, join the whole data's front.
+    search_detail::SymmetricFront whole(options, problem, *symmetry);
+    const SearchProblem half = symmetric_half(problem, *symmetry);
+    SearchOptions half_options = options;
+    half_options.on_new_member = whole.forward_new_members();
+    search_on(half_options, half, {}, std::move(resumed), symmetry, summary);
+    whole.finish(starts, summary);
   }
-  // The half x >= 0; the start formulas, written for every row, join the whole data's front.
-  search_detail::SymmetricFront whole(options, problem, *symmetry);
-  const SearchProblem half = symmetric_half(problem, *symmetry);
-  SearchOptions half_options = options;
-  half_options.on_new_member = whole.forward_new_members();
-  search_on(half_options, half, {}, std::move(resumed), symmetry, summary);
-  whole.finish(starts, summary);
+  // The one place where the front is tidied before it is shown (docs/search.md, "Tidy front").
+  summary->front = search_detail::tidy_front(options, problem, std::move(summary->front),
+                                             &summary->node_evaluations);
 }
 
 }  // namespace shaderfit

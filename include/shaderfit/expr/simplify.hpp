@@ -7,12 +7,34 @@
 //
 //   Expression s = simplify(parse_formula("(x * x) * 1 + 0", {.variables = {"x"}}));
 //   to_infix(s) == "x^2"
+//
+// SimplifyOptions::regroup_constants adds rules that hold in real arithmetic but round
+// differently (used by the search's final tidy step, docs/search.md "Tidy front"):
+//   c1 * (c2 * x) = (c1 c2) x, c1 * (x / c2) = x / (c2 / c1), (c1 * x) / c2 = (c1 / c2) x,
+//   c * -x = -c * x;
+//   a factor or an offset taken by a subtree's own constants, never adding a node:
+//   p0 * (a x + b) + p1 = (p0 a) x + (p0 b + p1), c * (x - k) + d = c * (x - (k - d / c)),
+//   (x + k1) + k2 = x + (k1 + k2), c - (x - k) = (c + k) - x;
+//   pow(pow(a, y), z) = pow(a, y z); for a constant a > 0 with a cost callback, the cheaper of
+//   that and exp2(log2(a) y z) (pow on a tie).
+//   simplify(parse_formula("pow(pow(2.5, x), x)", o), {.regroup_constants = true}) -> pow(2.5, x^2)
 #pragma once
+
+#include <functional>
 
 #include "shaderfit/expr/expression.hpp"
 
 namespace shaderfit {
 
-Expression simplify(const Expression& e);
+struct SimplifyOptions {
+  // The rules above that round differently from the original (the search's inner loops leave
+  // them off; its final tidy step uses them).
+  bool regroup_constants = false;
+  // The cost of an expression (over the simplified expression's variables and parameters), to
+  // choose between equivalent forms; empty: the first form listed above.
+  std::function<double(const Expression&)> cost;
+};
+
+Expression simplify(const Expression& e, const SimplifyOptions& options = {});
 
 }  // namespace shaderfit
