@@ -61,7 +61,7 @@ std::string terminal(ImageFormat format, int width, int height) {
 constexpr const char* kBorder = "'#404040'";
 
 // Margins in pixels: room for the title, the y tic labels and label, the x tic labels and label.
-constexpr int kLeftPx = 80, kRightPx = 24, kTitlePx = 38, kNoTitlePx = 16, kAxisBelowPx = 62;
+constexpr int kLeftPx = 96, kRightPx = 24, kTitlePx = 38, kNoTitlePx = 16, kAxisBelowPx = 62;
 // The key's band under the frame: rows of kKeyRowPx, at most kKeyRows of them.
 constexpr int kKeyRowPx = 19, kKeyPadPx = 14, kKeyRows = 4, kKeyMaxColumns = 3;
 constexpr double kKeyBottomPx = 6, kCharPx = 7;
@@ -244,7 +244,8 @@ std::string heatmap_plot(const Heatmap& m, int w, int h, const PixelBox& frame,
     s << "set border lc rgb " << kBorder
       << "\nset xtics out\nset ytics out\nset cbtics out\nset colorbox\n";
     s << "set xlabel " << quote(m.x_label) << "\nset ylabel " << quote(m.y_label) << "\n";
-    s << "set cblabel " << quote(m.value_label + (m.log_values ? " (log scale)" : "")) << "\n";
+    s << "set cblabel " << quote(m.value_label + (m.log_values ? " (log scale)" : ""))
+      << " offset 1.5,0\n";
   } else {
     s << "unset tics\nunset colorbox\nunset border\nunset xlabel\nunset ylabel\nunset cblabel\n";
   }
