@@ -285,8 +285,9 @@ TEST(CliReport, PlotsKeepTheirAreaInHeadlessChromium) {
   if (chromium.empty()) GTEST_SKIP() << "skipped: chromium not found";
   const std::string flags =
       " --headless --no-sandbox --disable-gpu --no-first-run --disable-background-networking"
+      // A profile of its own: Chromium refuses a profile another test's instance holds.
       " --hide-scrollbars --force-device-scale-factor=1 --user-data-dir=" +
-      scratch("profile") + " ";
+      scratch("profile-plots") + " ";
   const std::string dom =
       run_capture("timeout 120 " + chromium + flags +
                   "--window-size=1200,2000 --dump-dom 'file://" + html + "' 2>/dev/null");
