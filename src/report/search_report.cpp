@@ -207,8 +207,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   r.paragraph("How: " + chosen.how + ". Why: " + chosen.why + ".");
   if (pick)
     r.paragraph(
-        "Other rules: cost=N picks the most accurate member that costs at most N; "
-        "error=E the cheapest whose " +
+        "The rules: knee (the default), the knee of the front; cost=N, the most accurate member "
+        "that costs at most N; error=E, the cheapest whose " +
         loss + " is at most E.");
   const std::string formula_location = "SearchReportOptions::formula";
   ParseOptions po;
