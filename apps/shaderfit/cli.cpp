@@ -32,7 +32,8 @@ constexpr FieldFlag kFlags[] = {
     {"SearchOptions::checkpoint_path", "--checkpoint"},
     {"SearchOptions::checkpoint_interval_s", "--checkpoint-every"},
     {"SearchOptions::resume_path", "--resume"},
-    {"SearchReportOptions::choose", "--choose"},
+    {"SearchReportOptions::formula", "--choose"},
+    {"ChoiceRule", "--choose"},
     // shaderfit fit.
     {"FitSetup::random_samples", "--random-samples"},
     {"FitSetup::definitions", "--define"},
@@ -135,6 +136,18 @@ std::string flag_for_location(std::string_view location) {
       find_search_option(location.substr(kSearchOptions.size())) != nullptr)
     return search_option_flag(location.substr(kSearchOptions.size()));
   return {};
+}
+
+const char* const kChooseHelp =
+    "which front member is the chosen formula: knee (default: the knee of the front, where more "
+    "cost stops buying much accuracy), cost=N (the most accurate costing at most N) or error=E "
+    "(the cheapest with error at most E)";
+
+std::string chosen_formula_lines(const std::string& formula, const std::string& how,
+                                 const std::string& why, bool by_rule) {
+  std::string s = "chosen: " + formula + "\n  how: " + how;
+  if (by_rule) s += " (--choose knee, cost=N or error=E)";
+  return s + "\n  why: " + why + "\n";
 }
 
 void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,

@@ -47,6 +47,13 @@ std::string search_option_flag(std::string_view field_name);
 void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
                       std::vector<std::string>& params);
 
+// --choose for search and report: "knee" (the default), "cost=N" or "error=E" (the rule in
+// shaderfit/search/choice.hpp); the help text, and the closing lines that name the chosen
+// formula, how it was chosen (with the flag that changes it) and why.
+extern const char* const kChooseHelp;
+std::string chosen_formula_lines(const std::string& formula, const std::string& how,
+                                 const std::string& why, bool by_rule = true);
+
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
 

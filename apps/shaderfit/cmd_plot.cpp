@@ -366,44 +366,41 @@ void run_sphere(SphereArgs& a, Context& ctx) {
     label = a.fv;
   }
   const SphereImages im = render_sphere(a.scene, fv);
-  // Three panels side by side: reference, approximation, |difference| x diff_scale, each
-  // tone-mapped (Reinhard) and gamma-encoded for display.
-  const int n = im.size, gap = n / 16;
-  Heatmap m;
-  m.nx = 3 * n + 2 * gap;
-  m.ny = n;
-  m.x_range = {0, static_cast<double>(m.nx)};
-  m.y_range = {0, static_cast<double>(n)};
-  m.palette = Heatmap::Palette::Grey;
-  m.axes = false;
-  m.width = 1200;
-  m.height = 470;
-  m.values.assign(static_cast<std::size_t>(m.nx) * static_cast<std::size_t>(n), NAN);
+  // Three panels: reference, approximation, |difference| x diff_scale, each tone-mapped
+  // (Reinhard) and gamma-encoded for display.
+  const int n = im.size;
+  HeatmapGrid g;
+  g.columns = 3;
+  g.width = 1200;
+  g.height = 470;
+  g.title = a.title.empty() ? fmt::format(
+                                  "GGX sphere, roughness {:g}, F0 {:g}: reference F·V "
+                                  "against the approximation",
+                                  a.scene.roughness, a.scene.f0)
+                            : a.title;
   auto tone = [&](double v) {
     v *= a.exposure;
     return std::pow(v / (1 + v), 1 / 2.2);
   };
-  for (int y = 0; y < n; ++y) {
-    for (int x = 0; x < n; ++x) {
-      const std::size_t src =
-          static_cast<std::size_t>(y) * static_cast<std::size_t>(n) + static_cast<std::size_t>(x);
-      const double ref = im.reference[src], app = im.approximation[src];
-      auto at = [&](int panel) {
-        return static_cast<std::size_t>(y) * static_cast<std::size_t>(m.nx) +
-               static_cast<std::size_t>(panel * (n + gap) + x);
-      };
+  const std::string titles[3] = {"reference", "approximation",
+                                 fmt::format("|difference| x {:g}", a.diff_scale)};
+  for (int panel = 0; panel < 3; ++panel) {
+    Heatmap m;
+    m.title = titles[panel];
+    m.nx = m.ny = n;
+    m.x_range = {0, static_cast<double>(n)};
+    m.y_range = {0, static_cast<double>(n)};
+    m.palette = Heatmap::Palette::Grey;
+    m.axes = false;
+    m.values.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), NAN);
+    for (std::size_t i = 0; i < m.values.size(); ++i) {
+      const double ref = im.reference[i], app = im.approximation[i];
       if (std::isnan(ref)) continue;
-      m.values[at(0)] = tone(ref);
-      m.values[at(1)] = tone(app);
-      m.values[at(2)] = tone(a.diff_scale * std::fabs(ref - app));
+      m.values[i] = tone(panel == 0 ? ref : panel == 1 ? app : a.diff_scale * std::fabs(ref - app));
     }
+    g.panels.push_back(std::move(m));
   }
-  m.title =
-      a.title.empty()
-          ? fmt::format("reference | approximation | difference x{:g}    (roughness {:g}, F0 {:g})",
-                        a.diff_scale, a.scene.roughness, a.scene.f0)
-          : a.title;
-  render(m, a.output);
+  render(g, a.output);
   double max_diff = 0, max_ref = 0;
   for (std::size_t i = 0; i < im.reference.size(); ++i) {
     if (std::isnan(im.reference[i])) continue;

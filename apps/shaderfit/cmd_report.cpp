@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "data_source.hpp"
 #include "shaderfit/cli.hpp"
@@ -12,6 +13,7 @@
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/report/html.hpp"
 #include "shaderfit/report/search_report.hpp"
+#include "shaderfit/search/choice.hpp"
 
 namespace shaderfit::cli {
 
@@ -20,14 +22,19 @@ namespace {
 using nlohmann::json;
 
 struct ReportArgs {
-  std::string run_path, output, title, choose;
+  std::string run_path, output, title, choose, figures;
   DataSource data;
   std::vector<std::string> baselines;
 };
 
-void search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
+ReportChoice search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
   SearchReportOptions o;
-  o.choose = a.choose;
+  // --choose: a rule (knee, cost=N, error=E) or a formula.
+  if (is_choice_rule(a.choose))
+    o.choice = parse_choice_rule(a.choose, {"ChoiceRule"});
+  else
+    o.formula = a.choose;
+  o.figure_directory = a.figures;
   Dataset d;
   if (!a.data.path.empty() || !a.data.dataset.empty()) {
     d = load_data(a.data);
@@ -35,13 +42,15 @@ void search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
     for (std::size_t i = 0; i < a.baselines.size(); ++i) {
       const auto eq = a.baselines[i].find('=');
       ReportFormula b;
-      b.label = eq == std::string::npos ? a.baselines[i] : a.baselines[i].substr(0, eq);
+      // A bare formula is keyed "baseline N" in plots; the formula is in the captions.
+      b.label = eq == std::string::npos ? "baseline " + std::to_string(i + 1)
+                                        : a.baselines[i].substr(0, eq);
       b.formula = eq == std::string::npos ? a.baselines[i] : a.baselines[i].substr(eq + 1);
       b.expression = parse_formula_on(b.formula, d, "--baseline " + std::to_string(i + 1));
       o.baselines.push_back(std::move(b));
     }
   }
-  add_search_report(r, j, a.run_path, o);
+  return add_search_report(r, j, a.run_path, o);
 }
 
 void run_report(ReportArgs& a, Context& ctx) {
@@ -60,13 +69,16 @@ void run_report(ReportArgs& a, Context& ctx) {
                    ? (search ? "shaderfit search" : "shaderfit run") + std::string(": ") +
                          std::filesystem::path(a.run_path).filename().string()
                    : a.title);
+  std::optional<ReportChoice> chosen;
   if (search) {
-    search_report(r, j, a);
+    chosen = search_report(r, j, a);
   } else {
     add_json_section(r, j, "", 2);
   }
   r.write(a.output);
   ctx.out << "wrote " << a.output << "\n";
+  if (chosen)
+    ctx.out << chosen_formula_lines(chosen->formula, chosen->how, chosen->why, chosen->by_rule);
 }
 
 }  // namespace
@@ -78,9 +90,10 @@ void register_report_command(CLI::App& app, Context& ctx) {
   cmd->add_option("run", a->run_path, "the JSON a run wrote (--json)")->required();
   cmd->add_option("-o,--output", a->output, "HTML file to write")->required();
   cmd->add_option("--title", a->title, "page title");
-  cmd->add_option(
-      "--choose", a->choose,
-      "the front member to show as code (default: best within the first baseline's cost)");
+  cmd->add_option("--choose", a->choose,
+                  std::string(kChooseHelp) + ", or a formula to show instead");
+  cmd->add_option("--figures", a->figures,
+                  "also write each figure to this directory as NAME.png and NAME.svg");
   cmd->add_option("--baseline", a->baselines,
                   "formulas to compare with, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
       ->allow_extra_args(false);

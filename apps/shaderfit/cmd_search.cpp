@@ -19,6 +19,7 @@
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/report/search_json.hpp"
+#include "shaderfit/search/choice.hpp"
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/report.hpp"
 #include "shaderfit/search/search.hpp"
@@ -43,6 +44,7 @@ struct SearchArgs {
   std::map<std::string_view, std::string> texts;
   std::string strategy = "both";
   std::string json_path;
+  std::string choose = "knee";  // the rule for the closing "chosen:" lines (search/choice.hpp)
   bool quiet = false;
   double stop_loss = -1, stop_cost = -1;
 };
@@ -106,6 +108,7 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
 
 void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   SearchOptions options = make_options(a, cmd);
+  const ChoiceRule choice = parse_choice_rule(a.choose, {"ChoiceRule"});
   const auto t0 = std::chrono::steady_clock::now();
   const Dataset d = load_data(a.data);
   SearchProblem problem;
@@ -181,6 +184,11 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   if (progress_shown) ctx.err << "\r\033[K" << std::flush;
 
   human << summary.brief_report();
+  if (!summary.front.empty()) {
+    const Choice c = choose_member(summary.front, choice, loss_name(options.loss));
+    human << chosen_formula_lines(summary.front[c.index].formula, choice_rule_description(choice),
+                                  c.why);
+  }
   if (summary.interrupted)
     ctx.err << "shaderfit: interrupted; the front found so far is above"
             << (options.checkpoint_path.empty()
@@ -260,6 +268,7 @@ void register_search_command(CLI::App& app, Context& ctx) {
       cmd->add_option("--json", args->json_path,
                       "write the result as JSON to this file ('-' for stdout)");
       cmd->add_flag("--quiet", args->quiet, "do not print front members as they are found");
+      cmd->add_option("--choose", args->choose, kChooseHelp);
     } else if (f.name != "evolve") {
       add_search_option(cmd, *args, f);
     }

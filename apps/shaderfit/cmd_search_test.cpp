@@ -62,6 +62,24 @@ TEST(CmdSearch, TableForPeople) {
   EXPECT_NE(r.out.find("r0"), std::string::npos);
 }
 
+TEST(CmdSearch, SaysWhichFormulaIsChosenHowAndWhy) {
+  const auto knee =
+      run({"search", "--dataset", "fresnel-seed", "--time", "0.2", "--strategy", "enumerate"});
+  ASSERT_EQ(knee.status, 0) << knee.err;
+  EXPECT_NE(knee.out.find("\nchosen: "), std::string::npos) << knee.out;
+  EXPECT_NE(knee.out.find("  how: the knee of the front"), std::string::npos) << knee.out;
+  EXPECT_NE(knee.out.find("--choose knee, cost=N or error=E"), std::string::npos) << knee.out;
+  EXPECT_NE(knee.out.find("  why: "), std::string::npos) << knee.out;
+  const auto cheap = run({"search", "--dataset", "fresnel-seed", "--time", "0.2", "--strategy",
+                          "enumerate", "--choose", "cost=0"});
+  ASSERT_EQ(cheap.status, 0) << cheap.err;
+  EXPECT_NE(cheap.out.find("  how: the most accurate member that costs at most 0"),
+            std::string::npos)
+      << cheap.out;
+  for (const char* bad : {"cheapest", "cost=", "error=-1"})
+    expect_bad_input({"search", "--dataset", "fresnel-seed", "--choose", bad}, "--choose");
+}
+
 TEST(CmdSearch, UnknownOperator) {
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--ops", "+,*,frob"},
                    "unknown operator 'frob'");

@@ -156,12 +156,30 @@ TEST(FvLut, WrittenFilesReadBackAndMatchTheModel) {
         EXPECT_NEAR(fv_from_texel(&dds16.rgba[4 * k], d) / want, 1.0, 0.08);
       }
     }
-    std::size_t w = 0, h = 0;
-    std::vector<std::uint8_t> rgb;
-    ASSERT_TRUE(
-        test_readers::read_png((dir / ("fv_" + v + "_errors.png")).string(), &w, &h, &rgb, &why))
-        << why;
-    EXPECT_EQ(h, 128u);
+    const HeatmapGrid maps = fv_error_maps(t);
+    ASSERT_EQ(maps.panels.size(), 4u);
+    for (const Heatmap& m : maps.panels) {
+      EXPECT_FALSE(m.title.empty() || m.x_label.empty() || m.y_label.empty() ||
+                   m.value_label.empty());
+      EXPECT_TRUE(m.log_values);
+      ASSERT_EQ(m.values.size(), t.cells.size());
+    }
+    if (t.cells[5].ok) {
+      EXPECT_EQ(maps.panels[1].values[5], t.errors[5].max_log2);
+    }
+    const std::string errors_png = (dir / ("fv_" + v + "_errors.png")).string();
+    if (gnuplot_available()) {
+      // The labelled maps: a HeatmapGrid's default size.
+      const std::vector<std::uint8_t> b = test_readers::slurp(errors_png);
+      ASSERT_GE(b.size(), 24u);
+      EXPECT_EQ(test_readers::be32(&b[16]), static_cast<std::uint32_t>(HeatmapGrid{}.width));
+      EXPECT_EQ(test_readers::be32(&b[20]), static_cast<std::uint32_t>(HeatmapGrid{}.height));
+    } else {
+      std::size_t w = 0, h = 0;
+      std::vector<std::uint8_t> rgb;
+      ASSERT_TRUE(test_readers::read_png(errors_png, &w, &h, &rgb, &why)) << why;
+      EXPECT_EQ(h, 128u);
+    }
   }
 }
 

@@ -21,9 +21,22 @@ namespace shaderfit::lut {
 namespace {
 
 using Metric = double CellError::*;
-constexpr std::array<Metric, 4> kPanels = {&CellError::mean_log2, &CellError::max_log2,
-                                           &CellError::mean_abs, &CellError::max_abs};
-constexpr std::array<const char*, 4> kPanelNames = {"mean_log2", "max_log2", "mean_abs", "max_abs"};
+// The four error panels, in order: the metric, its name in fv_summary.json, and for the
+// labelled maps a title and the colour bar's label.
+struct Panel {
+  Metric metric;
+  const char* name;
+  const char* title;
+  const char* value;
+};
+constexpr std::array<Panel, 4> kPanels = {{
+    {&CellError::mean_log2, "mean_log2", "mean log2 error per cell",
+     "mean |log2(FV / reference)| [stops]"},
+    {&CellError::max_log2, "max_log2", "max log2 error per cell",
+     "max |log2(FV / reference)| [stops]"},
+    {&CellError::mean_abs, "mean_abs", "mean absolute error per cell", "mean |FV - reference|"},
+    {&CellError::max_abs, "max_abs", "max absolute error per cell", "max |FV - reference|"},
+}};
 
 struct Range {
   double lo = 0, hi = 0;
@@ -91,14 +104,14 @@ std::vector<std::uint8_t> fv_error_image(const FvTable& t, std::size_t* width,
   *height = panel;
   std::vector<std::uint8_t> rgb(*width * *height * 3, 255);
   for (std::size_t p = 0; p < kPanels.size(); ++p) {
-    const Range r = panel_range(t, kPanels[p]);
+    const Range r = panel_range(t, kPanels[p].metric);
     const double span = r.hi > r.lo ? std::log10(r.hi / r.lo) : 1.0;
     for (std::size_t y = 0; y < panel; ++y)
       for (std::size_t x = 0; x < panel; ++x) {
         const std::size_t k = (y / scale) * n + x / scale;
         std::array<std::uint8_t, 3> c = {255, 0, 255};  // failed
         if (t.cells[k].ok) {
-          const double v = t.errors[k].*kPanels[p];
+          const double v = t.errors[k].*kPanels[p].metric;
           c = ramp(v > 0 && r.lo > 0 ? std::log10(v / r.lo) / span : 0.0);
         }
         std::uint8_t* px = &rgb[3 * (y * *width + p * (panel + gap) + x)];
@@ -106,6 +119,29 @@ std::vector<std::uint8_t> fv_error_image(const FvTable& t, std::size_t* width,
       }
   }
   return rgb;
+}
+
+HeatmapGrid fv_error_maps(const FvTable& t) {
+  HeatmapGrid g;
+  g.title = "FV lookup table '" + std::string(variant_name(t.variant)) + "', " +
+            std::to_string(t.size) + " x " + std::to_string(t.size) +
+            " cells: error against the reference (failed cells blank)";
+  g.columns = 2;
+  for (const Panel& p : kPanels) {
+    Heatmap m;
+    m.title = p.title;
+    m.x_label = "roughness (perceptual, alpha = roughness^2)";
+    m.y_label = "sqrt(F0)";
+    m.value_label = p.value;
+    m.nx = m.ny = static_cast<int>(t.size);
+    m.x_range = {0, 1};
+    m.y_range = {0, 1};
+    m.log_values = true;
+    for (std::size_t k = 0; k < t.cells.size(); ++k)
+      m.values.push_back(t.cells[k].ok ? t.errors[k].*p.metric : NAN);
+    g.panels.push_back(std::move(m));
+  }
+  return g;
 }
 
 std::string fv_summary_json(const FvBake& bake, const FvLutOptions& o) {
@@ -138,8 +174,8 @@ std::string fv_summary_json(const FvBake& bake, const FvLutOptions& o) {
     v["failed_cells"] = t.failures;
     nlohmann::json scales;
     for (std::size_t p = 0; p < kPanels.size(); ++p) {
-      const Range r = panel_range(t, kPanels[p]);
-      scales[kPanelNames[p]] = {r.lo, r.hi};
+      const Range r = panel_range(t, kPanels[p].metric);
+      scales[kPanels[p].name] = {r.lo, r.hi};
     }
     v["image_scales"] = scales;
     j["variants"].push_back(v);
@@ -170,9 +206,13 @@ std::vector<std::string> write_fv_bake(const FvBake& bake, const FvLutOptions& o
                {"shaderfit.axes", "x: roughness (i + 0.5) / size, y: sqrt(F0) (j + 0.5) / size"},
                {"shaderfit.reference", bake.reference}});
     write_text(path("fv_" + v + "_errors.csv"), fv_error_csv(t));
-    std::size_t w = 0, h = 0;
-    const std::vector<std::uint8_t> img = fv_error_image(t, &w, &h);
-    write_png(path("fv_" + v + "_errors.png"), w, h, img);
+    if (gnuplot_available()) {
+      render(fv_error_maps(t), path("fv_" + v + "_errors.png"));
+    } else {
+      std::size_t w = 0, h = 0;
+      const std::vector<std::uint8_t> img = fv_error_image(t, &w, &h);
+      write_png(path("fv_" + v + "_errors.png"), w, h, img);
+    }
   }
   write_text(path("fv_lut.hlsl"), fv_hlsl(bake, o));
   write_text(path("fv_lut.glsl"), fv_glsl(bake, o));

@@ -2,6 +2,7 @@
 // (inline data blocks), so what is rendered can be saved and re-run by hand.
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -57,9 +58,67 @@ std::string terminal(ImageFormat format, int width, int height) {
   return s.str();
 }
 
+constexpr const char* kBorder = "'#404040'";
+
+// Margins in pixels: room for the title, the y tic labels and label, the x tic labels and label.
+constexpr int kLeftPx = 96, kRightPx = 24, kTitlePx = 38, kNoTitlePx = 16, kAxisBelowPx = 62;
+// The key's band under the frame: rows of kKeyRowPx, at most kKeyRows of them.
+constexpr int kKeyRowPx = 19, kKeyPadPx = 14, kKeyRows = 4, kKeyMaxColumns = 3;
+constexpr double kKeyBottomPx = 6, kCharPx = 7;
+// Heat maps: the colour bar, its tic labels and its label on the right.
+constexpr int kColourBarPx = 130;
+
+struct ChartLayout {
+  PixelBox frame;
+  int key_columns = 1;
+  std::size_t key_label_chars = 0;  // the longest label that fits a column
+};
+
+ChartLayout chart_layout(const Chart& c) {
+  ChartLayout l;
+  const int n = static_cast<int>(c.series.size());
+  l.key_columns = std::max(1, std::min(n, kKeyMaxColumns));
+  if ((n + l.key_columns - 1) / l.key_columns > kKeyRows)
+    l.key_columns = (n + kKeyRows - 1) / kKeyRows;
+  const int rows = n == 0 ? 0 : (n + l.key_columns - 1) / l.key_columns;
+  const int top = c.title.empty() ? kNoTitlePx : kTitlePx;
+  const int bottom = kAxisBelowPx + (rows > 0 ? rows * kKeyRowPx + kKeyPadPx : 0);
+  l.frame = {kLeftPx, top, std::max(1, c.width - kLeftPx - kRightPx),
+             std::max(1, c.height - top - bottom)};
+  const double column_px = (c.width - 40.0) / l.key_columns;
+  l.key_label_chars = static_cast<std::size_t>(std::max(8.0, column_px / kCharPx - 6));
+  return l;
+}
+
+// gnuplot margins that put the frame at `frame` (pixels from the top left) in a w x h image.
+std::string margins(int w, int h, const PixelBox& frame) {
+  std::ostringstream s;
+  s << "set lmargin at screen " << number(static_cast<double>(frame.left) / w) << "\n"
+    << "set rmargin at screen " << number(static_cast<double>(frame.left + frame.width) / w) << "\n"
+    << "set tmargin at screen " << number(1 - static_cast<double>(frame.top) / h) << "\n"
+    << "set bmargin at screen " << number(1 - static_cast<double>(frame.top + frame.height) / h)
+    << "\n";
+  return s.str();
+}
+
+// `label` cut to `chars` characters (UTF-8 code points), the last one "…" when cut.
+std::string fit_label(const std::string& label, std::size_t chars) {
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < label.size(); ++i) {
+    if ((static_cast<unsigned char>(label[i]) & 0xC0) == 0x80) continue;
+    if (++count == chars) {
+      std::size_t end = i + 1;
+      while (end < label.size() && (static_cast<unsigned char>(label[end]) & 0xC0) == 0x80) ++end;
+      return end >= label.size() ? label : label.substr(0, i) + "…";
+    }
+  }
+  return label;
+}
+
 void check_range(const std::optional<Range>& r, const char* axis) {
   if (r && !(r->min < r->max)) {
-    throw Error(std::string(axis) + " range has min >= max (" + number(r->min) + " >= " + number(r->max) + ")",
+    throw Error(std::string(axis) + " range has min >= max (" + number(r->min) +
+                    " >= " + number(r->max) + ")",
                 SourceLocation{std::string("--") + axis + "-range"});
   }
 }
@@ -75,25 +134,34 @@ ImageFormat image_format_for(const std::string& path) {
 }
 
 std::string gnuplot_script(const Chart& c, ImageFormat format, const std::string& output) {
-  if (c.series.empty() && c.markers.empty()) throw Error("nothing to plot: the chart has no series");
+  if (c.series.empty() && c.markers.empty())
+    throw Error("nothing to plot: the chart has no series");
   check_range(c.x_range, "x");
   check_range(c.y_range, "y");
   std::ostringstream s;
   s << terminal(format, c.width, c.height) << "set output " << quote(output) << "\n";
   if (!c.title.empty()) s << "set title " << quote(c.title) << "\n";
   s << "set xlabel " << quote(c.x_label) << "\nset ylabel " << quote(c.y_label) << "\n";
-  s << "set grid lc rgb '#d9d9d9' lw 0.6\nset border lc rgb '#404040'\n";
-  s << "set key outside right top vertical Left reverse samplen 3 spacing 1.2\n";
+  s << "set grid lc rgb '#d9d9d9' lw 0.6\nset border lc rgb " << kBorder << "\n";
+  const ChartLayout layout = chart_layout(c);
+  s << margins(c.width, c.height, layout.frame);
+  // The key sits in its own band under the frame, in columns; labels too long for a column
+  // are cut (the caller puts formulas in a caption or a table).
+  s << "set key at screen 0.5, screen " << number(kKeyBottomPx / c.height)
+    << " center bottom horizontal maxcols " << layout.key_columns
+    << " Left reverse samplen 3 spacing 1.1 width 1\n";
   if (c.log_x) s << "set logscale x\nset format x '10^{%L}'\nset format x '%g'\n";
   if (c.log_y) s << "set logscale y\nset format y '%g'\n";
-  if (c.x_range) s << "set xrange [" << number(c.x_range->min) << ":" << number(c.x_range->max) << "]\n";
-  if (c.y_range) s << "set yrange [" << number(c.y_range->min) << ":" << number(c.y_range->max) << "]\n";
+  if (c.x_range)
+    s << "set xrange [" << number(c.x_range->min) << ":" << number(c.x_range->max) << "]\n";
+  if (c.y_range)
+    s << "set yrange [" << number(c.y_range->min) << ":" << number(c.y_range->max) << "]\n";
   bool any_positive_y = false;
   for (std::size_t i = 0; i < c.series.size(); ++i) {
     const Series& sr = c.series[i];
     if (sr.x.size() != sr.y.size()) {
-      throw Error("series '" + sr.label + "' has " + std::to_string(sr.x.size()) + " x values and " +
-                  std::to_string(sr.y.size()) + " y values");
+      throw Error("series '" + sr.label + "' has " + std::to_string(sr.x.size()) +
+                  " x values and " + std::to_string(sr.y.size()) + " y values");
     }
     s << "$d" << i << " << EOD\n";
     for (std::size_t k = 0; k < sr.x.size(); ++k) {
@@ -121,15 +189,18 @@ std::string gnuplot_script(const Chart& c, ImageFormat format, const std::string
       case Series::Style::Points: s << "points ps 0.5"; break;
       case Series::Style::LinesPoints: s << "linespoints pi 1"; break;
     }
-    s << " lw " << width << " lc rgb '" << kColours[k] << "' dt " << kDashes[k] << " pt " << kPoints[k];
+    s << " lw " << width << " lc rgb '" << kColours[k] << "' dt " << kDashes[k] << " pt "
+      << kPoints[k];
     if (sr.style != Series::Style::Points) s << " ps 1.1";
-    s << " title " << quote(sr.label);
+    s << " title " << quote(fit_label(sr.label, layout.key_label_chars));
   }
   s << "\n";
   return s.str();
 }
 
-std::string gnuplot_script(const Heatmap& m, ImageFormat format, const std::string& output) {
+namespace {
+
+void check_heatmap(const Heatmap& m) {
   if (m.nx <= 0 || m.ny <= 0) throw Error("heat map has no cells");
   if (m.values.size() != static_cast<std::size_t>(m.nx) * static_cast<std::size_t>(m.ny)) {
     throw Error("heat map values (" + std::to_string(m.values.size()) + ") don't fill its " +
@@ -137,40 +208,112 @@ std::string gnuplot_script(const Heatmap& m, ImageFormat format, const std::stri
   }
   check_range(m.x_range, "x");
   check_range(m.y_range, "y");
+}
+
+// One heat map drawn in `frame` of a w x h image, its data in the block `block`: every setting
+// it uses is set here, so that panels of a multiplot do not inherit each other's.
+std::string heatmap_plot(const Heatmap& m, int w, int h, const PixelBox& frame,
+                         const std::string& block) {
   std::ostringstream s;
-  s << terminal(format, m.width, m.height) << "set output " << quote(output) << "\n";
-  if (!m.title.empty()) s << "set title " << quote(m.title) << "\n";
-  s << "set xlabel " << quote(m.x_label) << "\nset ylabel " << quote(m.y_label) << "\n";
-  s << "set cblabel " << quote(m.value_label + (m.log_values ? " (log10)" : "")) << "\n";
+  s << "set title " << quote(m.title) << "\n";
+  s << margins(w, h, frame);
   s << "set xrange [" << number(m.x_range.min) << ":" << number(m.x_range.max) << "]\n";
   s << "set yrange [" << number(m.y_range.min) << ":" << number(m.y_range.max) << "]\n";
   if (m.palette == Heatmap::Palette::Grey) {
-    s << "set palette grey\nset cbrange [0:1]\n";
+    s << "set palette grey\nunset logscale cb\nset cbrange [0:1]\n";
   } else {
     // A viridis-like ramp: perceptually uniform, lightness rising monotonically (reads in grey).
     s << "set palette defined (0 '#440154', 0.13 '#482878', 0.25 '#3e4989', 0.38 '#31688e', "
          "0.5 '#26828e', 0.63 '#1f9e89', 0.75 '#35b779', 0.88 '#6ece58', 1 '#fde725')\n";
+    s << "set cbrange [*:*]\n";
+    s << (m.log_values ? "set logscale cb\n" : "unset logscale cb\n");
+  }
+  // The colour bar labels the values themselves: powers of ten on a log scale that spans a
+  // decade or more; across less, where gnuplot would label none, five values spread evenly.
+  double lo = INFINITY, hi = 0;
+  for (double v : m.values)
+    if (v > 0 && std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
+  if (m.log_values && lo <= hi && hi < 10 * lo) {
+    s << "set format cb '%.2g'\nset cbtics (";
+    for (int k = 0; k < 5; ++k) s << (k ? ", " : "") << number(lo * std::pow(hi / lo, k / 4.0));
+    s << ")\n";
+  } else {
+    s << "set format cb '" << (m.log_values ? "%.0e" : "%g") << "'\nset cbtics autofreq\n";
   }
   if (m.axes) {
-    s << "set tics out\n";
+    s << "set border lc rgb " << kBorder
+      << "\nset xtics out\nset ytics out\nset cbtics out\nset colorbox\n";
+    s << "set xlabel " << quote(m.x_label) << "\nset ylabel " << quote(m.y_label) << "\n";
+    s << "set cblabel " << quote(m.value_label + (m.log_values ? " (log scale)" : ""))
+      << " offset 1.5,0\n";
   } else {
-    s << "unset tics\nunset colorbox\nunset border\nunset xlabel\nunset ylabel\nset size ratio -1\n";
+    s << "unset tics\nunset colorbox\nunset border\nunset xlabel\nunset ylabel\nunset cblabel\n";
   }
-  s << "unset key\n$map << EOD\n";
+  s << "unset key\n" << block << " << EOD\n";
   const double dx = (m.x_range.max - m.x_range.min) / m.nx;
   const double dy = (m.y_range.max - m.y_range.min) / m.ny;
   for (int j = 0; j < m.ny; ++j) {
     for (int i = 0; i < m.nx; ++i) {
-      double v = m.values[static_cast<std::size_t>(j) * static_cast<std::size_t>(m.nx) + static_cast<std::size_t>(i)];
-      if (m.log_values) v = v > 0 ? std::log10(v) : NAN;
-      s << number(m.x_range.min + (i + 0.5) * dx) << " " << number(m.y_range.min + (j + 0.5) * dy) << " "
-        << number(v) << "\n";
+      double v = m.values[static_cast<std::size_t>(j) * static_cast<std::size_t>(m.nx) +
+                          static_cast<std::size_t>(i)];
+      if (m.log_values && !(v > 0)) v = NAN;
+      s << number(m.x_range.min + (i + 0.5) * dx) << " " << number(m.y_range.min + (j + 0.5) * dy)
+        << " " << number(v) << "\n";
     }
     s << "\n";
   }
-  s << "EOD\nplot $map using 1:2:3 with image\n";
+  s << "EOD\nplot " << block << " using 1:2:3 with image\n";
   return s.str();
 }
+
+// The frame of a heat map in a cell of the image (pixels): margins for its title and axes, or,
+// without axes, the largest box of square cells that fits under the title (renderings keep
+// their aspect).
+PixelBox heatmap_frame(const Heatmap& m, const PixelBox& cell) {
+  const int top = m.title.empty() ? kNoTitlePx : kTitlePx;
+  if (!m.axes) {
+    const double ratio = static_cast<double>(m.nx) / m.ny;
+    const double avail_w = std::max(1, cell.width - 8),
+                 avail_h = std::max(1, cell.height - top - 8);
+    const double w = std::min(avail_w, avail_h * ratio), h = w / ratio;
+    return {cell.left + static_cast<int>((cell.width - w) / 2), cell.top + top, static_cast<int>(w),
+            static_cast<int>(h)};
+  }
+  return {cell.left + kLeftPx, cell.top + top, std::max(1, cell.width - kLeftPx - kColourBarPx),
+          std::max(1, cell.height - top - kAxisBelowPx)};
+}
+
+}  // namespace
+
+std::string gnuplot_script(const Heatmap& m, ImageFormat format, const std::string& output) {
+  check_heatmap(m);
+  return terminal(format, m.width, m.height) + "set output " + quote(output) + "\n" +
+         heatmap_plot(m, m.width, m.height, heatmap_frame(m, {0, 0, m.width, m.height}), "$map");
+}
+
+std::string gnuplot_script(const HeatmapGrid& g, ImageFormat format, const std::string& output) {
+  if (g.panels.empty()) throw Error("nothing to plot: the heat-map grid has no panels");
+  if (g.columns < 1)
+    throw Error("a heat-map grid needs at least one column, got " + std::to_string(g.columns));
+  for (const Heatmap& m : g.panels) check_heatmap(m);
+  const int columns = std::min<int>(g.columns, static_cast<int>(g.panels.size()));
+  const int rows = (static_cast<int>(g.panels.size()) + columns - 1) / columns;
+  const int top = g.title.empty() ? 0 : kTitlePx;
+  const int cell_w = g.width / columns, cell_h = (g.height - top) / rows;
+  std::ostringstream s;
+  s << terminal(format, g.width, g.height) << "set output " << quote(output) << "\n";
+  s << "set multiplot title " << quote(g.title) << "\n";
+  for (std::size_t p = 0; p < g.panels.size(); ++p) {
+    const int r = static_cast<int>(p) / columns, c = static_cast<int>(p) % columns;
+    const PixelBox cell{c * cell_w, top + r * cell_h, cell_w, cell_h};
+    s << heatmap_plot(g.panels[p], g.width, g.height, heatmap_frame(g.panels[p], cell),
+                      "$map" + std::to_string(p));
+  }
+  s << "unset multiplot\n";
+  return s.str();
+}
+
+PixelBox chart_frame(const Chart& chart) { return chart_layout(chart).frame; }
 
 bool gnuplot_available() {
   static const bool found = std::system("gnuplot --version >/dev/null 2>&1") == 0;
@@ -181,11 +324,13 @@ namespace {
 
 void run_gnuplot(const std::string& script, const std::string& path) {
   if (!gnuplot_available()) {
-    throw Error("gnuplot not found: install gnuplot-nox (scripts/install-deps does)", SourceLocation{path});
+    throw Error("gnuplot not found: install gnuplot-nox (scripts/install-deps does)",
+                SourceLocation{path});
   }
   static std::atomic<int> counter{0};
   const auto dir = std::filesystem::temp_directory_path();
-  const std::string stem = "shaderfit-plot-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
+  const std::string stem =
+      "shaderfit-plot-" + std::to_string(getpid()) + "-" + std::to_string(counter++);
   const auto script_path = dir / (stem + ".gp");
   const auto log_path = dir / (stem + ".log");
   {
@@ -195,7 +340,8 @@ void run_gnuplot(const std::string& script, const std::string& path) {
   }
   std::error_code ec;
   std::filesystem::remove(path, ec);
-  const std::string cmd = "gnuplot '" + script_path.string() + "' >'" + log_path.string() + "' 2>&1";
+  const std::string cmd =
+      "gnuplot '" + script_path.string() + "' >'" + log_path.string() + "' 2>&1";
   const int status = std::system(cmd.c_str());
   std::string log;
   {
@@ -207,7 +353,8 @@ void run_gnuplot(const std::string& script, const std::string& path) {
   if (status != 0 || !std::filesystem::exists(path) || std::filesystem::file_size(path) == 0) {
     for (char& ch : log)
       if (ch == '\n') ch = ' ';
-    throw Error("gnuplot could not draw '" + path + "': " + (log.empty() ? "no output" : log.substr(0, 300)),
+    throw Error("gnuplot could not draw '" + path +
+                    "': " + (log.empty() ? "no output" : log.substr(0, 300)),
                 SourceLocation{path});
   }
 }
@@ -220,6 +367,10 @@ void render(const Chart& chart, const std::string& path) {
 
 void render(const Heatmap& map, const std::string& path) {
   run_gnuplot(gnuplot_script(map, image_format_for(path), path), path);
+}
+
+void render(const HeatmapGrid& grid, const std::string& path) {
+  run_gnuplot(gnuplot_script(grid, image_format_for(path), path), path);
 }
 
 }  // namespace shaderfit

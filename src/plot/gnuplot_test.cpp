@@ -44,6 +44,62 @@ TEST(PlotScript, ChartHasDataStylesAndEscapes) {
   EXPECT_NE(s.find("set label \"Schlick\" at 6,0.0005"), std::string::npos);
 }
 
+TEST(PlotScript, FrameKeepsItsShareWhateverTheLabels) {
+  Chart shorts = two_curves(), longs = two_curves();
+  for (int i = 0; i < 22; ++i) {
+    shorts.series.push_back({"s" + std::to_string(i), {0, 1}, {0, 1}});
+    longs.series.push_back({std::string(300, 'x') + std::to_string(i), {0, 1}, {0, 1}});
+  }
+  const PixelBox a = chart_frame(shorts), b = chart_frame(longs);
+  EXPECT_EQ(a.width, b.width);
+  EXPECT_EQ(a.height, b.height);
+  const Chart base = two_curves();
+  for (const Chart* c : std::initializer_list<const Chart*>{&base, &shorts}) {
+    const PixelBox f = chart_frame(*c);
+    EXPECT_GE(static_cast<double>(f.width) * f.height, 0.55 * c->width * c->height);
+  }
+  const std::string s = gnuplot_script(longs, ImageFormat::Png, "x.png");
+  EXPECT_EQ(s.find(std::string(300, 'x')), std::string::npos);  // cut to fit the key
+  EXPECT_NE(s.find("xxx…\""), std::string::npos);
+  EXPECT_NE(s.find("set lmargin at screen"), std::string::npos);
+  EXPECT_NE(s.find("set key at screen"), std::string::npos);
+}
+
+Heatmap small_map(const std::string& title) {
+  Heatmap m;
+  m.title = title;
+  m.x_label = "roughness";
+  m.y_label = "sqrt(F0)";
+  m.value_label = "max |error|";
+  m.nx = 3;
+  m.ny = 2;
+  m.values = {1e-4, 1e-3, 0, 1e-2, 2e-2, 3e-2};
+  m.log_values = true;
+  return m;
+}
+
+TEST(PlotScript, HeatmapGridHasATitledPanelEach) {
+  HeatmapGrid g;
+  g.title = "errors";
+  for (const char* t : {"mean log2", "max log2", "mean abs"}) g.panels.push_back(small_map(t));
+  const std::string s = gnuplot_script(g, ImageFormat::Svg, "g.svg");
+  EXPECT_NE(s.find("set multiplot title \"errors\""), std::string::npos) << s;
+  for (const char* t : {"\"mean log2\"", "\"max log2\"", "\"mean abs\"", "$map2 << EOD"})
+    EXPECT_NE(s.find(t), std::string::npos) << t;
+  EXPECT_NE(s.find("set logscale cb"), std::string::npos);
+  EXPECT_NE(s.find("set cblabel \"max |error| (log scale)\""), std::string::npos);
+  EXPECT_NE(s.find(" NaN\n"), std::string::npos);  // the 0 on a log scale: blank
+  EXPECT_NE(s.find("unset multiplot"), std::string::npos);
+  HeatmapGrid none;
+  EXPECT_THROW(gnuplot_script(none, ImageFormat::Png, "g.png"), Error);
+  HeatmapGrid no_columns = g;
+  no_columns.columns = 0;
+  EXPECT_THROW(gnuplot_script(no_columns, ImageFormat::Png, "g.png"), Error);
+  HeatmapGrid ragged = g;
+  ragged.panels[1].values.pop_back();
+  EXPECT_THROW(gnuplot_script(ragged, ImageFormat::Png, "g.png"), Error);
+}
+
 TEST(PlotScript, BadChartsAreRefused) {
   Chart empty;
   EXPECT_THROW(gnuplot_script(empty, ImageFormat::Png, "x.png"), Error);
@@ -100,6 +156,19 @@ TEST(PlotRender, PngAndSvgFiles) {
   const std::string map_png = (dir / "map.png").string();
   render(m, map_png);
   EXPECT_EQ(png_size(map_png), std::make_pair(760, 640));
+
+  HeatmapGrid g;
+  g.title = "four maps";
+  for (const char* t : {"a", "b", "c", "d"}) g.panels.push_back(small_map(t));
+  const std::string grid_png = (dir / "grid.png").string(), grid_svg = (dir / "grid.svg").string();
+  render(g, grid_png);
+  EXPECT_EQ(png_size(grid_png), std::make_pair(g.width, g.height));
+  render(g, grid_svg);
+  std::ifstream gf(grid_svg);
+  const std::string grid_text((std::istreambuf_iterator<char>(gf)),
+                              std::istreambuf_iterator<char>());
+  for (const char* t : {">four maps<", ">roughness<", ">sqrt(F0)<", ">max |error| (log scale)<"})
+    EXPECT_NE(grid_text.find(t), std::string::npos) << t;
 }
 
 }  // namespace

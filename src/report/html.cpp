@@ -23,13 +23,15 @@ std::string html_escape(const std::string& text) {
 }
 
 std::string base64_encode(const std::string& bytes) {
-  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((bytes.size() + 2) / 3 * 4);
   std::size_t i = 0;
   for (; i + 2 < bytes.size(); i += 3) {
     const unsigned v = (static_cast<unsigned char>(bytes[i]) << 16) |
-                       (static_cast<unsigned char>(bytes[i + 1]) << 8) | static_cast<unsigned char>(bytes[i + 2]);
+                       (static_cast<unsigned char>(bytes[i + 1]) << 8) |
+                       static_cast<unsigned char>(bytes[i + 2]);
     out += kAlphabet[(v >> 18) & 63];
     out += kAlphabet[(v >> 12) & 63];
     out += kAlphabet[(v >> 6) & 63];
@@ -53,18 +55,25 @@ void HtmlReport::heading(const std::string& text, int level) {
   body_ += "<" + tag + ">" + html_escape(text) + "</" + tag + ">\n";
 }
 
-void HtmlReport::paragraph(const std::string& text) { body_ += "<p>" + html_escape(text) + "</p>\n"; }
+void HtmlReport::paragraph(const std::string& text) {
+  body_ += "<p>" + html_escape(text) + "</p>\n";
+}
 
-void HtmlReport::table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+void HtmlReport::table(const std::vector<std::string>& header,
+                       const std::vector<std::vector<std::string>>& rows,
                        const std::vector<bool>& numeric) {
-  auto cls = [&](std::size_t c) { return c < numeric.size() && numeric[c] ? " class=\"num\"" : ""; };
+  auto cls = [&](std::size_t c) {
+    return c < numeric.size() && numeric[c] ? " class=\"num\"" : "";
+  };
   std::ostringstream s;
   s << "<table>\n<thead><tr>";
-  for (std::size_t c = 0; c < header.size(); ++c) s << "<th" << cls(c) << ">" << html_escape(header[c]) << "</th>";
+  for (std::size_t c = 0; c < header.size(); ++c)
+    s << "<th" << cls(c) << ">" << html_escape(header[c]) << "</th>";
   s << "</tr></thead>\n<tbody>\n";
   for (const auto& row : rows) {
     s << "<tr>";
-    for (std::size_t c = 0; c < row.size(); ++c) s << "<td" << cls(c) << ">" << html_escape(row[c]) << "</td>";
+    for (std::size_t c = 0; c < row.size(); ++c)
+      s << "<td" << cls(c) << ">" << html_escape(row[c]) << "</td>";
     s << "</tr>\n";
   }
   s << "</tbody></table>\n";
@@ -85,19 +94,22 @@ void HtmlReport::image(const std::string& png_path, const std::string& caption) 
     throw Error("'" + png_path + "' is not a PNG image", SourceLocation{png_path});
   }
   auto be32 = [&](std::size_t o) {
-    return (static_cast<unsigned char>(bytes[o]) << 24) | (static_cast<unsigned char>(bytes[o + 1]) << 16) |
-           (static_cast<unsigned char>(bytes[o + 2]) << 8) | static_cast<unsigned char>(bytes[o + 3]);
+    return (static_cast<unsigned char>(bytes[o]) << 24) |
+           (static_cast<unsigned char>(bytes[o + 1]) << 16) |
+           (static_cast<unsigned char>(bytes[o + 2]) << 8) |
+           static_cast<unsigned char>(bytes[o + 3]);
   };
   const unsigned w = be32(16), h = be32(20);
-  body_ += "<figure><img class=\"plot\" alt=\"" + html_escape(caption) + "\" width=\"" + std::to_string(w) +
-           "\" height=\"" + std::to_string(h) + "\" data-width=\"" + std::to_string(w) + "\" data-height=\"" +
-           std::to_string(h) + "\" src=\"data:image/png;base64," + base64_encode(bytes) +
-           "\"><figcaption>" + html_escape(caption) + "</figcaption></figure>\n";
+  body_ += "<figure><img class=\"plot\" alt=\"" + html_escape(caption) + "\" width=\"" +
+           std::to_string(w) + "\" height=\"" + std::to_string(h) + "\" data-width=\"" +
+           std::to_string(w) + "\" data-height=\"" + std::to_string(h) +
+           "\" src=\"data:image/png;base64," + base64_encode(bytes) + "\"><figcaption>" +
+           html_escape(caption) + "</figcaption></figure>\n";
 }
 
 void HtmlReport::code(const std::string& language, const std::string& source) {
-  body_ += "<div class=\"code\"><div class=\"lang\">" + html_escape(language) + "</div><pre><code>" +
-           html_escape(source) + "</code></pre></div>\n";
+  body_ += "<div class=\"code\"><div class=\"lang\">" + html_escape(language) +
+           "</div><pre><code>" + html_escape(source) + "</code></pre></div>\n";
 }
 
 std::string HtmlReport::html() const {
@@ -105,15 +117,19 @@ std::string HtmlReport::html() const {
   s << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
     << "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
     << "<title>" << html_escape(title_) << "</title>\n<style>\n"
-    << "body{font-family:'DejaVu Sans',system-ui,sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;"
+    << "body{font-family:'DejaVu Sans',system-ui,sans-serif;max-width:1100px;margin:2em "
+       "auto;padding:0 1em;"
        "color:#1a1a1a;line-height:1.45}\n"
-    << "h1{font-size:1.6em;border-bottom:2px solid #0072B2;padding-bottom:.2em}h2{margin-top:1.8em}\n"
-    << "table{border-collapse:collapse;margin:.8em 0;font-size:.92em}th,td{border:1px solid #ccc;padding:.25em .6em;"
+    << "h1{font-size:1.6em;border-bottom:2px solid "
+       "#0072B2;padding-bottom:.2em}h2{margin-top:1.8em}\n"
+    << "table{border-collapse:collapse;margin:.8em 0;font-size:.92em}th,td{border:1px solid "
+       "#ccc;padding:.25em .6em;"
        "text-align:left;vertical-align:top}th{background:#eef3f8}td.num,th.num{text-align:right;"
        "font-variant-numeric:tabular-nums}tbody tr:nth-child(even){background:#fafafa}\n"
     << "figure{margin:1em 0}img.plot{max-width:100%;height:auto;border:1px solid #ddd}"
        "figcaption{font-size:.9em;color:#555}\n"
-    << ".code{margin:.8em 0}.lang{font-size:.8em;color:#555;text-transform:uppercase;letter-spacing:.05em}"
+    << ".code{margin:.8em "
+       "0}.lang{font-size:.8em;color:#555;text-transform:uppercase;letter-spacing:.05em}"
        "pre{background:#f6f8fa;border:1px solid #ddd;padding:.7em;overflow-x:auto}\n"
     << "</style>\n</head>\n<body>\n<h1>" << html_escape(title_) << "</h1>\n"
     << body_
@@ -121,12 +137,24 @@ std::string HtmlReport::html() const {
     // decoded at their recorded size, and any script errors.
     << "<script>\n(function(){var errors=0;window.addEventListener('error',function(){errors++;"
        "document.body.setAttribute('data-errors',String(errors));});\n"
-       "window.addEventListener('load',function(){var imgs=document.querySelectorAll('img.plot'),ok=0;"
+       "window.addEventListener('load',function(){var "
+       "imgs=document.querySelectorAll('img.plot'),ok=0;"
        "for(var i=0;i<imgs.length;i++){var m=imgs[i];if(m.complete&&m.naturalWidth>0&&"
-       "String(m.naturalWidth)===m.getAttribute('data-width')&&String(m.naturalHeight)===m.getAttribute('data-height'))"
+       "String(m.naturalWidth)===m.getAttribute('data-width')&&String(m.naturalHeight)===m."
+       "getAttribute('data-height'))"
        "ok++;}document.body.setAttribute('data-images-ok',String(ok));"
        "document.body.setAttribute('data-images-total',String(imgs.length));"
-       "document.body.setAttribute('data-errors',String(errors));});})();\n</script>\n"
+       "document.body.setAttribute('data-errors',String(errors));"
+       // Where each image's pixels are on the page, and the page's height, so that a test can
+       // find the plots in a screenshot of the whole page.
+       "var boxes=[];for(var k=0;k<imgs.length;k++){var b=imgs[k].getBoundingClientRect();"
+       "boxes.push([Math.round(b.left+imgs[k].clientLeft+window.scrollX),"
+       "Math.round(b.top+imgs[k].clientTop+window.scrollY),imgs[k].clientWidth,imgs[k]."
+       "clientHeight].join(','));}"
+       "document.body.setAttribute('data-plot-boxes',boxes.join(';'));"
+       "document.body.setAttribute('data-page-height',String(document.documentElement.scrollHeight)"
+       ");"
+       "});})();\n</script>\n"
     << "</body>\n</html>\n";
   return s.str();
 }

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/core/error.hpp"
@@ -62,6 +63,32 @@ Scored score(const std::string& label, const std::string& text, const Expression
   return s;
 }
 
+// Renders each figure into the page, and with a figure directory also keeps it there as PNG and
+// SVG under its name.
+struct Figures {
+  HtmlReport& report;
+  std::string directory;
+
+  void add(const Chart& chart, const std::string& name, const std::string& caption) {
+    if (directory.empty()) {
+      const std::string png = temp_png(name);
+      render(chart, png);
+      report.image(png, caption);
+      std::filesystem::remove(png);
+      return;
+    }
+    std::error_code ec;
+    std::filesystem::create_directories(directory, ec);
+    if (ec)
+      throw Error("cannot create the directory '" + directory + "': " + ec.message(),
+                  SourceLocation{directory});
+    const std::string stem = (std::filesystem::path(directory) / name).string();
+    render(chart, stem + ".png");
+    render(chart, stem + ".svg");
+    report.image(stem + ".png", caption);
+  }
+};
+
 }  // namespace
 
 void add_json_section(HtmlReport& r, const json& j, const std::string& name, int level) {
@@ -101,8 +128,8 @@ void add_json_section(HtmlReport& r, const json& j, const std::string& name, int
   }
 }
 
-void add_search_report(HtmlReport& r, const json& j, const std::string& source,
-                       const SearchReportOptions& a) {
+ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& source,
+                               const SearchReportOptions& a) {
   if (!j.contains("front") || !j["front"].is_array() || j["front"].empty())
     throw Error("no front to report: 'front' is empty", {source});
   const FrontFile file = front_file_from_json(j, source);
@@ -113,68 +140,88 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
   if (j.contains("options")) add_json_section(r, j["options"], "Settings", 2);
   if (j.contains("summary")) add_json_section(r, j["summary"], "Run", 2);
 
+  const std::string loss =
+      j.contains("options") ? j["options"].value("loss", std::string("loss")) : "loss";
+  std::vector<FrontMember> members;
+  for (const ReadFrontMember& read : file.front) members.push_back(read.member);
+
+  // The chosen formula: the rule's pick, or the caller's formula.
+  ReportChoice chosen;
+  std::optional<Choice> pick;
+  if (a.formula.empty()) {
+    pick = choose_member(members, a.choice, loss);
+    chosen.formula = members[pick->index].formula;
+    chosen.how = choice_rule_description(a.choice);
+    chosen.why = pick->why;
+  } else {
+    chosen.formula = a.formula;
+    chosen.how = "given";
+    chosen.why = "the formula was given, not chosen from the front";
+    chosen.by_rule = false;
+  }
+
   r.heading("Pareto front");
   std::vector<std::vector<std::string>> rows;
-  for (const ReadFrontMember& read : file.front) {
-    const FrontMember& m = read.member;
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    const FrontMember& m = members[i];
     rows.push_back({number_text(m.cost), number_text(m.metrics.mse), number_text(m.metrics.max_abs),
                     std::isnan(m.time_s) ? "—" : fmt::format("{:.1f} ms", 1e3 * m.time_s),
-                    m.formula});
+                    m.formula + (pick && pick->index == i ? "  ← chosen" : "")});
   }
   r.table({"cost", "MSE", "max abs", "found at", "formula"}, rows, {true, true, true, true, false});
 
+  Figures figures{r, a.figure_directory};
   // The data, when given, scores the baselines and draws curves.
   const std::string target = j.contains("data") ? j["data"].value("target", std::string("R")) : "R";
   std::vector<Scored> baselines;
   Chart pareto;
+  pareto.title = "Pareto front: MSE against cost";
   pareto.x_label =
       "cost [" +
       (j.contains("options") ? j["options"].value("cost", std::string("instructions")) : "") + "]";
   pareto.y_label = "MSE (log scale)";
   pareto.log_y = true;
   Series fs{"Pareto front", {}, {}, Series::Style::LinesPoints, true};
-  for (const ReadFrontMember& read : file.front) {
-    if (std::isnan(read.member.metrics.mse)) continue;
-    fs.x.push_back(read.member.cost);
-    fs.y.push_back(read.member.metrics.mse);
+  for (const FrontMember& m : members) {
+    if (std::isnan(m.metrics.mse)) continue;
+    fs.x.push_back(m.cost);
+    fs.y.push_back(m.metrics.mse);
   }
   pareto.series.push_back(fs);
+  if (pick && !std::isnan(members[pick->index].metrics.mse))
+    pareto.markers.push_back(
+        {"chosen", members[pick->index].cost, members[pick->index].metrics.mse});
+  std::string pareto_caption = "The Pareto front: MSE against cost, one point per member";
   if (a.data != nullptr) {
     for (const ReportFormula& b : a.baselines) {
       baselines.push_back(score(b.label, b.formula, b.expression, *a.data, target));
       pareto.markers.push_back({b.label, baselines.back().cost, baselines.back().m.mse});
+      pareto_caption += "; " + b.label + " = " + b.formula;
     }
   }
-  const std::string pareto_png = temp_png("pareto");
-  render(pareto, pareto_png);
-  r.image(pareto_png, "Pareto front: MSE against cost; the baselines are marked");
-  std::filesystem::remove(pareto_png);
+  if (pick) pareto_caption += "; chosen = the chosen formula below";
+  figures.add(pareto, "front", pareto_caption);
 
-  std::string chosen = a.choose;
-  if (chosen.empty()) {
-    double best = INFINITY;
-    const double limit = baselines.empty() ? INFINITY : baselines.front().cost;
-    for (const ReadFrontMember& read : file.front) {
-      const FrontMember& m = read.member;
-      if (m.cost <= limit && m.metrics.mse < best) {
-        best = m.metrics.mse;
-        chosen = m.formula;
-      }
-    }
-    if (chosen.empty()) chosen = file.front.back().member.formula;
-  }
   r.heading("Chosen formula");
-  r.paragraph(chosen);
-  const std::string choose_location = "SearchReportOptions::choose";
+  r.paragraph(chosen.formula);
+  r.paragraph("How: " + chosen.how + ". Why: " + chosen.why + ".");
+  if (pick)
+    r.paragraph(
+        "The rules: knee (the default), the knee of the front; cost=N, the most accurate member "
+        "that costs at most N; error=E, the cheapest whose " +
+        loss + " is at most E.");
+  const std::string formula_location = "SearchReportOptions::formula";
   ParseOptions po;
   po.variables = file.inputs;
-  po.source = choose_location;
-  Expression ce = parse_formula(chosen, po);
+  po.source = formula_location;
+  Expression ce = parse_formula(chosen.formula, po);
 
   if (a.data != nullptr) {
     const Dataset& d = *a.data;
     std::vector<std::vector<std::string>> cmp;
-    Scored c = score("chosen", chosen, parse_formula_on(chosen, d, choose_location), d, target);
+    Scored c = score("chosen", chosen.formula,
+                     parse_formula_on(chosen.formula, d, formula_location), d, target);
+    c.label = fmt::format("chosen (cost {:g})", c.cost);
     auto row = [&](const Scored& s, const Scored* base) {
       return std::vector<std::string>{
           s.label,
@@ -191,19 +238,25 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
             {false, false, true, true, true, true});
 
     // Curves over the angle for two materials, when the inputs are those of a Fresnel sweep.
+    // The key names each curve briefly; the caption gives the formulas.
     Dataset sweep = make_fresnel_sweep({parse_material("1.5"), parse_material("aluminium")}, 181);
     bool sweepable = true;
     for (const auto& v : ce.variables)
       sweepable = sweepable && sweep.find(v) && sweep.find(v)->numeric();
     if (sweepable) {
-      for (const char* mat : {"ior1.5", "aluminium"}) {
+      struct SweepMaterial {
+        const char* label;  // in the sweep's material column
+        const char* name;   // for people
+      };
+      for (const SweepMaterial& mat :
+           {SweepMaterial{"ior1.5", "IOR 1.5"}, SweepMaterial{"aluminium", "aluminium"}}) {
         Chart ch;
-        ch.title = std::string("Reflectance of ") + mat;
+        ch.title = std::string("Reflectance of ") + mat.name;
         ch.x_label = "angle of incidence θ [degrees]";
         ch.y_label = "reflectance R";
         std::vector<std::size_t> rows_of;
         for (std::size_t i = 0; i < sweep.rows(); ++i)
-          if (sweep.column("material").labels[i] == mat) rows_of.push_back(i);
+          if (sweep.column("material").labels[i] == mat.label) rows_of.push_back(i);
         auto add = [&](const std::string& label, const std::vector<double>& v, bool emph) {
           Series s{label, {}, {}, Series::Style::Lines, emph};
           for (std::size_t i : rows_of) {
@@ -212,14 +265,15 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
           }
           ch.series.push_back(s);
         };
-        add("exact Fresnel", sweep.numeric("R").values, true);
-        for (const Scored& b : baselines)
+        std::string caption = ch.title + ": reference = exact Fresnel";
+        add("reference", sweep.numeric("R").values, true);
+        for (const Scored& b : baselines) {
           add(b.label, evaluate_on(parse_formula_on(b.formula, sweep), sweep), false);
-        add("chosen: " + chosen, evaluate_on(parse_formula_on(chosen, sweep), sweep), false);
-        const std::string png = temp_png("curve");
-        render(ch, png);
-        r.image(png, ch.title + ": the reference, the baselines and the chosen formula");
-        std::filesystem::remove(png);
+          caption += "; " + b.label + " = " + b.formula;
+        }
+        add(c.label, evaluate_on(parse_formula_on(chosen.formula, sweep), sweep), false);
+        caption += "; " + c.label + " = " + chosen.formula;
+        figures.add(ch, std::string("curves-") + mat.label, caption);
       }
     }
   }
@@ -227,9 +281,10 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
   for (Language l : {Language::Glsl, Language::Hlsl, Language::Cuda}) {
     CodegenOptions co;
     co.language = l;
-    co.comment = {chosen};
+    co.comment = {chosen.formula};
     r.code(std::string(language_name(l)), generate_function(ce, co));
   }
+  return chosen;
 }
 
 }  // namespace shaderfit

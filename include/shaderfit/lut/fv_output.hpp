@@ -5,7 +5,8 @@
 //   std::vector<std::string> files = write_fv_bake(bake, options, "out/");
 //
 // Files, per variant V: fv_V_rgba32f.dds, fv_V_rgba16f.dds, fv_V.exr, fv_V_errors.csv,
-// fv_V_errors.png; once: fv_lut.hlsl, fv_lut.glsl, fv_summary.json.
+// fv_V_errors.png (fv_error_maps, or without gnuplot fv_error_image); once: fv_lut.hlsl,
+// fv_lut.glsl, fv_summary.json.
 #pragma once
 
 #include <cstdint>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "shaderfit/lut/fv_lut.hpp"
+#include "shaderfit/plot/chart.hpp"
 
 namespace shaderfit::lut {
 
@@ -25,10 +27,16 @@ std::vector<std::string> write_fv_bake(const FvBake& bake, const FvLutOptions& o
 // and the errors (max and mean, linear and log2; float32 and float16 texels).
 std::string fv_error_csv(const FvTable& table);
 
-// The error image: four panels side by side (mean log2, max log2, mean abs, max abs error), each
-// one pixel per cell scaled up to at least 128 pixels, rows as in the texture (sqrt(F0) grows
-// downward, roughness to the right), colours on a log10 scale from the smallest to the largest
-// value of the panel (see fv_summary.json), failed cells magenta. RGB bytes, row 0 on top.
+// The error maps that fv_V_errors.png shows (drawn by gnuplot): four heat maps, 2 x 2, of the
+// mean and max |log2(FV / reference)| and |FV - reference| per cell, each titled, over
+// roughness (x) and sqrt(F0) (y) with a colour bar on a log scale; failed cells blank.
+HeatmapGrid fv_error_maps(const FvTable& table);
+
+// The bare error image, written as fv_V_errors.png where gnuplot is not installed: four panels side
+// by side (mean log2, max log2, mean abs, max abs error), each one pixel per cell scaled up to at
+// least 128 pixels, rows as in the texture (sqrt(F0) grows downward, roughness to the right),
+// colours on a log10 scale from the smallest to the largest value of the panel (see
+// fv_summary.json), failed cells magenta. RGB bytes, row 0 on top.
 std::vector<std::uint8_t> fv_error_image(const FvTable& table, std::size_t* width,
                                          std::size_t* height);
 

@@ -9,7 +9,9 @@
 //
 // Each embedded image carries its pixel size; a small script in the page checks on load that
 // every image decoded at that size and records the result on <body> (data-images-ok,
-// data-images-total, data-errors), which the headless-browser test reads.
+// data-images-total, data-errors), with each image's box on the page (data-plot-boxes:
+// "x,y,width,height;..." in CSS pixels) and the page's height (data-page-height), which the
+// headless-browser test reads.
 #pragma once
 
 #include <string>
@@ -24,7 +26,8 @@ class HtmlReport {
   void heading(const std::string& text, int level = 2);
   void paragraph(const std::string& text);  // plain text, escaped
   // A table; cells are plain text (escaped). `numeric` columns are right-aligned.
-  void table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows,
+  void table(const std::vector<std::string>& header,
+             const std::vector<std::vector<std::string>>& rows,
              const std::vector<bool>& numeric = {});
   // Key/value pairs as a two-column table.
   void settings(const std::vector<std::pair<std::string, std::string>>& items);

@@ -5,7 +5,10 @@
 //   SearchReportOptions o;
 //   o.data = &dataset;                                    // optional: scores and curves
 //   o.baselines = {{"Schlick", "r0 + (1 - r0)*x^5", parse_formula_on("r0 + (1 - r0)*x^5",
-//   dataset)}}; add_search_report(r, run_json, "run.json", o); r.write("run.html");
+//   dataset)}};
+//   o.choice = parse_choice_rule("cost=6", {"ChoiceRule"});   // default: the knee of the front
+//   add_search_report(r, run_json, "run.json", o);
+//   r.write("run.html");
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
@@ -15,6 +18,7 @@
 #include "shaderfit/data/dataset.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/report/html.hpp"
+#include "shaderfit/search/choice.hpp"
 
 namespace shaderfit {
 
@@ -28,18 +32,31 @@ struct SearchReportOptions {
   // The data the search ran on: with it, the baselines and the chosen formula are scored, and
   // when the formula's inputs are those of a Fresnel sweep, curves over the angle are drawn.
   const Dataset* data = nullptr;
-  std::vector<ReportFormula> baselines;  // scored only with data
-  // The front member to show as code (a formula); empty: the most accurate member no costlier
-  // than the first baseline, else the most accurate member.
-  std::string choose;
+  std::vector<ReportFormula> baselines;  // scored only with data; labels go in plot keys
+  // The chosen formula, shown as code: the front member `choice` picks (search/choice.hpp; the
+  // knee by default), or `formula` when not empty (any formula over the front's inputs).
+  ChoiceRule choice;
+  std::string formula;
+  // Not empty: each figure is also written there as NAME.png and NAME.svg (front,
+  // curves-ior1.5, curves-aluminium), the directory created if missing.
+  std::string figure_directory;
+};
+
+// What the report chose, and how and why, in words (for a closing line on the command line).
+struct ReportChoice {
+  std::string formula, how, why;
+  bool by_rule = true;  // false: SearchReportOptions::formula was shown
 };
 
 // Adds a search's sections: its data, settings and run, the front as a table and a plot, the
-// chosen formula, its comparison with the baselines, curves and its code in GLSL, HLSL and CUDA.
-// `run` is the JSON search_json writes; `source` names it in errors. Throws shaderfit::Error
-// for an empty front, or a chosen formula that does not parse (at SearchReportOptions::choose).
-void add_search_report(HtmlReport& report, const nlohmann::json& run, const std::string& source,
-                       const SearchReportOptions& options);
+// chosen formula with how and why it was chosen, its comparison with the baselines, curves and
+// its code in GLSL, HLSL and CUDA. Plot keys name the curves briefly ("reference", a baseline's
+// label, "chosen (cost 5)"); the captions and tables give the formulas. `run` is the JSON
+// search_json writes; `source` names it in errors. Throws shaderfit::Error for an empty front, a
+// formula that does not parse (at SearchReportOptions::formula), or a figure that cannot be
+// written.
+ReportChoice add_search_report(HtmlReport& report, const nlohmann::json& run,
+                               const std::string& source, const SearchReportOptions& options);
 
 // Any run's JSON, generically: scalars as settings, arrays of objects as tables, PNG paths that
 // exist as images, nested objects as sub-sections (under a heading `name` when not empty).
