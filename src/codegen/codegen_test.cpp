@@ -116,8 +116,9 @@ std::string source(const std::vector<std::string>& formulas, Language l) {
 
 TEST(Codegen, SourceHasWhatItsFunctionsNeed) {
   // C++: the headers of what the functions call, and only those.
-  EXPECT_EQ(source({"(x + y) / (x - y)"}, Language::Cpp).rfind("inline float f0(float x, float y) {", 0),
-            0u);
+  EXPECT_EQ(
+      source({"(x + y) / (x - y)"}, Language::Cpp).rfind("inline float f0(float x, float y) {", 0),
+      0u);
   EXPECT_EQ(source({"x * y + 1"}, Language::Cpp)  // std::fma
                 .rfind("#include <cmath>\n\ninline float f0(float x, float y) {", 0),
             0u);
