@@ -154,9 +154,9 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
       if (options.max_candidates)
         done = std::max(
             done, static_cast<double>(p.candidates) / static_cast<double>(*options.max_candidates));
-      bar.update(done,
-                 fmt::format("{}, {} candidates ({:.3g}/s), front {}", search_phase_name(p.phase),
-                             p.candidates, p.candidates_per_s, p.front_size));
+      bar.update(done, fmt::format("{}, front {}, {:.3g} candidates ({:.3g}/s)",
+                                   search_phase_name(p.phase), p.front_size,
+                                   static_cast<double>(p.candidates), p.candidates_per_s));
     };
   }
   if (!options.resume_path.empty()) {
