@@ -4,9 +4,9 @@
 // ends. The library only reports progress (callbacks in its options); this draws it.
 //
 //   ProgressBar bar(ctx, "lut");
-//   options.on_progress = bar.callback();  // "lut [#####---------------]  25%  16384/65536 cells
-//   0.8 s" bake_fv_luts(options, variants); bar.clear();                           // before
-//   printing the results
+//   options.on_progress = bar.callback();
+//   bake_fv_luts(options, variants);  // lut [#####---------------]  25%  16384/65536 cells  0.8 s
+//   bar.clear();                      // before printing the results
 #pragma once
 
 #include <chrono>
