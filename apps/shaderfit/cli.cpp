@@ -164,7 +164,8 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   CLI::App app{"shaderfit: cheap formulas for expensive shading functions", "shaderfit"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "shaderfit 0.1.0");
-  Context ctx{out, err, isatty(STDERR_FILENO) != 0};
+  // Progress bars only on a terminal: stderr itself (not a stream a caller passed), a tty.
+  Context ctx{out, err, &err == &std::cerr && isatty(STDERR_FILENO) != 0};
 
   register_eval_command(app, ctx);
   register_search_command(app, ctx);

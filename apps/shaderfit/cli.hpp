@@ -21,7 +21,8 @@ namespace shaderfit::cli {
 struct Context {
   std::ostream& out;
   std::ostream& err;
-  bool progress = true;  // live progress lines on err (off when err is not a terminal)
+  // Progress bars on err (progress_bar.hpp): true only when err is stderr and a terminal.
+  bool progress = true;
 };
 
 void register_eval_command(CLI::App& app, Context& ctx);

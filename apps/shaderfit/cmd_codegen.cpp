@@ -1,9 +1,10 @@
 // shaderfit codegen: a formula, or every member of a search front, as a function in GLSL, HLSL,
-// CUDA, C++ or Metal (docs/codegen.md).
+// CUDA, C++ or Metal, printed as a file that compiles on its own (docs/codegen.md).
 #include <fmt/format.h>
 
 #include <memory>
 #include <ostream>
+#include <vector>
 
 #include "shaderfit/cli.hpp"
 #include "shaderfit/codegen/codegen.hpp"
@@ -39,26 +40,28 @@ void run_codegen(const CodegenArgs& a, Context& ctx) {
   if (a.formula.empty() == a.front_path.empty()) {
     throw Error("give either a formula or --front FILE.json", SourceLocation{"codegen"});
   }
-  CodegenOptions o;
-  o.language = *lang;
+  // One file that compiles on its own (generate_source): the includes or #version line, then
+  // the functions.
+  std::vector<SourceFunction> functions;
   if (!a.formula.empty()) {
     ParseOptions po;
     po.variables = a.inputs;
     po.parameters = a.params;
-    const Expression e = parse_formula(a.formula, po);
-    o.name = a.name;
-    o.comment = describe(e);
-    ctx.out << generate_function(e, o);
-    return;
+    SourceFunction f{parse_formula(a.formula, po), {}};
+    f.options.name = a.name;
+    f.options.comment = describe(f.expression);
+    functions.push_back(std::move(f));
+  } else {
+    const FrontFile file = read_front_file(a.front_path, {a.inputs, a.params});
+    for (std::size_t i = 0; i < file.front.size(); ++i) {
+      SourceFunction f{file.front[i].member.expression, {}};
+      f.options.name = fmt::format("{}_{}", a.name, i);
+      f.options.bake_parameters = file.front[i].parameters_have_values;
+      f.options.comment = describe(f.expression);
+      functions.push_back(std::move(f));
+    }
   }
-  const FrontFile file = read_front_file(a.front_path, {a.inputs, a.params});
-  for (std::size_t i = 0; i < file.front.size(); ++i) {
-    const Expression& e = file.front[i].member.expression;
-    o.name = fmt::format("{}_{}", a.name, i);
-    o.bake_parameters = file.front[i].parameters_have_values;
-    o.comment = describe(e);
-    ctx.out << (i ? "\n" : "") << generate_function(e, o);
-  }
+  ctx.out << generate_source(functions, *lang);
 }
 
 }  // namespace
@@ -67,7 +70,8 @@ void register_codegen_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<CodegenArgs>();
   CLI::App* cmd = app.add_subcommand(
       "codegen",
-      "Print a formula (or a search front) as a GLSL, HLSL, CUDA, C++ or Metal function");
+      "Print a formula (or a search front) as a GLSL, HLSL, CUDA, C++ or Metal function, in a "
+      "file that compiles as printed");
   cmd->add_option("--lang", args->lang, "glsl, hlsl, cuda, cpp or metal")->required();
   cmd->add_option("--name", args->name,
                   "function name (a front's members get NAME_0, NAME_1, ...)");

@@ -1,6 +1,11 @@
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <iostream>
+
 #include "cli_test_util.hpp"
+#include "codegen/toolchain_test_support.hpp"
 
 namespace shaderfit::cli::testing {
 namespace {
@@ -28,6 +33,90 @@ TEST(CmdCodegen, WholeFront) {
   EXPECT_NE(r.out.find("float f_0(float r0, float cos_theta) {"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("float f_1(float r0, float cos_theta) {"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("const float s = 0.25f;"), std::string::npos) << r.out;
+}
+
+// A front whose members use every spelling the printer has (fma, the calls, saturate, rsqrt,
+// sign, copysign, select, a baked parameter).
+std::string every_spelling_front() {
+  return scratch_file("every_spelling.json", R"json({"inputs": ["r0", "cos_theta", "x"], "front": [
+    {"formula": "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"},
+    {"formula": "saturate(rsqrt(x)) + exp(-x) * log2(x) - 1 / cos_theta"},
+    {"formula": "select(x >= r0, sign(x), copysign(r0, x)) + copysign(2, r0) * select(-x >= 0, r0, 2)"},
+    {"formula": "min(x, r0) * max(sin(x), cos(r0)) + abs(x) + sqrt(exp2(x)) + log(r0)"},
+    {"formula": "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4", "parameters": {"s": 0.25}}]})json");
+}
+
+struct Printed {
+  std::string lang, text;
+};
+
+// `shaderfit codegen --lang L` of the README's formula and of the front above, as printed.
+std::vector<Printed> printed(const std::string& lang) {
+  std::vector<Printed> out;
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"codegen", "--lang", lang, "--name", "fresnel",
+                                 "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"},
+        std::vector<std::string>{"codegen", "--lang", lang, "--front", every_spelling_front()}}) {
+    const CliResult r = run(args);
+    EXPECT_EQ(r.status, 0) << r.err;
+    out.push_back({lang, r.out});
+  }
+  return out;
+}
+
+// Compiles `text` as file `name` in a scratch folder with `command` ({} is the file); the
+// compiler's messages and the text on failure.
+void expect_compiles(const std::string& text, const std::string& name, const std::string& command) {
+  const auto dir = shaderfit::testing::scratch_folder("codegen_as_printed");
+  shaderfit::testing::write_text(dir / name, text);
+  std::string log;
+  const int status = shaderfit::testing::run_command(
+      "cd '" + dir.string() + "' && " + fmt::format(fmt::runtime(command), name), &log);
+  EXPECT_EQ(status, 0) << command << ":\n" << log << "\n" << text;
+}
+
+TEST(CmdCodegen, CppCompilesAsPrinted) {
+  bool any = false;
+  for (const char* tool : {"g++", "clang++"}) {
+    const auto cxx = shaderfit::testing::find_tool(tool);
+    if (!cxx) continue;
+    any = true;
+    for (const Printed& p : printed("cpp"))
+      expect_compiles(p.text, "printed.cpp",
+                      "'" + *cxx + "' -std=c++17 -Wall -pedantic -Werror -c {} -o printed.o");
+  }
+  if (!any) GTEST_SKIP() << "skipped: g++ and clang++ not found";
+  // Only what is used is included: a product needs no header.
+  EXPECT_EQ(run({"codegen", "--lang", "cpp", "x * y"}).out.find("#include"), std::string::npos);
+}
+
+TEST(CmdCodegen, CudaCompilesAsPrinted) {
+  const auto nvcc = shaderfit::testing::find_tool("nvcc");
+  if (!nvcc) GTEST_SKIP() << "skipped: nvcc not found";
+  // The front alone: one nvcc call (seconds), and it holds every spelling.
+  expect_compiles(printed("cuda").back().text, "printed.cu", "'" + *nvcc + "' -c {} -o printed.o");
+}
+
+// GLSL and HLSL with the entry point a shader stage requires appended, nothing else.
+TEST(CmdCodegen, GlslAndHlslCompileAsPrinted) {
+  const auto glslang = shaderfit::testing::find_tool("glslangValidator");
+  const auto dxc = shaderfit::testing::find_tool("dxc");
+  if (!glslang && !dxc) GTEST_SKIP() << "skipped: glslangValidator and dxc not found";
+  if (glslang) {
+    for (const Printed& p : printed("glsl")) {
+      EXPECT_EQ(p.text.rfind("#version 450\n", 0), 0u) << p.text;
+      expect_compiles(p.text + "void main() {}\n", "printed.frag",
+                      "'" + *glslang + "' -V {} -o printed.spv");
+    }
+  }
+  for (const Printed& p : printed("hlsl")) {
+    const std::string text = p.text + "float4 main() : SV_Target { return float4(0, 0, 0, 0); }\n";
+    if (glslang)
+      expect_compiles(text, "printed.hlsl",
+                      "'" + *glslang + "' -D -V -S frag -e main {} -o printed.spv");
+    if (dxc) expect_compiles(text, "printed.hlsl", "'" + *dxc + "' -T ps_6_0 -E main {}");
+  }
+  if (!dxc) std::cout << "skipped: dxc not found (HLSL checked with glslangValidator)\n";
 }
 
 TEST(CmdCodegen, UnknownLanguage) {

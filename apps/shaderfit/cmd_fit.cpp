@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "data_source.hpp"
+#include "progress_bar.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -160,7 +161,11 @@ void write_file(const std::string& path, const std::string& text, const char* op
 void run_fit(const FitArgs& a, Context& ctx) {
   const PreparedFit s = prepare_fit(to_setup(a));
   FixedFormSummary sum;
-  solve_fixed_form(s.options, s.problem, &sum);
+  ProgressBar bar(ctx, "fit");
+  FixedFormOptions options = s.options;
+  options.on_progress = bar.callback();
+  solve_fixed_form(options, s.problem, &sum);
+  bar.clear();
   const std::vector<BlockComparison> reports = compare_blocks(s, sum);
   if (!a.table_path.empty()) write_file(a.table_path, table_csv(sum, reports), "--table");
   if (a.json_path == "-") {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <ostream>
 
+#include "progress_bar.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/parallel.hpp"
@@ -107,7 +108,11 @@ void run_lut(LutArgs& a, Context& ctx) {
       throw Error("the comparison needs a fitted variant (linear, constrained, clamped)",
                   {"--compare-exact"});
   }
-  const lut::FvBake bake = lut::bake_fv_luts(a.options, variants);
+  lut::FvLutOptions options = a.options;
+  ProgressBar bar(ctx, "lut");
+  options.on_progress = bar.callback();
+  const lut::FvBake bake = lut::bake_fv_luts(options, variants);
+  bar.clear();
   print_bake(ctx.out, bake, a);
   if (!a.no_files) {
     const std::vector<std::string> files = lut::write_fv_bake(bake, a.options, a.out);
@@ -119,7 +124,10 @@ void run_lut(LutArgs& a, Context& ctx) {
   std::size_t failed = 0;
   for (const lut::FvTable& t : bake.tables) failed += t.failures.size();
   if (compare) {
-    const lut::ExactComparison c = lut::compare_with_exact(a.options, *compare);
+    ProgressBar compare_bar(ctx, "lut (exact comparison)");
+    options.on_progress = compare_bar.callback();
+    const lut::ExactComparison c = lut::compare_with_exact(options, *compare);
+    compare_bar.clear();
     ctx.out << '\n' << lut::format_exact_comparison(c) << fmt::format("  ({:.3f} s)\n", c.seconds);
   }
   if (failed > 0)

@@ -6,6 +6,7 @@
 #include <memory>
 #include <ostream>
 
+#include "progress_bar.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -94,7 +95,10 @@ void run_rational(const RationalArgs& a, Context& ctx) {
     return;
   }
   PreparedRational prepared = prepare_rational(to_setup(a));
+  ProgressBar bar(ctx, "rational");
+  prepared.options.on_progress = bar.callback();
   const RationalReport report = solve_prepared(prepared);
+  bar.clear();
   if (a.json_path == "-") {
     ctx.out << rational_json(report) << '\n';
     return;

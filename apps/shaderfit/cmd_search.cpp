@@ -2,6 +2,7 @@
 // schema and the method are in docs/search.md.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -16,6 +17,7 @@
 #include <variant>
 
 #include "data_source.hpp"
+#include "progress_bar.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/report/search_json.hpp"
@@ -141,21 +143,23 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
         "operators (auto): {}; the evolution also {}\n", operator_list_name(options.operators),
         options.evolution_operators.empty() ? "none"
                                             : operator_list_name(options.evolution_operators));
-  bool progress_shown = false;
+  ProgressBar bar(ctx, "search");
   if (!a.quiet) {
     options.on_new_member = [&](const FrontMember& m) {
-      if (progress_shown) ctx.err << "\r\033[K";
-      progress_shown = false;
+      bar.clear();
       human << front_member_line(m, options.loss) << '\n' << std::flush;
     };
   }
-  if (ctx.progress) {
+  if (bar.active()) {
+    // Done: the larger share of the time budget or of the candidate budget.
     options.on_progress = [&](const SearchProgress& p) {
-      ctx.err << fmt::format("\r\033[K[{:.1f} s] {} {} candidates, {:.3g}/s, front {}", p.elapsed_s,
-                             search_phase_name(p.phase), p.candidates, p.candidates_per_s,
-                             p.front_size)
-              << std::flush;
-      progress_shown = true;
+      double done = p.elapsed_s / options.time_limit_s;
+      if (options.max_candidates)
+        done = std::max(
+            done, static_cast<double>(p.candidates) / static_cast<double>(*options.max_candidates));
+      bar.update(done, fmt::format("{}, front {}, {:.3g} candidates ({:.3g}/s)",
+                                   search_phase_name(p.phase), p.front_size,
+                                   static_cast<double>(p.candidates), p.candidates_per_s));
     };
   }
   if (!options.resume_path.empty()) {
@@ -181,7 +185,7 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
     throw;
   }
   restore_signals();
-  if (progress_shown) ctx.err << "\r\033[K" << std::flush;
+  bar.clear();
 
   human << summary.brief_report();
   if (!summary.front.empty()) {

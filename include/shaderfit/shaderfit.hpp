@@ -6,6 +6,7 @@
 #include "shaderfit/core.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/parallel.hpp"
+#include "shaderfit/core/progress.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/cost/instruction_model.hpp"

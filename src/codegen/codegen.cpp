@@ -2,10 +2,13 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
 #include <regex>
+#include <set>
+#include <span>
 
 #include "codegen/language.hpp"
 #include "cost/dag.hpp"
@@ -226,7 +229,10 @@ class FunctionPrinter {
 
 }  // namespace
 
-std::string generate_function(const Expression& e, const CodegenOptions& options) {
+namespace {
+
+// The name checks, and the program the cost model counts for this language.
+Program checked_program(const Expression& e, const CodegenOptions& options) {
   codegen::check_name(options.name, "function name", SourceLocation{"CodegenOptions::name"});
   std::vector<std::string> seen = {options.name};
   for (const auto* names : {&e.variables, &e.parameters}) {
@@ -244,9 +250,55 @@ std::string generate_function(const Expression& e, const CodegenOptions& options
     }
   }
   const bool fused = options.language != Language::Glsl && options.language != Language::Hlsl;
-  const lowering::Dag dag = lowering::lower_expression(e);
-  const Program program = lowering::build_program(dag, fused);
+  return lowering::build_program(lowering::lower_expression(e), fused);
+}
+
+// The C++ headers a printed program needs: <cmath> for every function it calls (fma, sqrt, the
+// fabs and copysign of sign, ...), <algorithm> for the std::clamp of saturate. Operators and ?:
+// need none.
+void add_cpp_headers(const Program& p, std::set<std::string_view>* headers) {
+  for (const Step& st : p.steps) {
+    switch (st.op) {
+      case StepOp::Add:
+      case StepOp::Sub:
+      case StepOp::Mul:
+      case StepOp::Div:
+      case StepOp::Neg:
+      case StepOp::Select: break;
+      case StepOp::Sat: headers->insert("<algorithm>"); break;
+      default: headers->insert("<cmath>"); break;
+    }
+  }
+}
+
+}  // namespace
+
+std::string generate_function(const Expression& e, const CodegenOptions& options) {
+  const Program program = checked_program(e, options);
   return FunctionPrinter(e, options, program).print();
+}
+
+std::string generate_source(std::span<const SourceFunction> functions, Language language) {
+  std::set<std::string_view> headers;
+  std::string body;
+  for (const SourceFunction& f : functions) {
+    CodegenOptions o = f.options;
+    o.language = language;
+    const Program program = checked_program(f.expression, o);
+    if (language == Language::Cpp) add_cpp_headers(program, &headers);
+    body += (body.empty() ? "" : "\n") + FunctionPrinter(f.expression, o, program).print();
+  }
+  std::string head;
+  switch (language) {
+    case Language::Cpp:
+      for (std::string_view h : headers) head += fmt::format("#include {}\n", h);
+      break;
+    case Language::Glsl: head = "#version 450\n"; break;
+    case Language::Metal: head = "#include <metal_stdlib>\nusing namespace metal;\n"; break;
+    case Language::Cuda:
+    case Language::Hlsl: break;
+  }
+  return head.empty() || body.empty() ? head + body : head + "\n" + body;
 }
 
 }  // namespace shaderfit

@@ -104,6 +104,42 @@ TEST(Codegen, ParametersAsArgumentsOrBaked) {
   EXPECT_NE(generate_function(e, o).find("const float s = 0.25f;"), std::string::npos);
 }
 
+std::string source(const std::vector<std::string>& formulas, Language l) {
+  std::vector<SourceFunction> fs;
+  for (std::size_t i = 0; i < formulas.size(); ++i) {
+    SourceFunction f{parse_formula(formulas[i]), {}};
+    f.options.name = "f" + std::to_string(i);
+    fs.push_back(std::move(f));
+  }
+  return generate_source(fs, l);
+}
+
+TEST(Codegen, SourceHasWhatItsFunctionsNeed) {
+  // C++: the headers of what the functions call, and only those.
+  EXPECT_EQ(
+      source({"(x + y) / (x - y)"}, Language::Cpp).rfind("inline float f0(float x, float y) {", 0),
+      0u);
+  EXPECT_EQ(source({"x * y + 1"}, Language::Cpp)  // std::fma
+                .rfind("#include <cmath>\n\ninline float f0(float x, float y) {", 0),
+            0u);
+  EXPECT_EQ(source({"saturate(x)"}, Language::Cpp).rfind("#include <algorithm>\n\ninline", 0), 0u);
+  EXPECT_EQ(source({"sign(x)", "saturate(x)"}, Language::Cpp)
+                .rfind("#include <algorithm>\n#include <cmath>\n\ninline float f0(", 0),
+            0u);
+  // GLSL: the #version line glslangValidator needs; Metal: its header; CUDA, HLSL: nothing.
+  const std::string glsl = source({"x + 1", "x * y"}, Language::Glsl);
+  EXPECT_EQ(glsl,
+            "#version 450\n\nfloat f0(float x) {\n  return x + 1.0;\n}\n\n"
+            "float f1(float x, float y) {\n  return x * y;\n}\n");
+  EXPECT_EQ(source({"x"}, Language::Metal)
+                .rfind("#include <metal_stdlib>\nusing namespace metal;\n\n", 0),
+            0u);
+  for (Language l : {Language::Cuda, Language::Hlsl})
+    EXPECT_EQ(source({"sqrt(x)"}, l).rfind(l == Language::Cuda ? "__device__" : "float f0", 0), 0u);
+  // The functions keep the names and checks of generate_function.
+  EXPECT_THROW(source({"in + 1"}, Language::Cpp), Error);
+}
+
 TEST(Codegen, BadNamesAreErrors) {
   EXPECT_THROW(gen("in + 1", Language::Glsl), Error);   // reserved
   EXPECT_THROW(gen("copysignf + 1", Language::Cuda), Error);        // called by copysign

@@ -26,17 +26,26 @@ struct CompiledCounts {
 
 inline std::size_t input_count(const Expression& e) { return e.variables.size() + e.parameters.size(); }
 
-// All formulas as CUDA functions f<i> and kernels k<i> in one .cu file, compiled by one nvcc call
-// (--use_fast_math -arch=sm_90, keeping the PTX); SASS counts when cuobjdump is found.
+// The formulas as functions f0, f1, ... exactly as `shaderfit codegen` prints them: a file that
+// compiles on its own (generate_source). The compile helpers below add only entry points after it.
+inline std::string printed_source(const std::vector<Expression>& formulas, Language lang) {
+  std::vector<SourceFunction> functions;
+  for (std::size_t i = 0; i < formulas.size(); ++i) {
+    SourceFunction f{formulas[i], {}};
+    f.options.name = "f" + std::to_string(i);
+    functions.push_back(std::move(f));
+  }
+  return generate_source(functions, lang);
+}
+
+// All formulas as CUDA functions f<i> (printed_source) and kernels k<i> after them in one .cu
+// file, compiled by one nvcc call (--use_fast_math -arch=sm_90, keeping the PTX); SASS counts when
+// cuobjdump is found.
 inline CompiledCounts compile_cuda(const std::vector<Expression>& formulas, const std::string& nvcc,
                                    const std::string& folder_name) {
   const auto dir = scratch_folder(folder_name);
-  std::string src;
+  std::string src = printed_source(formulas, Language::Cuda);
   for (std::size_t i = 0; i < formulas.size(); ++i) {
-    CodegenOptions o;
-    o.language = Language::Cuda;
-    o.name = "f" + std::to_string(i);
-    src += generate_function(formulas[i], o);
     const std::size_t n = input_count(formulas[i]);
     std::string args;
     for (std::size_t k = 0; k < n; ++k) args += fmt::format("{}in[i * {} + {}]", k ? ", " : "", n, k);
@@ -68,22 +77,19 @@ inline CompiledCounts compile_cuda(const std::vector<Expression>& formulas, cons
   return r;
 }
 
-// All formulas as GLSL (a compute shader) or HLSL (a compute entry point) functions f<i> in one
-// file, compiled to SPIR-V by one glslangValidator call.
+// All formulas as GLSL or HLSL functions f<i> (printed_source), then a compute entry point that
+// calls them, in one file compiled to SPIR-V by one glslangValidator call.
 inline CompiledCounts compile_spirv(const std::vector<Expression>& formulas, Language lang,
                                     const std::string& glslang, const std::string& folder_name) {
   const auto dir = scratch_folder(folder_name);
   const bool glsl = lang == Language::Glsl;
-  std::string src = glsl ? "#version 450\nlayout(local_size_x = 1) in;\n"
-                           "layout(std430, binding = 0) buffer Data { float data[]; };\n"
-                         : "RWStructuredBuffer<float> data : register(u0);\n";
+  std::string src = printed_source(formulas, lang);
+  src += glsl ? "layout(local_size_x = 1) in;\n"
+                "layout(std430, binding = 0) buffer Data { float data[]; };\n"
+              : "RWStructuredBuffer<float> data : register(u0);\n";
   std::string body;
   std::size_t offset = formulas.size();
   for (std::size_t i = 0; i < formulas.size(); ++i) {
-    CodegenOptions o;
-    o.language = lang;
-    o.name = "f" + std::to_string(i);
-    src += generate_function(formulas[i], o);
     std::string args;
     for (std::size_t k = 0; k < input_count(formulas[i]); ++k) args += fmt::format("{}data[{}]", k ? ", " : "", offset++);
     body += fmt::format("  data[{}] = f{}({});\n", i, i, args);

@@ -74,25 +74,27 @@ TEST(CompilerCheck, FrontCompilesEverywhereAndCppAgreesWithEvaluator) {
     r0[i] = static_cast<float>(d.numeric("r0").values[i]);
     cs[i] = static_cast<float>(d.numeric("cos_theta").values[i]);
   }
-  std::string src = "#include <algorithm>\n#include <cmath>\n#include <cstdio>\n";
+  // The file exactly as printed (its own includes), then the entry point: main and its <cstdio>.
+  std::vector<SourceFunction> functions;
   std::string calls;
   for (std::size_t i = 0; i < exprs.size(); ++i) {
-    CodegenOptions o;
-    o.language = Language::Cpp;
-    o.name = "f" + std::to_string(i);
-    o.bake_parameters = true;  // s has its fitted value
-    src += generate_function(exprs[i], o);
+    SourceFunction f{exprs[i], {}};
+    f.options.name = "f" + std::to_string(i);
+    f.options.bake_parameters = true;  // s has its fitted value
+    functions.push_back(std::move(f));
     calls += "    out[" + std::to_string(i) + "] = f" + std::to_string(i) + "(in[0], in[1]);\n";
   }
-  src += "int main() {\n  float in[2], out[" + std::to_string(exprs.size()) +
+  std::string src = generate_source(functions, Language::Cpp);
+  src += "#include <cstdio>\nint main() {\n  float in[2], out[" + std::to_string(exprs.size()) +
          "];\n"
          "  while (std::fread(in, sizeof(float), 2, stdin) == 2) {\n" +
          calls + "    std::fwrite(out, sizeof(float), " + std::to_string(exprs.size()) +
          ", stdout);\n  }\n}\n";
   testing::write_text(dir / "front.cpp", src);
   std::string log;
-  ASSERT_EQ(testing::run_command("'" + *cxx + "' -std=c++17 -O1 -o '" + (dir / "front").string() +
-                                     "' '" + (dir / "front.cpp").string() + "'",
+  ASSERT_EQ(testing::run_command("'" + *cxx + "' -std=c++17 -O1 -Wall -pedantic -Werror -o '" +
+                                     (dir / "front").string() + "' '" +
+                                     (dir / "front.cpp").string() + "'",
                                  &log),
             0)
       << log;

@@ -291,11 +291,14 @@ void solve_fixed_form(const FixedFormOptions& options, const FixedFormProblem& p
   if (!any_global || blocks.size() == 1) {
     s.blocks.resize(blocks.size());
     const std::size_t grain = std::max<std::size_t>(1, blocks.size() / 256);
+    ProgressCounter progress(options.on_progress, blocks.size(), "blocks");
     parallel_for(
         blocks.size(), grain,
         [&](std::size_t begin, std::size_t end) {
-          for (std::size_t b = begin; b < end; ++b)
+          for (std::size_t b = begin; b < end; ++b) {
             s.blocks[b] = fit_detail::solve_block(m, blocks[b], options, start, &kinds[b]);
+            progress.add();
+          }
         },
         options.threads);
   } else {

@@ -51,6 +51,23 @@ TEST(FixedForm, LinearLeastSquaresRecoversAPolynomial) {
   EXPECT_NE(s.brief_report().find("linear least squares"), std::string::npos);
 }
 
+TEST(FixedForm, ReportsBlocksFittedSoFar) {
+  FixedFormProblem p;
+  p.formula = formula("a * x", {"x"}, {"a"});
+  p.scopes = {ParameterScope::per_block};
+  for (int k = 1; k <= 5; ++k) p.blocks.push_back(block_of([k](double x) { return k * x; }));
+  FixedFormOptions o;
+  o.threads = 1;
+  std::vector<std::size_t> seen;
+  o.on_progress = [&](const Progress& q) {
+    EXPECT_EQ(q.total, 5u);
+    seen.push_back(q.done);
+  };
+  const FixedFormSummary s = solve(p, o);
+  EXPECT_EQ(s.failed_blocks, 0u);
+  EXPECT_EQ(seen, (std::vector<std::size_t>{1, 2, 3, 4, 5}));
+}
+
 // The seed's model: f0 exp2(A x^2 + B x + C) is linear in A, B, C after log2.
 FixedFormProblem seed_problem(double f0, double a, double b, double c) {
   FixedFormProblem p;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <chrono>
+#include <iterator>
 
 #include "fv_internal.hpp"
 #include "shaderfit/core/error.hpp"
@@ -30,14 +31,14 @@ detail::FvReference function_ref(FvFunction f) {
 }
 
 ExactComparisonRow compare_row(const FvLutOptions& o, FvVariant v, const detail::FvReference& truth,
-                               std::span<const detail::CellSpec> cells) {
+                               std::span<const detail::CellSpec> cells, ProgressCounter& progress) {
   const detail::FvReference seed = function_ref(
       [](double d, double f0, double r) { return reference::fv_schlick_smith_lh(d, f0, r); });
   const detail::FvReference peak = function_ref(
       [](double d, double f0, double r) { return reference::fv_schlick_smith_peak(d, f0, r); });
   const EndpointAdjustment unused;
-  const std::vector<FvCell> seed_cells = detail::fit_cells(o, v, seed, cells, unused);
-  const std::vector<FvCell> exact_cells = detail::fit_cells(o, v, truth, cells, unused);
+  const std::vector<FvCell> seed_cells = detail::fit_cells(o, v, seed, cells, unused, progress);
+  const std::vector<FvCell> exact_cells = detail::fit_cells(o, v, truth, cells, unused, progress);
   const std::size_t n = cells.size();
   std::vector<CellError> e_lh(n), e_peak(n), e_seed(n), e_exact(n);
   std::vector<FvCell> usable(n);
@@ -79,11 +80,14 @@ ExactComparison compare_with_exact(const FvLutOptions& options, FvVariant varian
   const auto t0 = std::chrono::steady_clock::now();
   ExactComparison c;
   c.variant = variant;
+  // Two fits per cell: of the seed's reference and of the ground truth.
+  ProgressCounter progress(options.on_progress,
+                           2 * options.size * (options.size + std::size(kMetals)), "cells");
   {
     const detail::FvReference truth = function_ref(
         [](double d, double f0, double r) { return reference::fv_exact_dielectric(d, f0, r); });
     ExactComparisonRow row =
-        compare_row(options, variant, truth, detail::square_grid(options.size));
+        compare_row(options, variant, truth, detail::square_grid(options.size), progress);
     row.material = "dielectrics (grid)";
     c.rows.push_back(row);
   }
@@ -96,7 +100,7 @@ ExactComparison compare_with_exact(const FvLutOptions& options, FvVariant varian
     std::vector<detail::CellSpec> cells;
     for (std::size_t i = 0; i < options.size; ++i)
       cells.push_back({i, 0, cell_roughness(i, options.size), f0});
-    ExactComparisonRow row = compare_row(options, variant, truth, cells);
+    ExactComparisonRow row = compare_row(options, variant, truth, cells, progress);
     row.material = m.name;
     row.f0 = f0;
     c.rows.push_back(row);

@@ -1,6 +1,7 @@
 // The per-cell fits of the FV tables, as one fixed-form problem with per-cell parameters A, B, C.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -65,8 +66,8 @@ double max_angle_degrees(const FvLutOptions& o, FvVariant v, double roughness) {
 }
 
 std::vector<FvCell> fit_cells(const FvLutOptions& o, FvVariant v, const FvReference& ref,
-                              std::span<const CellSpec> cells,
-                              const EndpointAdjustment& adjustment) {
+                              std::span<const CellSpec> cells, const EndpointAdjustment& adjustment,
+                              ProgressCounter& progress) {
   std::vector<FvCell> out(cells.size());
   if (v == FvVariant::endpoint) {
     for (std::size_t k = 0; k < cells.size(); ++k) {
@@ -75,6 +76,7 @@ std::vector<FvCell> fit_cells(const FvLutOptions& o, FvVariant v, const FvRefere
       out[k].ok = std::isfinite(out[k].a);
       if (!out[k].ok) out[k].failure = "log2(V90 / f0) is not finite";
     }
+    progress.add(cells.size());
     return out;
   }
   std::vector<FitBlock> all(cells.size());
@@ -98,11 +100,18 @@ std::vector<FvCell> fit_cells(const FvLutOptions& o, FvVariant v, const FvRefere
       p.blocks.push_back(std::move(all[k]));
     }
   all.clear();
+  progress.add(cells.size() - p.blocks.size());  // failed before the fit
   if (p.blocks.empty()) return out;
   FixedFormOptions fo;
   fo.loss = Loss::Log;  // the seed's log2(FV / f0) = A x^2 + B x + C
   fo.solver = SolverKind::linear;
   fo.threads = o.threads;
+  // The fit's block counts, one call at a time, passed on as cells.
+  std::size_t fitted = 0;
+  fo.on_progress = [&](const Progress& q) {
+    if (q.done > fitted) progress.add(q.done - fitted);
+    fitted = std::max(fitted, q.done);
+  };
   FixedFormSummary s;
   solve_fixed_form(fo, p, &s);
   for (std::size_t b = 0; b < index.size(); ++b) {

@@ -37,10 +37,11 @@ double max_angle_degrees(const FvLutOptions& o, FvVariant v, double roughness);
 
 // Fits (or, for the endpoint variant, computes) the coefficients of every cell. Cells whose
 // reference is not finite and positive at a sample, or whose fit fails, come back !ok with the
-// reason; the others are fitted together through solve_fixed_form (one block per cell).
+// reason; the others are fitted together through solve_fixed_form (one block per cell). Each
+// cell is counted once in `progress`, when computed, fitted or failed.
 std::vector<FvCell> fit_cells(const FvLutOptions& o, FvVariant v, const FvReference& ref,
-                              std::span<const CellSpec> cells,
-                              const EndpointAdjustment& adjustment);
+                              std::span<const CellSpec> cells, const EndpointAdjustment& adjustment,
+                              ProgressCounter& progress);
 
 // The texel of a cell: folded and expanded coefficients (P0, P1, P2, 1), or (0, 0, 0, 0) for a
 // failed cell. P2 is re-aimed (within the rounding of the others) so that the shader's

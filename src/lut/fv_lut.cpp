@@ -23,13 +23,14 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 FvTable bake_table(const FvLutOptions& o, FvVariant v, const detail::FvReference& ref,
-                   std::span<const detail::CellSpec> cells, EndpointAdjustment* adjustment) {
+                   std::span<const detail::CellSpec> cells, EndpointAdjustment* adjustment,
+                   ProgressCounter& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   FvTable t;
   t.variant = v;
   t.size = o.size;
   if (v == FvVariant::endpoint) *adjustment = derive_endpoint_adjustment(o);
-  t.cells = detail::fit_cells(o, v, ref, cells, *adjustment);
+  t.cells = detail::fit_cells(o, v, ref, cells, *adjustment, progress);
   const std::size_t n = cells.size();
   t.texels.resize(4 * n);
   t.texels_half.resize(4 * n);
@@ -175,12 +176,13 @@ FvBake bake_fv_luts(const FvLutOptions& options, std::span<const FvVariant> vari
   ref.function = reference_function(options);
   const std::vector<detail::CellSpec> cells = detail::square_grid(options.size);
   bake.tables.resize(variants.size());
+  ProgressCounter progress(options.on_progress, variants.size() * cells.size(), "cells");
   // The four tables at once; each also spreads its cells over the pool (nested loops are safe).
   parallel_for(
       variants.size(), 1,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k)
-          bake.tables[k] = bake_table(options, variants[k], ref, cells, &bake.adjustment);
+          bake.tables[k] = bake_table(options, variants[k], ref, cells, &bake.adjustment, progress);
       },
       options.threads);
   bake.seconds = seconds_since(t0);

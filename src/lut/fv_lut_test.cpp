@@ -2,11 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
 #include "image/test_readers.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/lut/fv_compare.hpp"
 #include "shaderfit/lut/fv_output.hpp"
 #include "shaderfit/reference/fv_reference.hpp"
 
@@ -52,6 +54,31 @@ TEST(FvLut, BakesAllFourVariantsWithoutFailures) {
   // and every fit beats endpoint matching.
   EXPECT_LT(b.tables[1].summary.mean_log2, b.tables[2].summary.mean_log2);
   EXPECT_LT(b.tables[2].summary.mean_log2, b.tables[0].summary.mean_log2);
+}
+
+// Every cell of every table is counted once; on one thread each count is reported.
+TEST(FvLut, ReportsProgressInCells) {
+  FvLutOptions o;
+  o.size = 4;
+  o.fit_samples = 12;
+  o.eval_samples = 12;
+  o.endpoint_grid = 4;
+  o.threads = 1;
+  std::vector<std::size_t> seen;
+  o.on_progress = [&](const Progress& p) {
+    EXPECT_EQ(p.total, 64u);
+    EXPECT_EQ(p.unit, "cells");
+    seen.push_back(p.done);
+  };
+  (void)bake_fv_luts(o, kAllFvVariants);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back(), 64u);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  seen.clear();
+  o.on_progress = [&](const Progress& p) { seen.push_back(p.done * 1000 + p.total); };
+  (void)compare_with_exact(o, FvVariant::clamped);
+  ASSERT_FALSE(seen.empty());
+  EXPECT_EQ(seen.back() / 1000, seen.back() % 1000);  // ends at its total
 }
 
 TEST(FvLut, ConstrainedVariantsReproduceF0AtNormalIncidence) {

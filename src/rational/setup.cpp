@@ -169,10 +169,21 @@ RationalReport solve_prepared(PreparedRational& prepared) {
   for (const Condition& c : problem.conditions) report.conditions.push_back(c.text);
   report.parameter_names = problem.parameter_names;
   std::vector<RationalForm> forms;
+  // Progress over the whole sweep: every value solves the same number of forms.
+  RationalOptions options = prepared.options;
+  options.on_progress = nullptr;
+  const RationalOptions quiet = options;
+  std::size_t run = 0;
+  if (prepared.options.on_progress)
+    options.on_progress = [&](const Progress& p) {
+      prepared.options.on_progress(
+          {run * p.total + p.done, prepared.sweep_values.size() * p.total, p.unit});
+    };
   for (double v : prepared.sweep_values) {
     if (prepared.sweep >= 0) problem.parameter_values[static_cast<std::size_t>(prepared.sweep)] = v;
     RationalSummary summary;
-    solve(prepared.options, problem, &summary);
+    solve(options, problem, &summary);
+    ++run;
     for (std::size_t i = 0; i < problem.forms.size(); ++i)
       for (const FormResult& r : summary.results)
         if (r.form == problem.forms[i] && r.status == FormStatus::PoleInDomain)
@@ -195,8 +206,8 @@ RationalReport solve_prepared(PreparedRational& prepared) {
     if (*lo < *hi) {
       report.swept_parameter = problem.parameter_names[static_cast<std::size_t>(prepared.sweep)];
       report.sweep_range = {*lo, *hi};
-      report.laws = parametric_laws(prepared.options, problem, report.swept_parameter,
-                                    report.sweep_range, forms);
+      report.laws =
+          parametric_laws(quiet, problem, report.swept_parameter, report.sweep_range, forms);
     }
   }
   return report;

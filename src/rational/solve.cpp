@@ -321,7 +321,11 @@ void solve(const RationalOptions& options, const RationalProblem& problem,
   summary->variable = problem.target.variable();
   summary->rank_by = options.rank_by;
   summary->results.clear();
-  for (const RationalForm& f : forms) summary->results.push_back(solve_in(options, problem, ws, f));
+  ProgressCounter progress(options.on_progress, forms.size(), "forms");
+  for (const RationalForm& f : forms) {
+    summary->results.push_back(solve_in(options, problem, ws, f));
+    progress.add();
+  }
   const Loss by = options.rank_by;
   std::stable_sort(summary->results.begin(), summary->results.end(),
                    [by](const FormResult& a, const FormResult& b) {

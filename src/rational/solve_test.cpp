@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/rational/setup.hpp"
 
 namespace shaderfit::rational {
 namespace {
@@ -50,6 +51,25 @@ TEST(RationalSolve, SchlickFresnelFromItsKernelConditions) {
   const FormResult r = solve_form({}, p, {5, 0, Transform::reflection(p.domain)});
   EXPECT_EQ(r.formula, "0.04 + 0.96 * (1 - cos)^5");
   EXPECT_NEAR(r.max_abs, 0.0357, 5e-4);  // Schlick against the exact dielectric Fresnel, IOR 1.5
+}
+
+// solve reports the forms solved; solve_prepared the forms of the whole sweep.
+TEST(RationalSolve, ReportsFormsSolvedOverTheSweep) {
+  RationalSetup s;
+  s.target = "fresnel-dielectric-f0";
+  s.parameters = {"F0=0.04,0.2,0.5"};
+  s.forms = {"5/0"};
+  s.transforms = {"1 - cos", "cos"};  // two forms per value
+  s.conditions = {"f(0)=1", "f(1)=F0", "f'(1)=0", "f''(1)=0", "f'''(1)=0", "f^(4)(1)=0"};
+  PreparedRational r = prepare_rational(s);
+  std::vector<std::size_t> seen;
+  r.options.on_progress = [&](const Progress& p) {
+    EXPECT_EQ(p.total, 6u);
+    EXPECT_EQ(p.unit, "forms");
+    seen.push_back(p.done);
+  };
+  (void)solve_prepared(r);
+  EXPECT_EQ(seen, (std::vector<std::size_t>{1, 2, 3, 4, 5, 6}));
 }
 
 // Acceptance: Schlick's geometric attenuation v / (v - k v + k) from G(0) = 0, G(1) = 1 and the

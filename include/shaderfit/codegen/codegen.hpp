@@ -11,6 +11,9 @@
 //   //   return fmaf(t0 - r0, t1 * t1, r0);
 //   // }
 //
+// generate_source makes a whole file of such functions that compiles on its own (with the
+// includes or the #version line its functions need); `shaderfit codegen` prints that.
+//
 // The function is printed from the same program the cost model counts (docs/codegen.md):
 // values used more than once are named temporaries (t0, t1, ...), integer powers are the
 // squaring chain the model assumed, and the evaluation order (operand order and association)
@@ -22,6 +25,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -47,6 +51,25 @@ struct CodegenOptions {
 // name that is not an identifier of the language or is reserved there, and for a constant that is
 // not finite.
 std::string generate_function(const Expression& e, const CodegenOptions& options);
+
+// One function of a source file: the formula and how to print it.
+struct SourceFunction {
+  Expression expression;
+  CodegenOptions options;  // options.language is not read: generate_source's language is used
+};
+
+// A source file that compiles on its own, pasted into an empty file: the lines its functions need
+// first, then the functions (generate_function's text) with a blank line between. Those lines:
+//   C++    #include <cmath> when a function calls std::fma, std::sqrt, std::copysign, ...;
+//          #include <algorithm> for std::clamp (saturate; C++17)
+//   GLSL   #version 450: glslangValidator reads a file without one as ES 1.00 (no uint, no
+//          floatBitsToUint, no SPIR-V); inside a shader that has its own #version line the
+//          functions need 3.30 (ES 3.00) where they use copysign, any version otherwise
+//   Metal  #include <metal_stdlib> and using namespace metal;
+//   CUDA and HLSL: none (their math functions are built in).
+// A shader stage still needs its entry point (GLSL void main(), an HLSL entry) after the text.
+// Throws as generate_function.
+std::string generate_source(std::span<const SourceFunction> functions, Language language);
 
 // `v` rounded to float32, as the shortest literal of the language that reads back to it:
 // "0.5f", "1.0f", "1e-05f" (HLSL, CUDA, C++, Metal), "0.5", "1.0" (GLSL). Throws shaderfit::Error

@@ -29,6 +29,7 @@
 #include <utility>
 #include <vector>
 
+#include "shaderfit/core/progress.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/fit/constraint.hpp"
@@ -63,6 +64,9 @@ struct FixedFormOptions {
   // The joint solve with global parameters works on dense normal equations over all parameters
   // of all blocks; larger problems are refused.
   std::size_t max_coupled_parameters = 2000;
+  // Told of the blocks fitted so far when blocks are fitted one by one (not in a joint solve);
+  // core/progress.hpp.
+  ProgressCallback on_progress;
 
   // False, with the reason in *why, for a loss the fit does not minimise, a non-positive count
   // or tolerance or a negative thread count.

@@ -31,6 +31,8 @@
 #include <string_view>
 #include <vector>
 
+#include "shaderfit/core/progress.hpp"
+
 namespace shaderfit::lut {
 
 enum class FvVariant { endpoint, linear, constrained, clamped };
@@ -57,6 +59,9 @@ struct FvLutOptions {
   double clamp_roughness = 0.5;    // ... lerped to 90 degrees by this roughness
   std::size_t endpoint_grid = 32;  // cells per axis for deriving the endpoint adjustment
   int threads = 0;                 // 0: all cores
+  // Told of the cells fitted so far: by bake_fv_luts over every table, by compare_with_exact
+  // over both fits of every cell (core/progress.hpp).
+  ProgressCallback on_progress;
 
   // False, with the reason, for a size, sample count or grid of zero, a clamp outside (0, 90],
   // a non-positive clamp roughness, or an unknown reference.

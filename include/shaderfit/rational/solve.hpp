@@ -33,6 +33,7 @@
 #include <string>
 #include <vector>
 
+#include "shaderfit/core/progress.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/rational/condition.hpp"
@@ -75,6 +76,9 @@ struct RationalOptions {
   double ill_conditioned = 1e10;  // linear systems with a larger condition number are flagged
   int samples = 2049;             // uniform points for the error metrics and least squares
   MinimaxOptions minimax;
+  // Told of the forms solved so far (solve), or of the forms of every sweep value
+  // (solve_prepared); core/progress.hpp.
+  ProgressCallback on_progress;
 
   [[nodiscard]] bool is_valid(std::string* why) const;
 };
