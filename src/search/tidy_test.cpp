@@ -177,7 +177,9 @@ TEST(Tidy, ExactPhysicsFormulasPrintWithoutNoiseConstants) {
       if (!(m.metrics.mse <= 1e-24 * scale)) continue;
       ++exact;
       for (const Node& n : m.expression.nodes) {
-        if (n.op == Op::Const) EXPECT_FALSE(noise_constant(n.value)) << m.formula;
+        if (n.op == Op::Const) {
+          EXPECT_FALSE(noise_constant(n.value)) << m.formula;
+        }
       }
       for (double v : m.expression.parameter_values) EXPECT_FALSE(noise_constant(v)) << m.formula;
       EXPECT_EQ(m.formula.find("e-"), std::string::npos) << m.formula;
