@@ -47,6 +47,10 @@ std::string search_option_flag(std::string_view field_name);
 void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
                       std::vector<std::string>& params);
 
+// --digits: how many significant digits the formulas for people show (PrintOptions::for_people;
+// 0, the default: as many as float32 needs).
+void add_digits_option(CLI::App* cmd, int& digits);
+
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
 

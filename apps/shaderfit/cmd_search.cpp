@@ -44,6 +44,7 @@ struct SearchArgs {
   std::string strategy = "both";
   std::string json_path;
   bool quiet = false;
+  int digits = 0;
   double stop_loss = -1, stop_cost = -1;
 };
 
@@ -106,6 +107,7 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
 
 void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   SearchOptions options = make_options(a, cmd);
+  const PrintOptions print = PrintOptions::for_people(a.digits);
   const auto t0 = std::chrono::steady_clock::now();
   const Dataset d = load_data(a.data);
   SearchProblem problem;
@@ -143,7 +145,7 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
     options.on_new_member = [&](const FrontMember& m) {
       if (progress_shown) ctx.err << "\r\033[K";
       progress_shown = false;
-      human << front_member_line(m, options.loss) << '\n' << std::flush;
+      human << front_member_line(m, options.loss, print) << '\n' << std::flush;
     };
   }
   if (ctx.progress) {
@@ -180,7 +182,7 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   restore_signals();
   if (progress_shown) ctx.err << "\r\033[K" << std::flush;
 
-  human << summary.brief_report();
+  human << search_summary_lines(summary) << front_table(summary, options.loss, print);
   if (summary.interrupted)
     ctx.err << "shaderfit: interrupted; the front found so far is above"
             << (options.checkpoint_path.empty()
@@ -260,6 +262,7 @@ void register_search_command(CLI::App& app, Context& ctx) {
       cmd->add_option("--json", args->json_path,
                       "write the result as JSON to this file ('-' for stdout)");
       cmd->add_flag("--quiet", args->quiet, "do not print front members as they are found");
+      add_digits_option(cmd, args->digits);
     } else if (f.name != "evolve") {
       add_search_option(cmd, *args, f);
     }

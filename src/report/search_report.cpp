@@ -15,6 +15,7 @@
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
 #include "shaderfit/plot/chart.hpp"
 #include "shaderfit/search/front_member.hpp"
 
@@ -33,6 +34,14 @@ std::string scalar_text(const json& v) {
 
 // A number read from a front member: NaN where the file had none.
 std::string number_text(double v) { return std::isnan(v) ? "—" : fmt::format("{:.6g}", v); }
+
+// How the page prints a member's formula: for people, parameters as their values where the file
+// gave values.
+PrintOptions people(const ReadFrontMember& read) {
+  PrintOptions p = PrintOptions::for_people();
+  p.substitute_parameters = read.parameters_have_values;
+  return p;
+}
 
 bool is_image_path(const json& v) {
   if (!v.is_string()) return false;
@@ -119,7 +128,7 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
     const FrontMember& m = read.member;
     rows.push_back({number_text(m.cost), number_text(m.metrics.mse), number_text(m.metrics.max_abs),
                     std::isnan(m.time_s) ? "—" : fmt::format("{:.1f} ms", 1e3 * m.time_s),
-                    m.formula});
+                    to_infix(m.expression, people(read))});
   }
   r.table({"cost", "MSE", "max abs", "found at", "formula"}, rows, {true, true, true, true, false});
 
@@ -163,18 +172,20 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
     }
     if (chosen.empty()) chosen = file.front.back().member.formula;
   }
-  r.heading("Chosen formula");
-  r.paragraph(chosen);
   const std::string choose_location = "SearchReportOptions::choose";
   ParseOptions po;
   po.variables = file.inputs;
   po.source = choose_location;
   Expression ce = parse_formula(chosen, po);
+  const std::string chosen_text = to_infix(ce, PrintOptions::for_people());
+  r.heading("Chosen formula");
+  r.paragraph(chosen_text);
 
   if (a.data != nullptr) {
     const Dataset& d = *a.data;
     std::vector<std::vector<std::string>> cmp;
-    Scored c = score("chosen", chosen, parse_formula_on(chosen, d, choose_location), d, target);
+    Scored c =
+        score("chosen", chosen_text, parse_formula_on(chosen, d, choose_location), d, target);
     auto row = [&](const Scored& s, const Scored* base) {
       return std::vector<std::string>{
           s.label,
@@ -215,7 +226,7 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
         add("exact Fresnel", sweep.numeric("R").values, true);
         for (const Scored& b : baselines)
           add(b.label, evaluate_on(parse_formula_on(b.formula, sweep), sweep), false);
-        add("chosen: " + chosen, evaluate_on(parse_formula_on(chosen, sweep), sweep), false);
+        add("chosen: " + chosen_text, evaluate_on(parse_formula_on(chosen, sweep), sweep), false);
         const std::string png = temp_png("curve");
         render(ch, png);
         r.image(png, ch.title + ": the reference, the baselines and the chosen formula");
@@ -227,7 +238,7 @@ void add_search_report(HtmlReport& r, const json& j, const std::string& source,
   for (Language l : {Language::Glsl, Language::Hlsl, Language::Cuda}) {
     CodegenOptions co;
     co.language = l;
-    co.comment = {chosen};
+    co.comment = {chosen_text};
     r.code(std::string(language_name(l)), generate_function(ce, co));
   }
 }
