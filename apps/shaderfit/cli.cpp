@@ -81,6 +81,7 @@ constexpr FieldFlag kFlags[] = {
     {"fresnel_sweep::materials", "--material"},
     {"fresnel_sweep::angles", "--angles"},
     {"compare_with_exact", "--compare-exact"},
+    {"PrintOptions::digits", "--digits"},
 };
 
 constexpr std::string_view kSearchOptions = "SearchOptions::";
@@ -158,6 +159,12 @@ void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
   cmd->add_option("--params", params, "names that are free parameters (comma-separated)")
       ->delimiter(',')
       ->allow_extra_args(false);
+}
+
+void add_digits_option(CLI::App* cmd, int& digits) {
+  cmd->add_option("--digits", digits,
+                  "print constants with this many significant digits (default: the shortest text "
+                  "that reads back to the same float32)");
 }
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {

@@ -54,6 +54,9 @@ void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
 extern const char* const kChooseHelp;
 std::string chosen_formula_lines(const std::string& formula, const std::string& how,
                                  const std::string& why, bool by_rule = true);
+// --digits: how many significant digits the formulas for people show (PrintOptions::for_people;
+// 0, the default: as many as float32 needs).
+void add_digits_option(CLI::App* cmd, int& digits);
 
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);

@@ -25,11 +25,15 @@ struct CodegenArgs {
   std::vector<std::string> inputs, params;
 };
 
+// The comment above the function: the formula for people (parameters by name, as the code
+// names them) and its cost.
 std::vector<std::string> describe(const Expression& e) {
-  return {to_infix(e), fmt::format("cost model: {} SASS, {} PTX, {} generic instructions",
-                                   instruction_count(e, InstructionTarget::Sass),
-                                   instruction_count(e, InstructionTarget::Ptx),
-                                   instruction_count(e, InstructionTarget::Generic))};
+  PrintOptions print = PrintOptions::for_people();
+  print.substitute_parameters = false;
+  return {to_infix(e, print), fmt::format("cost model: {} SASS, {} PTX, {} generic instructions",
+                                          instruction_count(e, InstructionTarget::Sass),
+                                          instruction_count(e, InstructionTarget::Ptx),
+                                          instruction_count(e, InstructionTarget::Generic))};
 }
 
 void run_codegen(const CodegenArgs& a, Context& ctx) {

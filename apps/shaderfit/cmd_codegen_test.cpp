@@ -17,6 +17,14 @@ TEST(CmdCodegen, PrintsOneFunction) {
   EXPECT_NE(r.out.find("fmaf("), std::string::npos) << r.out;
 }
 
+// The comment above the code shows the formula for people: float32's shortest constants, and
+// one sign in a sum.
+TEST(CmdCodegen, CommentShowsShortConstants) {
+  const CliResult r = run({"codegen", "--lang", "glsl", "x * 0.5829255932120166 - -0.25"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("// x * 0.5829256 + 0.25\n"), std::string::npos) << r.out;
+}
+
 TEST(CmdCodegen, InputsAndParamsKeepTheirNamesAndOrder) {
   const CliResult r = run({"codegen", "--lang", "glsl", "--inputs", "cos_theta,r0", "--params", "s",
                            "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4"});

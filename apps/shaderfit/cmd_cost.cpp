@@ -43,7 +43,9 @@ void run_cost(const CostArgs& a, Context& ctx) {
     ctx.out << cost_json(e, costs, shown) << '\n';
     return;
   }
-  ctx.out << "formula: " << to_infix(e) << '\n';
+  PrintOptions print = PrintOptions::for_people();  // parameters by name, as the listing
+  print.substitute_parameters = false;
+  ctx.out << "formula: " << to_infix(e, print) << '\n';
   ctx.out << "inputs: " << fmt::format("{}", fmt::join(e.variables, ", "));
   if (!e.parameters.empty())
     ctx.out << "; parameters: " << fmt::format("{}", fmt::join(e.parameters, ", "));

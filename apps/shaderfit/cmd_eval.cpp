@@ -26,18 +26,20 @@ struct EvalArgs {
   std::vector<std::string> formulas;
   std::string json_path;
   bool float32 = false;
+  int digits = 0;
 };
 
 void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& results,
                  const EvalArgs& a, const Dataset& d) {
   out << fmt::format("shaderfit eval: {}, {} rows, target {}{}\n", a.data.describe(), d.rows(),
                      a.target, a.float32 ? ", float32" : "");
+  const PrintOptions print = PrintOptions::for_people(a.digits);
   const EvalFormulaResult* base = results.front().baseline ? &results.front() : nullptr;
   int number = 0;
   for (const EvalFormulaResult& r : results) {
     out << '\n'
-        << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number)) << r.formula
-        << '\n';
+        << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number))
+        << to_infix(r.expression, print) << '\n';
     out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE",
                        "RMSE", "max abs", "max rel",
                        base && !r.baseline ? "  MSE vs baseline" : "");
@@ -63,6 +65,7 @@ EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, 
 }
 
 void run_eval(EvalArgs& a, Context& ctx) {
+  (void)PrintOptions::for_people(a.digits);  // a bad --digits stops here
   Dataset d = load_data(a.data);
   if (a.formulas.empty()) throw Error("no formula to evaluate", SourceLocation{"eval"});
   const std::span<const double> target = d.numeric(a.target).values;
@@ -112,6 +115,7 @@ void register_eval_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--baseline", args->baseline, "formula the others are compared with");
   cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
   cmd->add_flag("--float32", args->float32, "evaluate in float32, as a shader would");
+  add_digits_option(cmd, args->digits);
   cmd->add_option("formulas", args->formulas,
                   "formulas over the data's column names, e.g. 'r0 + (x - r0)*x^4'");
   cmd->footer(

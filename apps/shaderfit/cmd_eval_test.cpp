@@ -34,6 +34,26 @@ TEST(CliEval, SeedClaimOnTheSeedDataSet) {
   EXPECT_GE(seed["groups"]["material"].size(), 7u);
 }
 
+// Constants for people: float32's shortest text, or --digits N significant digits; the JSON
+// keeps the formula exact.
+TEST(CliEval, DigitsOfTheConstants) {
+  const char* f = "r0 + (x - r0) * x^4 * 0.98765432101234";
+  CliResult r = run({"eval", "--dataset", "fresnel-seed", "--target", "R", f});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("[1] r0 + (x - r0) * x^4 * 0.9876543\n"), std::string::npos) << r.out;
+  r = run({"eval", "--dataset", "fresnel-seed", "--target", "R", "--digits", "3", f});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("[1] r0 + (x - r0) * x^4 * 0.988\n"), std::string::npos) << r.out;
+  r = run({"eval", "--dataset", "fresnel-seed", "--target", "R", "--json", "-", f});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("0.98765432101234"), std::string::npos);
+  r = run({"eval", "--dataset", "fresnel-seed", "--target", "R", "--digits", "-1", f});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("shaderfit: error: --digits: significant digits must be 1 to 17"),
+            std::string::npos)
+      << r.err;
+}
+
 TEST(CliEval, TableForPeople) {
   CliResult r = run({"eval", "--dataset", "fresnel-seed", "--target", "R", "--baseline", kSchlick, kSeed});
   ASSERT_EQ(r.status, 0) << r.err;

@@ -38,6 +38,7 @@ struct FitArgs {
   std::size_t max_rows = 40;
   int max_iterations = 100;
   int threads = 0;
+  int digits = 0;
 };
 
 [[noreturn]] void fail(const std::string& message, const char* option) {
@@ -118,12 +119,15 @@ std::string table_csv(const FixedFormSummary& sum, const std::vector<BlockCompar
 
 void print_table(std::ostream& out, const PreparedFit& s, const FixedFormSummary& sum,
                  const std::vector<BlockComparison>& reports, const FitArgs& a) {
-  out << fmt::format("shaderfit fit: {}\n", to_infix(s.problem.formula));
+  const PrintOptions print = PrintOptions::for_people(a.digits);
+  PrintOptions named = print;  // the formula as given: parameters by name
+  named.substitute_parameters = false;
+  out << fmt::format("shaderfit fit: {}\n", to_infix(s.problem.formula, named));
   out << fmt::format("  data: {}; reference: {}{}\n", s.data_description, s.reference_description,
                      s.grouping.empty() ? "" : "; " + s.grouping);
   if (s.dropped_rows)
     out << fmt::format("  {} rows outside the grid were left out\n", s.dropped_rows);
-  out << fmt::format("  loss: {}\n  ", loss_description(s.options.loss)) << sum.brief_report();
+  out << fmt::format("  loss: {}\n  ", loss_description(s.options.loss)) << sum.brief_report(print);
   for (std::size_t k = 0; k < a.baselines.size(); ++k)
     out << fmt::format("  baseline [{}]: {}\n", k + 1, a.baselines[k]);
   std::vector<std::size_t> shown;  // per-block parameters, or every parameter with one block
@@ -138,7 +142,8 @@ void print_table(std::ostream& out, const PreparedFit& s, const FixedFormSummary
   for (std::size_t b = 0; b < sum.blocks.size() && b < a.max_rows; ++b) {
     const BlockResult& r = sum.blocks[b];
     out << fmt::format("  {:<34} {:>7}", r.label, r.rows);
-    for (std::size_t p : shown) out << fmt::format(" {:>12.6g}", r.parameters[p]);
+    for (std::size_t p : shown)
+      out << fmt::format(" {:>12}", format_number(r.parameters[p], print));
     if (!r.ok) {
       out << "  failed: " << r.failure << "\n";
       continue;
@@ -159,6 +164,7 @@ void write_file(const std::string& path, const std::string& text, const char* op
 }
 
 void run_fit(const FitArgs& a, Context& ctx) {
+  (void)PrintOptions::for_people(a.digits);  // a bad --digits stops here, before the fit
   const PreparedFit s = prepare_fit(to_setup(a));
   FixedFormSummary sum;
   ProgressBar bar(ctx, "fit");
@@ -230,6 +236,7 @@ void register_fit_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--max-iterations", a->max_iterations,
                   "Levenberg-Marquardt iterations (default 100)");
   cmd->add_option("--threads", a->threads, "threads for blocks in parallel (0: all cores)");
+  add_digits_option(cmd, a->digits);
   cmd->add_option("--max-rows", a->max_rows, "blocks printed in the table (default 40)");
   cmd->add_option("--table", a->table_path, "write every block's parameters and errors as CSV");
   cmd->add_option("--json", a->json_path, "write the results as JSON to PATH ('-' for stdout)");

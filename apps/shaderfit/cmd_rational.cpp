@@ -24,6 +24,7 @@ struct RationalArgs {
   std::string target, var = "x", domain, fit = "none", rank = "rmse", json_path;
   std::vector<std::string> conds, forms, transforms, params;
   int count = 0;
+  int digits = 0;
   bool minimax = false, relative = false, list_targets = false;
 };
 
@@ -54,7 +55,7 @@ RationalSetup to_setup(const RationalArgs& a) {
 }
 
 // The runs and the laws as text, each run under a heading with its parameter values.
-void print_report(std::ostream& out, const RationalReport& report) {
+void print_report(std::ostream& out, const RationalReport& report, const PrintOptions& print) {
   const std::string& var = report.variable;
   for (const RationalRun& run : report.runs) {
     std::string head =
@@ -62,10 +63,10 @@ void print_report(std::ostream& out, const RationalReport& report) {
                     format_number(report.domain.lo), format_number(report.domain.hi));
     for (std::size_t i = 0; i < report.parameter_names.size(); ++i)
       head += fmt::format("{} {} = {}", i ? "," : ";", report.parameter_names[i],
-                          format_number(run.parameter_values[i]));
+                          format_number(run.parameter_values[i], print));
     out << head << '\n';
     for (const std::string& c : report.conditions) out << "  condition: " << c << '\n';
-    out << run.summary.full_report() << run.summary.brief_report() << "\n\n";
+    out << run.summary.full_report(print) << run.summary.brief_report(print) << "\n\n";
   }
   if (report.swept_parameter.empty()) return;
   const std::string& pname = report.swept_parameter;
@@ -76,7 +77,7 @@ void print_report(std::ostream& out, const RationalReport& report) {
     if (!l.usable) {
       out << "not usable over the range (" << l.note << ")\n";
     } else if (l.all_rational) {
-      out << "rational in " << pname << ": " << l.formula << '\n';
+      out << "rational in " << pname << ": " << to_infix(l.expression, print) << '\n';
     } else {
       std::string missing;
       for (const CoefficientLaw& c : l.coefficients)
@@ -85,7 +86,8 @@ void print_report(std::ostream& out, const RationalReport& report) {
     }
     if (l.usable)
       for (const CoefficientLaw& c : l.coefficients)
-        if (c.found && c.law != "0") out << "      " << c.coefficient << " = " << c.law << '\n';
+        if (c.found && c.law != "0")
+          out << "      " << c.coefficient << " = " << to_infix(c.expression, print) << '\n';
   }
 }
 
@@ -94,6 +96,7 @@ void run_rational(const RationalArgs& a, Context& ctx) {
     for (const std::string& t : Target::builtin_target_names()) ctx.out << t << '\n';
     return;
   }
+  const PrintOptions print = PrintOptions::for_people(a.digits);
   PreparedRational prepared = prepare_rational(to_setup(a));
   ProgressBar bar(ctx, "rational");
   prepared.options.on_progress = bar.callback();
@@ -103,7 +106,7 @@ void run_rational(const RationalArgs& a, Context& ctx) {
     ctx.out << rational_json(report) << '\n';
     return;
   }
-  print_report(ctx.out, report);
+  print_report(ctx.out, report, print);
   if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", {"--json"});
@@ -139,6 +142,7 @@ void register_rational_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--param", args->params, "NAME=V1[,V2...]: a parameter's value(s); one may sweep")
       ->allow_extra_args(false);
   cmd->add_option("--rank", args->rank, "rank forms by rmse, max-abs or max-rel");
+  add_digits_option(cmd, args->digits);
   cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
   cmd->add_flag("--list-targets", args->list_targets, "list the built-in targets");
   cmd->footer(

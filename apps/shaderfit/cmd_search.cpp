@@ -48,6 +48,7 @@ struct SearchArgs {
   std::string json_path;
   std::string choose = "knee";  // the rule for the closing "chosen:" lines (search/choice.hpp)
   bool quiet = false;
+  int digits = 0;
   double stop_loss = -1, stop_cost = -1;
 };
 
@@ -111,6 +112,7 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
 void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   SearchOptions options = make_options(a, cmd);
   const ChoiceRule choice = parse_choice_rule(a.choose, {"ChoiceRule"});
+  const PrintOptions print = PrintOptions::for_people(a.digits);
   const auto t0 = std::chrono::steady_clock::now();
   const Dataset d = load_data(a.data);
   SearchProblem problem;
@@ -147,7 +149,7 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   if (!a.quiet) {
     options.on_new_member = [&](const FrontMember& m) {
       bar.clear();
-      human << front_member_line(m, options.loss) << '\n' << std::flush;
+      human << front_member_line(m, options.loss, print) << '\n' << std::flush;
     };
   }
   if (bar.active()) {
@@ -187,11 +189,11 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   restore_signals();
   bar.clear();
 
-  human << summary.brief_report();
+  human << search_summary_lines(summary) << front_table(summary, options.loss, print);
   if (!summary.front.empty()) {
     const Choice c = choose_member(summary.front, choice, loss_name(options.loss));
-    human << chosen_formula_lines(summary.front[c.index].formula, choice_rule_description(choice),
-                                  c.why);
+    human << chosen_formula_lines(to_infix(summary.front[c.index].expression, print),
+                                  choice_rule_description(choice), c.why);
   }
   if (summary.interrupted)
     ctx.err << "shaderfit: interrupted; the front found so far is above"
@@ -273,6 +275,7 @@ void register_search_command(CLI::App& app, Context& ctx) {
                       "write the result as JSON to this file ('-' for stdout)");
       cmd->add_flag("--quiet", args->quiet, "do not print front members as they are found");
       cmd->add_option("--choose", args->choose, kChooseHelp);
+      add_digits_option(cmd, args->digits);
     } else if (f.name != "evolve") {
       add_search_option(cmd, *args, f);
     }

@@ -12,6 +12,7 @@
 #include <csignal>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <thread>
 
 #include "cli_test_util.hpp"
@@ -396,6 +397,67 @@ TEST(CmdSearch, DamagedOrForeignCheckpointIsRefused) {
   resume.back() = ckpt;
   resume.insert(resume.end(), {"--seed", "9"});
   expect_bad_input(resume, "seed = 1; this search has seed = 9");
+}
+
+// The most significant digits of any number in `text` (leading zeros and exponents aside).
+int most_significant_digits(const std::string& text) {
+  static const std::regex number(R"((\d*\.?\d+)(?:[eE][-+]?\d+)?)");
+  int most = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), number);
+       it != std::sregex_iterator(); ++it) {
+    std::string digits = (*it)[1].str();
+    std::erase(digits, '.');
+    const auto first = digits.find_first_not_of('0');
+    if (first != std::string::npos) most = std::max(most, static_cast<int>(digits.size() - first));
+  }
+  return most;
+}
+
+// The formulas of the lines printed as members are found ("[12.3 ms] mse=... cost=4  FORMULA").
+std::vector<std::string> progress_formulas(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);)
+    if (line.starts_with("[") && line.find("] mse=") != std::string::npos)
+      out.push_back(line.substr(line.find("  ", line.find(" cost=")) + 2));
+  return out;
+}
+
+// The README's first command for people: constants as short as float32 allows (no more than 9
+// significant digits), no doubled sign; the JSON keeps the exact constants and adds the text
+// for people.
+TEST(CmdSearch, ConstantsForPeopleAreShortAndSumsHaveOneSign) {
+  std::vector<std::string> args = evolution_args(small_fresnel_csv());
+  args.pop_back();  // --quiet: the members as found are checked too
+  for (const char* extra : {"--evals", "20000", "--json", "-"}) args.emplace_back(extra);
+  const auto r = run(args);
+  ASSERT_EQ(r.status, 0) << r.err;
+  ASSERT_FALSE(progress_formulas(r.err).empty()) << r.err;
+  EXPECT_LE(most_significant_digits(r.err), 9) << r.err;
+  EXPECT_EQ(r.err.find("- -"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("+ -"), std::string::npos) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  int exact_digits = 0;
+  for (const auto& m : j["front"]) {
+    ASSERT_TRUE(m["formula_display"].is_string()) << m;
+    const std::string shown = m["formula_display"].get<std::string>();
+    EXPECT_NE(r.err.find(shown), std::string::npos) << shown;
+    EXPECT_LE(most_significant_digits(shown), 9) << shown;
+    exact_digits = std::max(exact_digits, most_significant_digits(m["formula"].get<std::string>()));
+  }
+  EXPECT_GT(exact_digits, 9) << "no fitted constant to shorten: " << r.out;
+
+  // --digits N: N significant digits.
+  std::vector<std::string> three = evolution_args(small_fresnel_csv());
+  three.pop_back();
+  for (const char* extra : {"--evals", "20000", "--digits", "3"}) three.emplace_back(extra);
+  const auto d = run(three);
+  ASSERT_EQ(d.status, 0) << d.err;
+  const std::vector<std::string> formulas = progress_formulas(d.out);
+  ASSERT_FALSE(formulas.empty()) << d.out;
+  for (const std::string& f : formulas) EXPECT_LE(most_significant_digits(f), 3) << f;
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--digits", "18"},
+                   "shaderfit: error: --digits: significant digits must be 1 to 17");
 }
 
 }  // namespace

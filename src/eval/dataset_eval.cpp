@@ -56,7 +56,8 @@ EvalFormulaResult evaluate_formula_on(std::string_view text, const std::string& 
                                       std::span<const std::string> groups, bool float32) {
   EvalFormulaResult r;
   r.input = std::string(text);
-  const Expression e = parse_formula_on(text, data, source);
+  r.expression = parse_formula_on(text, data, source);
+  const Expression& e = r.expression;
   r.formula = to_infix(e);
   const std::vector<double> p = float32 ? evaluate_on_f32(e, data) : evaluate_on(e, data);
   r.all = error_metrics(p, target);

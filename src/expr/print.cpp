@@ -1,18 +1,39 @@
 #include "shaderfit/expr/print.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 
+#include "shaderfit/core/error.hpp"
+
 namespace shaderfit {
 
-std::string format_number(double v) {
+PrintOptions PrintOptions::for_people(int digits) {
+  if (digits < 0 || digits > 17)
+    throw Error("significant digits must be 1 to 17 (or 0: as many as float32 needs)",
+                SourceLocation{"PrintOptions::digits"});
+  return {.substitute_parameters = true,
+          .numbers = digits > 0 ? NumberText::Digits : NumberText::Float32,
+          .digits = digits};
+}
+
+std::string format_number(double v) { return format_number(v, PrintOptions{}); }
+
+std::string format_number(double v, const PrintOptions& options) {
   if (std::isnan(v)) return "nan";
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   char buf[64];
-  auto [end, ec] = std::to_chars(buf, buf + sizeof buf, v);
-  (void)ec;
-  return std::string(buf, end);
+  std::to_chars_result r{};
+  const auto f = static_cast<float>(v);
+  if (options.numbers == NumberText::Float32 && std::isfinite(f))
+    r = std::to_chars(buf, buf + sizeof buf, f);  // shortest text that strtof reads back as f
+  else if (options.numbers == NumberText::Digits && options.digits > 0)
+    r = std::to_chars(buf, buf + sizeof buf, v, std::chars_format::general,
+                      std::min(options.digits, 17));
+  else  // Exact; and a float32 text for a value beyond float's range would read "inf"
+    r = std::to_chars(buf, buf + sizeof buf, v);
+  return std::string(buf, r.ptr);
 }
 
 namespace {
@@ -50,30 +71,68 @@ class InfixPrinter {
 
   std::string wrap(std::size_t i, bool paren) { return paren ? "(" + text(i) + ")" : text(i); }
 
+  std::string number(double v) const { return format_number(v, o_); }
+
+  // A term as a sign and a text that does not start with '-': a negative literal, a Neg node, or
+  // a product or quotient whose left operand is one of these gives its sign to the sum around it
+  // (a - -c * x is printed a + c * x: -(c * x) == (-c) * x bit for bit).
+  struct Signed {
+    bool negative = false;
+    std::string body;
+  };
+  Signed signed_text(std::size_t i) {
+    const Node& n = e_.nodes[i];
+    std::size_t c[2] = {0, 0};
+    if (n.arity == 1 || n.arity == 2) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
+    const bool literal = n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters);
+    if (literal) {
+      const double v = n.op == Op::Const ? n.value : param_value(n);
+      if (!std::isnan(v)) return {std::signbit(v), number(std::fabs(v))};
+    }
+    if (n.op == Op::Neg) {
+      if (prec(c[0]) < kProduct) return {true, "(" + text(c[0]) + ")"};
+      Signed s = signed_text(c[0]);
+      s.negative = !s.negative;
+      return s;
+    }
+    if ((n.op == Op::Mul || n.op == Op::Div) && prec(c[0]) >= kProduct) {
+      Signed s = signed_text(c[0]);
+      s.body = binary(i, c, std::move(s.body));
+      return s;
+    }
+    return {false, text(i)};
+  }
+
+  // A binary operator's text with its left operand's text given. The left operand keeps equal
+  // precedence bare (left-associative); the right one does not. A negative literal or a Neg
+  // node on the right of a product is fine bare ("a * -2"): the parser reads "-2" as one literal.
+  std::string binary(std::size_t i, const std::size_t* c, std::string left) {
+    const Node& n = e_.nodes[i];
+    const Prec p = prec(i);
+    const Prec rp = prec(c[1]);
+    if (p == kSum && rp > kSum) {  // a - -c is printed a + c
+      const Signed s = signed_text(c[1]);
+      const bool minus = (n.op == Op::Sub) != s.negative;
+      return left + (minus ? " - " : " + ") + s.body;
+    }
+    const bool right_paren = rp <= p && rp != kUnary;
+    return left + " " + std::string(op_info(n.op).name) + " " + wrap(c[1], right_paren);
+  }
+
   std::string text(std::size_t i) {
     const Node& n = e_.nodes[i];
     std::size_t c[3];
     if (n.arity > 0) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
     switch (n.op) {
-      case Op::Const: return format_number(n.value);
+      case Op::Const: return number(n.value);
       case Op::Var: return e_.variables.at(static_cast<std::size_t>(n.index));
       case Op::Param:
-        return o_.substitute_parameters ? format_number(param_value(n))
+        return o_.substitute_parameters ? number(param_value(n))
                                         : e_.parameters.at(static_cast<std::size_t>(n.index));
       case Op::Add:
       case Op::Sub:
       case Op::Mul:
-      case Op::Div: {
-        const Prec p = prec(i);
-        // Left operand keeps equal precedence bare (left-associative); the right one does not.
-        // A negative literal on the right of a product or sum is fine bare ("a * -2") since the
-        // parser reads "-2" as one literal; a Neg node there is fine too ("a - -b").
-        std::string left = wrap(c[0], prec(c[0]) < p);
-        const Prec rp = prec(c[1]);
-        const bool right_paren = rp <= p && rp != kUnary;
-        std::string right = wrap(c[1], right_paren);
-        return left + " " + std::string(op_info(n.op).name) + " " + right;
-      }
+      case Op::Div: return binary(i, c, wrap(c[0], prec(c[0]) < prec(i)));
       case Op::Neg: {
         const Node& k = e_.nodes[c[0]];
         // "-(2)" keeps Neg(Const) apart from the literal -2; "-x^2" already means -(x^2).
@@ -174,8 +233,8 @@ class LatexPrinter {
   }
 
  private:
-  static std::string number(double v) {
-    std::string s = format_number(v);
+  std::string number(double v) const {
+    std::string s = format_number(v, o_);
     auto e = s.find('e');
     if (e == std::string::npos) return s;
     std::string exp = s.substr(e + 1);
@@ -201,7 +260,7 @@ class LatexPrinter {
     const Node& n = e_.nodes[i];
     const bool atom = n.op == Op::Var || n.op == Op::Param ||
                       (n.op == Op::Const && !std::signbit(n.value) &&
-                       format_number(n.value).find('e') == std::string::npos);
+                       format_number(n.value, o_).find('e') == std::string::npos);
     return atom ? text(i) : paren(i);
   }
 

@@ -331,7 +331,7 @@ std::optional<double> FixedFormSummary::global(const std::string& name) const {
   return std::nullopt;
 }
 
-std::string FixedFormSummary::brief_report() const {
+std::string FixedFormSummary::brief_report(const PrintOptions& print) const {
   double lo = INFINITY, hi = 0;
   for (const BlockResult& b : blocks)
     if (b.ok) {
@@ -348,7 +348,7 @@ std::string FixedFormSummary::brief_report() const {
   for (std::size_t j = 0; j < parameter_names.size(); ++j)
     if (scopes[j] == ParameterScope::global)
       if (auto v = global(parameter_names[j]))
-        r += fmt::format("  {} = {}\n", parameter_names[j], format_number(*v));
+        r += fmt::format("  {} = {}\n", parameter_names[j], format_number(*v, print));
   std::size_t listed = 0;
   for (const BlockResult& b : blocks) {
     if (b.ok) continue;

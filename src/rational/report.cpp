@@ -20,17 +20,18 @@ const char* metric_name(Loss by) {
 
 }  // namespace
 
-std::string RationalSummary::brief_report() const {
+std::string RationalSummary::brief_report(const PrintOptions& print) const {
   std::size_t usable = 0;
   for (const FormResult& r : results) usable += r.usable();
   if (usable == 0) return fmt::format("{} forms, none usable", results.size());
   const FormResult& best = results.front();
   return fmt::format("{} forms, {} usable; best by {}: {} = {} ({} {:.3g}, cost {})",
                      results.size(), usable, metric_name(rank_by), best.form.name(variable),
-                     best.formula, metric_name(rank_by), best.error(rank_by), best.cost);
+                     to_infix(best.expression, print), metric_name(rank_by), best.error(rank_by),
+                     best.cost);
 }
 
-std::string RationalSummary::full_report() const {
+std::string RationalSummary::full_report(const PrintOptions& print) const {
   std::string out =
       fmt::format("{:>4}  {:<16} {:<15} {:>9} {:>10} {:>10} {:>10} {:>5}  {}\n", "rank", "form",
                   "status", "cond", "RMSE", "max abs", "max rel", "cost", "formula");
@@ -44,7 +45,7 @@ std::string RationalSummary::full_report() const {
       out +=
           fmt::format("{:>4}{} {:<16} {:<15} {:>9} {:>10.3e} {:>10.3e} {:>10.3e} {:>5}  {}\n",
                       ++rank, front ? '*' : ' ', r.form.name(variable), form_status_name(r.status),
-                      cond, r.rmse, r.max_abs, r.max_rel, r.cost, r.formula);
+                      cond, r.rmse, r.max_abs, r.max_rel, r.cost, to_infix(r.expression, print));
     } else {
       out += fmt::format("{:>4}  {:<16} {:<15} {:>9} {}\n", "-", r.form.name(variable),
                          form_status_name(r.status), cond, r.message);

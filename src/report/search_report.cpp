@@ -16,6 +16,7 @@
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
 #include "shaderfit/plot/chart.hpp"
 #include "shaderfit/search/front_member.hpp"
 
@@ -34,6 +35,14 @@ std::string scalar_text(const json& v) {
 
 // A number read from a front member: NaN where the file had none.
 std::string number_text(double v) { return std::isnan(v) ? "—" : fmt::format("{:.6g}", v); }
+
+// How the page prints a member's formula: for people, parameters as their values where the file
+// gave values.
+PrintOptions people(const ReadFrontMember& read) {
+  PrintOptions p = PrintOptions::for_people();
+  p.substitute_parameters = read.parameters_have_values;
+  return p;
+}
 
 bool is_image_path(const json& v) {
   if (!v.is_string()) return false;
@@ -166,7 +175,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     const FrontMember& m = members[i];
     rows.push_back({number_text(m.cost), number_text(m.metrics.mse), number_text(m.metrics.max_abs),
                     std::isnan(m.time_s) ? "—" : fmt::format("{:.1f} ms", 1e3 * m.time_s),
-                    m.formula + (pick && pick->index == i ? "  ← chosen" : "")});
+                    to_infix(m.expression, people(read)) +
+                        (pick && pick->index == i ? "  ← chosen" : "")});
   }
   r.table({"cost", "MSE", "max abs", "found at", "formula"}, rows, {true, true, true, true, false});
 
@@ -202,24 +212,25 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   if (pick) pareto_caption += "; chosen = the chosen formula below";
   figures.add(pareto, "front", pareto_caption);
 
+  const std::string formula_location = "SearchReportOptions::formula";
+  ParseOptions po;
+  po.variables = file.inputs;
+  po.source = formula_location;
+  Expression ce = parse_formula(chosen.formula, po);
+  const std::string chosen_text = to_infix(ce, PrintOptions::for_people());
   r.heading("Chosen formula");
-  r.paragraph(chosen.formula);
+  r.paragraph(chosen_text);
   r.paragraph("How: " + chosen.how + ". Why: " + chosen.why + ".");
   if (pick)
     r.paragraph(
         "The rules: knee (the default), the knee of the front; cost=N, the most accurate member "
         "that costs at most N; error=E, the cheapest whose " +
         loss + " is at most E.");
-  const std::string formula_location = "SearchReportOptions::formula";
-  ParseOptions po;
-  po.variables = file.inputs;
-  po.source = formula_location;
-  Expression ce = parse_formula(chosen.formula, po);
 
   if (a.data != nullptr) {
     const Dataset& d = *a.data;
     std::vector<std::vector<std::string>> cmp;
-    Scored c = score("chosen", chosen.formula,
+    Scored c = score("chosen", chosen_text,
                      parse_formula_on(chosen.formula, d, formula_location), d, target);
     c.label = fmt::format("chosen (cost {:g})", c.cost);
     auto row = [&](const Scored& s, const Scored* base) {
@@ -272,7 +283,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
           caption += "; " + b.label + " = " + b.formula;
         }
         add(c.label, evaluate_on(parse_formula_on(chosen.formula, sweep), sweep), false);
-        caption += "; " + c.label + " = " + chosen.formula;
+        caption += "; " + c.label + " = " + chosen_text;
         figures.add(ch, std::string("curves-") + mat.label, caption);
       }
     }
@@ -281,7 +292,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   for (Language l : {Language::Glsl, Language::Hlsl, Language::Cuda}) {
     CodegenOptions co;
     co.language = l;
-    co.comment = {chosen.formula};
+    co.comment = {chosen_text};
     r.code(std::string(language_name(l)), generate_function(ce, co));
   }
   return chosen;

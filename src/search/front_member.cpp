@@ -143,9 +143,10 @@ json front_member_json(const FrontMember& m, FrontJson style) {
   json params = json::object();
   for (std::size_t i = 0; i < m.expression.parameters.size(); ++i)
     params[m.expression.parameters[i]] = m.expression.parameter_values[i];
+  j["formula_display"] = to_infix(m.expression, PrintOptions::for_people());
   j["formula_parametric"] = to_infix(m.expression);
   j["fitted_parameters"] = params;
-  j["latex"] = to_latex(m.expression, {.substitute_parameters = true});
+  j["latex"] = to_latex(m.expression, PrintOptions::for_people());
   j["code"] = {{"glsl", code_for(m, Language::Glsl)}, {"cuda", code_for(m, Language::Cuda)}};
   return j;
 }

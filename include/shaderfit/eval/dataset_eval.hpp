@@ -43,7 +43,8 @@ struct EvalGroupResult {
 
 struct EvalFormulaResult {
   std::string input;    // as the user wrote it
-  std::string formula;  // as shaderfit prints it
+  std::string formula;  // as shaderfit prints it (to_infix: constants exact)
+  Expression expression;
   bool baseline = false;
   ErrorMetrics all;
   std::vector<EvalGroupResult> groups;  // per column of `groups`, its labels in sorted order

@@ -1,7 +1,9 @@
-// Printing expressions: infix that parse_formula reads back to the same expression, and LaTeX.
+// Printing expressions: infix that parse_formula reads back to an expression of the same value,
+// and LaTeX.
 //
 //   to_infix(e)  == "r0 + (x - r0) * x^4"
 //   to_latex(e)  == "r_0 + \\left(x - r_0\\right) x^{4}"
+//   to_infix(e, PrintOptions::for_people())  // fitted constants as short as float32 allows
 #pragma once
 
 #include <string>
@@ -10,14 +12,30 @@
 
 namespace shaderfit {
 
+// How a constant is written.
+enum class NumberText {
+  Exact,    // the shortest decimal that reads back to the same double (JSON, checkpoints, parsing)
+  Float32,  // the shortest decimal that reads back to the same float32: the value a shader uses
+  Digits,   // PrintOptions::digits significant digits (fewer where they suffice)
+};
+
 struct PrintOptions {
   // Print Param nodes as their current values instead of their names.
   bool substitute_parameters = false;
+  NumberText numbers = NumberText::Exact;
+  int digits = 0;  // for NumberText::Digits: 1 to 17
+
+  // What people read (tables, progress lines, reports, code comments, plot labels): parameters
+  // as their values, constants as NumberText::Float32, or with `digits` significant digits when
+  // `digits` > 0. Throws shaderfit::Error (at "PrintOptions::digits") for digits outside 0..17.
+  static PrintOptions for_people(int digits = 0);
 };
 
-// Infix with the fewest parentheses that keep the structure; constants in the shortest decimal
-// form that reads back to the same double. parse_formula(to_infix(e), {variables, parameters})
-// reproduces e node for node.
+// Infix with the fewest parentheses that keep the structure. A sum never shows a sign twice:
+// `a - -c` is written `a + c` and `a + -c * x` is written `a - c * x` (the same value bit for
+// bit: negation commutes with rounding). With NumberText::Exact, parse_formula(to_infix(e),
+// {variables, parameters}) evaluates equal to e on every input, and printing what it reads
+// gives the same text again; with NumberText::Float32 it evaluates equal in float32.
 std::string to_infix(const Expression& e, const PrintOptions& options = {});
 
 // LaTeX for reports: x^{4}, \sqrt{x}, \frac{a}{b}, identifiers with a trailing digit subscripted.
@@ -25,5 +43,7 @@ std::string to_latex(const Expression& e, const PrintOptions& options = {});
 
 // The shortest decimal text that reads back to exactly `v` (no exponent for "ordinary" values).
 std::string format_number(double v);
+// `v` as options.numbers says ("nan", "inf", "-inf" for the values that are not finite).
+std::string format_number(double v, const PrintOptions& options);
 
 }  // namespace shaderfit

@@ -32,6 +32,7 @@
 #include "shaderfit/core/progress.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/constraint.hpp"
 
 namespace shaderfit {
@@ -122,8 +123,10 @@ struct FixedFormSummary {
 
   // The value of a global parameter (the same in every block); nullopt for an unknown name.
   [[nodiscard]] std::optional<double> global(const std::string& name) const;
-  // Solver, blocks fitted and failed, cost range, the global parameters and the failed blocks.
-  [[nodiscard]] std::string brief_report() const;
+  // Solver, blocks fitted and failed, cost range, the global parameters (written as `print`
+  // says) and the failed blocks.
+  [[nodiscard]] std::string brief_report(
+      const PrintOptions& print = PrintOptions::for_people()) const;
 };
 
 // Fits the problem. Throws shaderfit::Error, naming the problem, for: invalid options; a formula

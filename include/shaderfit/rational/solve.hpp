@@ -36,6 +36,7 @@
 #include "shaderfit/core/progress.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/expr/print.hpp"
 #include "shaderfit/rational/condition.hpp"
 #include "shaderfit/rational/minimax.hpp"
 #include "shaderfit/rational/rational_function.hpp"
@@ -111,8 +112,11 @@ struct RationalSummary {
   std::vector<FormResult> results;  // usable forms by ascending error, then the others
   std::vector<std::size_t> pareto;  // indices of results on the error-cost front, cheapest first
 
-  [[nodiscard]] std::string brief_report() const;  // one line
-  [[nodiscard]] std::string full_report() const;   // the ranked table and the front
+  // One line; and the ranked table with the front. Formulas are written as `print` says.
+  [[nodiscard]] std::string brief_report(
+      const PrintOptions& print = PrintOptions::for_people()) const;
+  [[nodiscard]] std::string full_report(
+      const PrintOptions& print = PrintOptions::for_people()) const;
 };
 
 // Solves one form. Throws shaderfit::Error for input that no form could satisfy (more conditions

@@ -1,0 +1,164 @@
+#include "shaderfit/expr/print.hpp"
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+#include <vector>
+
+#include "expr/random_expression_test_util.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/parse.hpp"
+
+namespace shaderfit {
+namespace {
+
+ParseOptions names(std::vector<std::string> v, std::vector<std::string> params = {},
+                   std::vector<double> values = {}) {
+  ParseOptions o;
+  o.variables = std::move(v);
+  o.parameters = std::move(params);
+  o.parameter_values = std::move(values);
+  return o;
+}
+
+// Printed, then read back: the same value bit for bit (NaN as NaN), in float or double.
+bool same_value(double a, double b) {
+  return (std::isnan(a) && std::isnan(b)) ||
+         std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+bool same_value(float a, float b) {
+  return (std::isnan(a) && std::isnan(b)) ||
+         std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b);
+}
+
+std::string infix(const std::string& text, const PrintOptions& o = {}) {
+  return to_infix(parse_formula(text, names({"a", "x", "y"})), o);
+}
+
+TEST(Print, FloatTextIsTheShortestThatReadsBackToTheSameFloat) {
+  const PrintOptions people = PrintOptions::for_people();
+  EXPECT_EQ(format_number(0.5829255932120166, people), "0.5829256");
+  EXPECT_EQ(format_number(-9.169332193708383e-05, people), "-9.169332e-05");
+  EXPECT_EQ(format_number(0.5, people), "0.5");
+  EXPECT_EQ(format_number(65536.0, people), "65536");
+  EXPECT_EQ(format_number(0.1, people), "0.1");
+  // Beyond float's range the exact text stays (float32 would read "inf").
+  EXPECT_EQ(format_number(1e300, people), "1e+300");
+  EXPECT_EQ(format_number(NAN, people), "nan");
+  EXPECT_EQ(format_number(-INFINITY, people), "-inf");
+  // Exact is the default: the shortest text of the double.
+  EXPECT_EQ(format_number(0.5829255932120166), "0.5829255932120166");
+  for (double v : {0.5829255932120166, -1.6512056166817444e-11, 10430.378350446284, 1.0 / 3}) {
+    const std::string s = format_number(v, people);
+    EXPECT_EQ(static_cast<float>(std::strtod(s.c_str(), nullptr)), static_cast<float>(v)) << s;
+    EXPECT_LE(s.size(), 15u) << s;
+  }
+}
+
+TEST(Print, DigitsAreSignificantDigits) {
+  const PrintOptions three = PrintOptions::for_people(3);
+  EXPECT_EQ(three.numbers, NumberText::Digits);
+  EXPECT_EQ(format_number(0.5829255932120166, three), "0.583");
+  EXPECT_EQ(format_number(0.5, three), "0.5");
+  EXPECT_EQ(format_number(-1234567.0, three), "-1.23e+06");
+  EXPECT_EQ(infix("a * 0.5829255932120166 + 2", three), "a * 0.583 + 2");
+  EXPECT_EQ(PrintOptions::for_people(0).numbers, NumberText::Float32);
+  EXPECT_TRUE(PrintOptions::for_people().substitute_parameters);
+  for (int bad : {-1, 18}) {
+    try {
+      (void)PrintOptions::for_people(bad);
+      FAIL() << bad << " digits accepted";
+    } catch (const Error& e) {
+      EXPECT_EQ(e.where().source, "PrintOptions::digits");
+    }
+  }
+}
+
+TEST(Print, ASumNeverShowsTwoSigns) {
+  EXPECT_EQ(infix("a - -0.25"), "a + 0.25");
+  EXPECT_EQ(infix("a + -0.25"), "a - 0.25");
+  EXPECT_EQ(infix("a - -2 * x"), "a + 2 * x");
+  EXPECT_EQ(infix("a + -2 * x / y"), "a - 2 * x / y");
+  EXPECT_EQ(infix("a - -x"), "a + x");
+  EXPECT_EQ(infix("a + -x"), "a - x");
+  EXPECT_EQ(infix("a + -x * y"), "a - x * y");
+  EXPECT_EQ(infix("a - -(x + y)"), "a + (x + y)");
+  EXPECT_EQ(infix("a + -(x - y)"), "a - (x - y)");
+  EXPECT_EQ(infix("a - -(-(2))"), "a - 2");
+  EXPECT_EQ(infix("a + -2^2"), "a - 2^2");
+  EXPECT_EQ(infix("a - (-2)^2"), "a - (-2)^2");
+  // A product keeps a negative factor bare: the parser reads "-2" as one literal.
+  EXPECT_EQ(infix("a * -2"), "a * -2");
+  EXPECT_EQ(infix("x * -y"), "x * -y");
+  EXPECT_EQ(infix("-2 * x + a"), "-2 * x + a");
+  // With the constants for people too.
+  EXPECT_EQ(infix("(x - -0.054242242592447185) * a", PrintOptions::for_people()),
+            "(x + 0.054242242) * a");
+}
+
+TEST(Print, NegativeParametersSubstitutedKeepOneSign) {
+  const ParseOptions o = names({"x"}, {"k", "m"}, {-0.5, 2.0});
+  const Expression e = parse_formula("x + k - k * x + m * k", o);
+  EXPECT_EQ(to_infix(e), "x + k - k * x + m * k");
+  EXPECT_EQ(to_infix(e, {.substitute_parameters = true}), "x - 0.5 + 0.5 * x + 2 * -0.5");
+  EXPECT_EQ(to_infix(parse_formula("x - -k", o), {.substitute_parameters = true}), "x - 0.5");
+}
+
+// Each constant of `e` replaced, half the time, by a random value of random magnitude, so that
+// the printed text has long mantissas and exponents.
+void scatter_constants(Rng& rng, Expression& e) {
+  for (Node& n : e.nodes)
+    if (n.op == Op::Const && bernoulli(rng, 0.5))
+      n.value = uniform(rng, -1.0, 1.0) *
+                std::pow(10.0, static_cast<double>(uniform_index(rng, 17)) - 8.0);
+  for (double& v : e.parameter_values) v = uniform(rng, -3.0, 3.0);
+}
+
+TEST(Print, ExactTextReadsBackToTheSameValuesAndPrintsTheSame) {
+  Rng rng(2024);
+  const std::vector<std::string> vars = {"x", "y"};
+  for (int i = 0; i < 6000; ++i) {
+    Expression e = testing::random_expression(rng, vars, 1 + i % 6, i % 2 == 0);
+    scatter_constants(rng, e);
+    const std::string text = to_infix(e);
+    EXPECT_EQ(text.find("- -"), std::string::npos) << text;
+    EXPECT_EQ(text.find("+ -"), std::string::npos) << text;
+    const ParseOptions o = names(vars, e.parameters, e.parameter_values);
+    const Expression back = parse_formula(text, o);
+    EXPECT_EQ(to_infix(back), text);
+    for (int k = 0; k < 4; ++k) {
+      const std::vector<double> at = {uniform(rng, -3.0, 3.0), uniform(rng, -3.0, 3.0)};
+      const double want = testing::eval_reference(e, at), got = testing::eval_reference(back, at);
+      ASSERT_TRUE(same_value(want, got))
+          << text << " at " << at[0] << ", " << at[1] << ": " << want << " vs " << got;
+    }
+  }
+}
+
+TEST(Print, TextForPeopleReadsBackToTheSameFloat32Values) {
+  Rng rng(77);
+  const std::vector<std::string> vars = {"x", "y"};
+  const PrintOptions people = PrintOptions::for_people();
+  for (int i = 0; i < 6000; ++i) {
+    Expression e = testing::random_expression(rng, vars, 1 + i % 6, i % 2 == 0);
+    scatter_constants(rng, e);
+    const std::string text = to_infix(e, people);
+    EXPECT_EQ(text.find("- -"), std::string::npos) << text;
+    EXPECT_EQ(text.find("+ -"), std::string::npos) << text;
+    const Expression back = parse_formula(text, names(vars));
+    for (int k = 0; k < 4; ++k) {
+      const std::vector<float> at = {static_cast<float>(uniform(rng, -3.0, 3.0)),
+                                     static_cast<float>(uniform(rng, -3.0, 3.0))};
+      const float want = testing::eval_reference(e, at), got = testing::eval_reference(back, at);
+      ASSERT_TRUE(same_value(want, got)) << to_infix(e) << "\n  printed " << text << "\n  at "
+                                         << at[0] << ", " << at[1] << ": " << want << " vs " << got;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace shaderfit
