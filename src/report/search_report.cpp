@@ -175,7 +175,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     const FrontMember& m = members[i];
     rows.push_back({number_text(m.cost), number_text(m.metrics.mse), number_text(m.metrics.max_abs),
                     std::isnan(m.time_s) ? "—" : fmt::format("{:.1f} ms", 1e3 * m.time_s),
-                    to_infix(m.expression, people(read)) +
+                    to_infix(m.expression, people(file.front[i])) +
                         (pick && pick->index == i ? "  ← chosen" : "")});
   }
   r.table({"cost", "MSE", "max abs", "found at", "formula"}, rows, {true, true, true, true, false});
@@ -230,8 +230,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   if (a.data != nullptr) {
     const Dataset& d = *a.data;
     std::vector<std::vector<std::string>> cmp;
-    Scored c = score("chosen", chosen_text,
-                     parse_formula_on(chosen.formula, d, formula_location), d, target);
+    Scored c = score("chosen", chosen_text, parse_formula_on(chosen.formula, d, formula_location),
+                     d, target);
     c.label = fmt::format("chosen (cost {:g})", c.cost);
     auto row = [&](const Scored& s, const Scored* base) {
       return std::vector<std::string>{
