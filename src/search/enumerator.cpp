@@ -18,6 +18,7 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
   const SearchOptions& o = ctx.options;
   time_share_s_ = o.evolve ? o.max_enumeration_share * o.time_limit_s : o.time_limit_s;
   cpu_start_s_ = process_cpu_seconds();
+  wall_start_ = std::chrono::steady_clock::now();
   setup_screen(rng);
   setup_full_rows();
   // Formulas built from + - * / and powers are rational functions: two that agree on 64 random
@@ -162,6 +163,10 @@ bool Enumerator::fusable(const ClassRecord& r) const {
 
 bool Enumerator::enumeration_should_stop() {
   if (ctx_.should_stop() || exhausted_.load(std::memory_order_relaxed)) return true;
+  // CPU seconds per thread cannot exceed wall seconds: the process clock (a system call) is read
+  // only once the wall clock has passed the share.
+  const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - wall_start_;
+  if (wall.count() < time_share_s_) return false;
   const double cpu_s = (process_cpu_seconds() - cpu_start_s_) / ctx_.threads;
   if (cpu_s >= time_share_s_) exhausted_.store(true, std::memory_order_relaxed);
   return exhausted_.load(std::memory_order_relaxed);

@@ -12,6 +12,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -144,6 +145,7 @@ class Enumerator {
   std::atomic<bool> exhausted_{false};  // store full or time share spent
   // The share of the time budget, in seconds of process CPU time per search thread, counted
   // from cpu_start_s_: when other processes share the cores the enumeration keeps its share of
+  std::chrono::steady_clock::time_point wall_start_ = std::chrono::steady_clock::now();
   // the work (wall time would cut it short).
   double time_share_s_ = 0;
   double cpu_start_s_ = 0;
