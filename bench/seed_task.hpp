@@ -7,8 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "shaderfit/core/random.hpp"
-#include "shaderfit/data/fresnel_seed.hpp"
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/search/search.hpp"
@@ -16,13 +15,7 @@
 namespace shaderfit::bench {
 
 inline SearchProblem seed_problem(std::uint64_t data_seed) {
-  Rng rng(data_seed);
-  const Dataset d = make_fresnel_seed_dataset(rng);
-  SearchProblem p;
-  p.input_names = {"r0", "x"};
-  p.inputs = {d.numeric("r0").values, d.numeric("x").values};
-  p.target = d.numeric("R").values;
-  return p;
+  return test::fresnel_seed_problem(data_seed);
 }
 
 // MSE of the seed formula on p, with a hair of slack for float summation order.

@@ -1,5 +1,5 @@
-// Seed 001's Fresnel task as a search problem, for the search's tests: inputs r0 and x, target R
-// of the fresnel-seed data drawn with `data_seed`.
+// Seed 001's Fresnel task as a search problem, for the search's tests and benchmarks: inputs r0
+// and x, target R of the fresnel-seed data drawn with `data_seed`.
 #pragma once
 
 #include <cstdint>
