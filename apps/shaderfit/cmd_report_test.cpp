@@ -331,13 +331,19 @@ TEST(CliReport, GenericRunJson) {
   const std::string html = scratch("fit.html");
   CliResult r =
       run({"report", scratch_file("fit.json", R"({"schema": "shaderfit.fit/1", "loss": "mse",
-      "parameters": [{"group": "metal 0.3+3i", "s": 0.25}, {"group": "ior1.5", "s": 1.0}]})"),
+      "formula": "r0 + (1 - r0 - s*x) * x^4 * 0.5829255932120166",
+      "parameters": [{"group": "metal 0.3+3i", "s": 0.25}, {"group": "ior1.5", "s": 1.0}],
+      "blocks": [{"label": "all", "formula": "x2 * 1.0000000000000027 + 1e-05"}]})"),
            "-o", html});
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream f(html);
   const std::string page((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
   EXPECT_NE(page.find("metal 0.3+3i"), std::string::npos);
   EXPECT_NE(page.find("shaderfit.fit/1"), std::string::npos);
+  // Formulas read as people read them: constants as float32 needs them, names kept.
+  EXPECT_NE(page.find("r0 + (1 - r0 - s*x) * x^4 * 0.5829256"), std::string::npos);
+  EXPECT_EQ(page.find("0.5829255932120166"), std::string::npos);
+  EXPECT_NE(page.find("x2 * 1 + 1e-05"), std::string::npos);
 }
 
 struct BadReport {

@@ -199,8 +199,8 @@ class LatexPrinter {
           return number(e_.parameter_values[k]);
         return latex_name(e_.parameters.at(k));
       }
-      case Op::Add: return text(c[0]) + " + " + sum_right(c[1], false);
-      case Op::Sub: return text(c[0]) + " - " + sum_right(c[1], true);
+      case Op::Add: return sum(c[0], c[1], false);
+      case Op::Sub: return sum(c[0], c[1], true);
       case Op::Mul: return factor(c[0]) + " \\cdot " + factor(c[1]);
       case Op::Div: return "\\frac{" + text(c[0]) + "}{" + text(c[1]) + "}";
       case Op::Neg: return "-" + factor(c[0]);
@@ -246,6 +246,27 @@ class LatexPrinter {
     return op == Op::Add || op == Op::Sub || op == Op::Fma;
   }
   std::string paren(std::size_t i) { return "\\left(" + text(i) + "\\right)"; }
+  // a + b or a - b with one sign between them: a negative number on the right (a literal or a
+  // substituted parameter) or a negation flips the operator.
+  std::string sum(std::size_t left, std::size_t right, bool minus) {
+    const Node& n = e_.nodes[right];
+    double v = 0;
+    bool number_node = n.op == Op::Const;
+    if (n.op == Op::Const) v = n.value;
+    if (n.op == Op::Param && o_.substitute_parameters &&
+        static_cast<std::size_t>(n.index) < e_.parameter_values.size()) {
+      v = e_.parameter_values[static_cast<std::size_t>(n.index)];
+      number_node = true;
+    }
+    if (number_node && std::signbit(v) && !std::isnan(v))
+      return text(left) + (minus ? " + " : " - ") + number(-v);
+    if (n.op == Op::Neg) {
+      std::size_t c[1];
+      e_.child_indices(right, std::span<std::size_t>(c, 1));
+      return text(left) + (minus ? " + " : " - ") + sum_right(c[0], !minus);
+    }
+    return text(left) + (minus ? " - " : " + ") + sum_right(right, minus);
+  }
   std::string sum_right(std::size_t i, bool minus) {
     const Op op = e_.nodes[i].op;
     const bool neg = op == Op::Neg || (op == Op::Const && std::signbit(e_.nodes[i].value));

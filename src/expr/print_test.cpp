@@ -100,6 +100,17 @@ TEST(Print, ASumNeverShowsTwoSigns) {
             "(x + 0.054242242) * a");
 }
 
+TEST(Print, LatexSumsShowOneSign) {
+  const ParseOptions o = names({"a", "x"}, {"k"}, {-0.5});
+  auto latex = [&](const char* f) { return to_latex(parse_formula(f, o)); };
+  EXPECT_EQ(latex("a - -2"), "a + 2");
+  EXPECT_EQ(latex("a + -2"), "a - 2");
+  EXPECT_EQ(latex("a - -x"), "a + x");
+  EXPECT_EQ(latex("a + -(x - a)"), "a - \\left(x - a\\right)");
+  EXPECT_EQ(to_latex(parse_formula("a - k", o), {.substitute_parameters = true}), "a + 0.5");
+  EXPECT_EQ(latex("a - 2"), "a - 2");
+}
+
 TEST(Print, NegativeParametersSubstitutedKeepOneSign) {
   const ParseOptions o = names({"x"}, {"k", "m"}, {-0.5, 2.0});
   const Expression e = parse_formula("x + k - k * x + m * k", o);

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -31,6 +32,44 @@ std::string scalar_text(const json& v) {
   if (v.is_number_float()) return fmt::format("{:.6g}", v.get<double>());
   if (v.is_null()) return "—";
   return v.dump();
+}
+
+// A formula written by another command's JSON (exact constants) as people read it: each number
+// in the text as PrintOptions::for_people writes it; names with digits (r0) stay as they are.
+std::string formula_for_people(const std::string& text) {
+  const PrintOptions people = PrintOptions::for_people();
+  std::string out;
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const char ch = text[i];
+    const bool in_name =
+        !out.empty() && (std::isalnum(static_cast<unsigned char>(out.back())) || out.back() == '_');
+    if (!in_name && (std::isdigit(static_cast<unsigned char>(ch)) ||
+                     (ch == '.' && i + 1 < text.size() &&
+                      std::isdigit(static_cast<unsigned char>(text[i + 1]))))) {
+      std::size_t used = 0;
+      double v = 0;
+      try {
+        v = std::stod(text.substr(i), &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used > 0) {
+        out += format_number(v, people);
+        i += used;
+        continue;
+      }
+    }
+    out += ch;
+    ++i;
+  }
+  return out;
+}
+
+// A JSON value in a table or list: a "formula" as people read it, numbers to 6 digits.
+std::string cell_text(const std::string& key, const json& v) {
+  if (key == "formula" && v.is_string()) return formula_for_people(v.get<std::string>());
+  return scalar_text(v);
 }
 
 // A number read from a front member: NaN where the file had none.
@@ -105,7 +144,7 @@ void add_json_section(HtmlReport& r, const json& j, const std::string& name, int
   for (auto it = j.begin(); it != j.end(); ++it) {
     if (!it->is_object() && !(it->is_array() && !it->empty() && (*it)[0].is_object()) &&
         !is_image_path(*it))
-      scalars.push_back({it.key(), scalar_text(*it)});
+      scalars.push_back({it.key(), cell_text(it.key(), *it)});
   }
   if (!name.empty()) r.heading(name, level);
   if (!scalars.empty()) r.settings(scalars);
@@ -127,7 +166,7 @@ void add_json_section(HtmlReport& r, const json& j, const std::string& name, int
         for (std::size_t c = 0; c < cols.size(); ++c) {
           const json v = row.contains(cols[c]) ? row[cols[c]] : json();
           if (v.is_string()) numeric[c] = false;
-          cells.push_back(scalar_text(v));
+          cells.push_back(cell_text(cols[c], v));
         }
         rows.push_back(cells);
       }
