@@ -5,7 +5,8 @@ find_program(CLANG_TIDY NAMES clang-tidy clang-tidy-14)
 file(GLOB_RECURSE SHADERFIT_LINT_FILES CONFIGURE_DEPENDS
   ${PROJECT_SOURCE_DIR}/include/*.hpp ${PROJECT_SOURCE_DIR}/src/*.cpp ${PROJECT_SOURCE_DIR}/src/*.hpp
   ${PROJECT_SOURCE_DIR}/apps/*.cpp ${PROJECT_SOURCE_DIR}/apps/*.hpp ${PROJECT_SOURCE_DIR}/bench/*.cpp
-  ${PROJECT_SOURCE_DIR}/fuzz/*.cpp ${PROJECT_SOURCE_DIR}/fuzz/*.hpp)
+  ${PROJECT_SOURCE_DIR}/fuzz/*.cpp ${PROJECT_SOURCE_DIR}/fuzz/*.hpp
+  ${PROJECT_SOURCE_DIR}/python/src/*.cpp ${PROJECT_SOURCE_DIR}/python/src/*.hpp)
 if(CLANG_FORMAT)
   add_custom_target(format-check
     COMMAND ${CLANG_FORMAT} --dry-run --Werror ${SHADERFIT_LINT_FILES}

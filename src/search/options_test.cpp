@@ -83,7 +83,7 @@ TEST(SearchProblem, ValidationErrors) {
   EXPECT_NE(message(ragged).find("rows"), std::string::npos);
   SearchProblem nan = p;
   nan.target[1] = std::nan("");
-  EXPECT_NE(message(nan).find("NaN"), std::string::npos);
+  EXPECT_NE(message(nan).find("the target is NaN in row 2"), std::string::npos);
   SearchProblem twice = p;
   twice.input_names = {"x", "x"};
   twice.inputs = {p.inputs[0], p.inputs[0]};

@@ -40,6 +40,13 @@ ComputeDevice search_device(const SearchOptions& options) {
   return resolve_device(options.device, {"SearchOptions::device"});
 }
 
+namespace {
+
+// How a value that is not finite is named in messages.
+std::string nonfinite_text(double v) { return std::isnan(v) ? "NaN" : v > 0 ? "+inf" : "-inf"; }
+
+}  // namespace
+
 void SearchProblem::validate() const {
   const SourceLocation where{"data"};
   if (inputs.empty() || input_names.empty())
@@ -61,12 +68,17 @@ void SearchProblem::validate() const {
       throw Error("input '" + input_names[i] + "' has " + std::to_string(inputs[i].size()) +
                       " rows but the target has " + std::to_string(rows),
                   where);
-    for (double v : inputs[i])
-      if (!std::isfinite(v))
-        throw Error("input '" + input_names[i] + "' holds a NaN or infinite value", where);
+    for (std::size_t r = 0; r < rows; ++r)
+      if (!std::isfinite(inputs[i][r]))
+        throw Error("input '" + input_names[i] + "' is " + nonfinite_text(inputs[i][r]) +
+                        " in row " + std::to_string(r + 1) + " (rows counted from 1)",
+                    where);
   }
-  for (double v : target)
-    if (!std::isfinite(v)) throw Error("the target holds a NaN or infinite value", where);
+  for (std::size_t r = 0; r < rows; ++r)
+    if (!std::isfinite(target[r]))
+      throw Error("the target is " + nonfinite_text(target[r]) + " in row " +
+                      std::to_string(r + 1) + " (rows counted from 1)",
+                  where);
   if (!weights.empty()) {
     if (weights.size() != rows)
       throw Error("the weights have a different number of rows than the target", where);
@@ -75,7 +87,7 @@ void SearchProblem::validate() const {
       if (!(w >= 0) || !std::isfinite(w)) throw Error("weights must be finite and >= 0", where);
       sum += w;
     }
-    if (!(sum > 0)) throw Error("the weights sum to 0", where);
+    if (!(sum > 0)) throw Error("every weight is zero (the weights sum to 0)", where);
   }
 }
 

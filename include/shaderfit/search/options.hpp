@@ -1,6 +1,7 @@
 // The search's options, and their description: one entry per field with its name, help, kind,
 // check and role, from which validation, the checkpoint's record of the options, the JSON's
-// "options" object, the command line's flags and (later) the Python keywords are generated.
+// "options" object, the command line's flags and the Python keywords
+// (python/shaderfit/_options.py) are generated.
 //
 //   SearchOptions o;                       // the defaults are the members' initializers
 //   set_search_option(o, "max_nodes", "30");             // from text; throws Error at the field

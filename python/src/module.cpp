@@ -1,0 +1,520 @@
+// shaderfit._shaderfit: the library as the Python package sees it (python/shaderfit/ is the
+// user-facing layer; docs/python.md). Each function takes arrays and text and returns arrays,
+// handles and the commands' JSON, so that the formats stay the library's own.
+//
+// Errors: shaderfit::Error becomes shaderfit.Error (a ValueError) with the library's message and
+// location; bad argument types are TypeErrors raised by nanobind. Nothing here ends the process.
+#include <nanobind/nanobind.h>
+#include <nanobind/stl/function.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/tuple.h>
+#include <nanobind/stl/vector.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "arrays.hpp"
+#include "shaderfit/codegen/codegen.hpp"
+#include "shaderfit/cost/cost_model.hpp"
+#include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/loss.hpp"
+#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/expr/print.hpp"
+#include "shaderfit/fit/setup.hpp"
+#include "shaderfit/report/command_json.hpp"
+#include "shaderfit/report/search_json.hpp"
+#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/options.hpp"
+#include "shaderfit/search/search.hpp"
+
+namespace shaderfit::python {
+
+namespace {
+
+// ---- errors ---------------------------------------------------------------------------------
+
+// shaderfit.Error(message, source, line, column), defined in python/shaderfit/_errors.py.
+void raise_error(const Error& e) {
+  static nb::object cls = nb::module_::import_("shaderfit._errors").attr("Error");
+  const SourceLocation& w = e.where();
+  nb::object exc = cls(e.message(), w.source, w.line, w.column);
+  PyErr_SetObject(cls.ptr(), exc.ptr());
+}
+
+// ---- formulas -------------------------------------------------------------------------------
+
+// A formula over named inputs, with its parameters' values: what a front member, evaluate(),
+// cost() and codegen() work on.
+struct Formula {
+  Expression expression;
+
+  std::string infix(int digits, bool exact) const {
+    return exact ? to_infix(expression) : to_infix(expression, PrintOptions::for_people(digits));
+  }
+  std::string latex(int digits) const {
+    return to_latex(expression, PrintOptions::for_people(digits));
+  }
+
+  // One column per variable, in the order of expression.variables.
+  OutArray evaluate(const std::vector<Column>& columns) const {
+    if (columns.size() != expression.variables.size())
+      throw Error("expected " + std::to_string(expression.variables.size()) +
+                      " columns (one per input), got " + std::to_string(columns.size()),
+                  {"X"});
+    const std::vector<std::vector<double>> data = to_columns(columns, expression.variables);
+    const std::size_t rows = data.empty() ? 0 : data.front().size();
+    std::vector<const double*> pointers;
+    for (std::size_t i = 0; i < data.size(); ++i) {
+      if (data[i].size() != rows) throw Error("columns of unequal length", {"X"});
+      pointers.push_back(data[i].data());
+    }
+    std::vector<double> out(rows);
+    if (data.empty()) {  // a constant formula: one value per row is unknowable without rows
+      throw Error("the formula has no inputs; give it at least one", {"X"});
+    }
+    {
+      nb::gil_scoped_release release;
+      shaderfit::evaluate(expression, pointers, out);
+    }
+    return to_numpy(std::move(out));
+  }
+
+  // The shaderfit.cost/1 document of `shaderfit cost` (docs/cost-model.md), for `shown`.
+  std::string cost_json_text(const std::string& shown) const {
+    const auto target = instruction_target_from_name(shown);
+    if (!target)
+      throw Error("unknown target '" + shown + "' (known: sass, ptx, generic)", {"target"});
+    std::vector<InstructionCost> costs;
+    for (InstructionTarget t :
+         {InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic})
+      costs.push_back(instruction_cost(expression, t));
+    return cost_json(expression, costs, costs[static_cast<std::size_t>(*target)]);
+  }
+
+  double search_cost(const std::string& cost) const {
+    const auto target = cost_target_from_name(cost);
+    if (!target) throw Error("unknown cost '" + cost + "' (known: instructions, nodes)", {"cost"});
+    return expression_cost(expression, *target);
+  }
+
+  // A source file that compiles as printed (generate_source), parameters baked in.
+  std::string code(const std::string& language, const std::string& name) const {
+    const auto lang = language_from_name(language);
+    if (!lang)
+      throw Error("unknown language '" + language + "' (known: glsl, hlsl, cuda, cpp, metal)",
+                  {"lang"});
+    SourceFunction f{expression, {}};
+    f.options.name = name;
+    f.options.bake_parameters = true;
+    f.options.comment = {to_infix(expression, PrintOptions::for_people())};
+    return generate_source(std::span<const SourceFunction>(&f, 1), *lang);
+  }
+};
+
+Formula parse(const std::string& text, const std::vector<std::string>& inputs,
+              const std::vector<std::string>& parameters, const std::vector<double>& values) {
+  ParseOptions o;
+  o.variables = inputs;
+  o.parameters = parameters;
+  o.parameter_values = values;
+  return Formula{parse_formula(text, o)};
+}
+
+// ---- search ---------------------------------------------------------------------------------
+
+// The library's options from the Python layer's text values (search_option_text's forms):
+// unknown names, text that does not parse and values out of range throw Error located at the
+// field, with the messages the command line gives.
+SearchOptions make_options(const std::vector<std::pair<std::string, std::string>>& texts) {
+  SearchOptions o;
+  for (const auto& [name, text] : texts) {
+    const SearchOptionField* f = find_search_option(name);
+    if (f == nullptr) throw Error("unknown option '" + name + "'", {"SearchOptions"});
+    set_search_option(o, *f, text);
+  }
+  o.validate();
+  o.device = search_device(o);
+  return o;
+}
+
+// What the search thread hands to the Python thread.
+struct Event {
+  enum class Kind { Member, Progress } kind;
+  FrontMember member;
+  SearchProgress progress;
+};
+
+// A finished search: the summary, the options it ran with (auto operators resolved), and what
+// the JSON says of the data.
+struct SearchRun {
+  SearchSummary summary;
+  SearchOptions options;
+  SearchDataInfo data;
+
+  std::string json() const { return search_json(summary, options, data); }
+  std::vector<Formula> formulas() const {
+    std::vector<Formula> out;
+    for (const FrontMember& m : summary.front) out.push_back(Formula{m.expression});
+    return out;
+  }
+  bool interrupted() const { return summary.interrupted; }
+  std::string termination() const { return std::string(termination_name(summary.termination)); }
+  std::string summary_text() const { return summary.brief_report(); }
+};
+
+nb::dict member_event(const FrontMember& m) {
+  nb::dict d;
+  d["formula"] = m.formula;
+  d["formula_display"] = to_infix(m.expression, PrintOptions::for_people());
+  d["cost"] = m.cost;
+  d["loss"] = m.loss;
+  d["time_s"] = m.time_s;
+  d["origin"] = std::string(search_phase_name(m.origin));
+  return d;
+}
+
+nb::dict progress_event(const SearchProgress& p) {
+  nb::dict d;
+  d["elapsed_s"] = p.elapsed_s;
+  d["candidates"] = p.candidates;
+  d["candidates_per_s"] = p.candidates_per_s;
+  d["front_size"] = p.front_size;
+  d["phase"] = std::string(search_phase_name(p.phase));
+  return d;
+}
+
+// Runs the search on its own thread while this one, holding the GIL only briefly, hands its
+// events to the callbacks and checks for signals: Ctrl-C (KeyboardInterrupt) stops the search,
+// which returns the front found so far (SearchRun::interrupted). An exception from a callback
+// stops it too, and is raised once the search has returned.
+SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>& names,
+              const Column& target, std::optional<Column> weights,
+              const std::vector<std::pair<std::string, std::string>>& option_texts,
+              std::optional<nb::callable> on_member, std::optional<nb::callable> on_progress,
+              const std::string& source, const std::string& target_name) {
+  const auto t0 = std::chrono::steady_clock::now();
+  SearchRun result;
+  SearchOptions options = make_options(option_texts);
+  SearchProblem problem;
+  problem.input_names = names;
+  if (columns.size() != names.size())
+    throw Error("expected one name per column: " + std::to_string(columns.size()) + " columns, " +
+                    std::to_string(names.size()) + " names",
+                {"inputs"});
+  problem.inputs = to_columns(columns, names);
+  problem.target = to_doubles(target, "y");
+  if (weights) problem.weights = to_doubles(*weights, "weights");
+  problem.validate();
+  options = resolve_auto_operators(options, problem);
+  result.data =
+      SearchDataInfo{source, target_name,
+                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+                     problem.target.size(), names};
+
+  std::mutex mutex;
+  std::condition_variable wake;
+  std::deque<Event> events;
+  bool done = false;
+  std::atomic<bool> stop{false};
+  std::exception_ptr failure;
+  SearchOptions running = options;
+  running.interrupt = &stop;
+  if (on_member) {
+    running.on_new_member = [&](const FrontMember& m) {
+      std::lock_guard lock(mutex);
+      events.push_back({Event::Kind::Member, m, {}});
+      wake.notify_one();
+    };
+  }
+  if (on_progress) {
+    running.on_progress = [&](const SearchProgress& p) {
+      std::lock_guard lock(mutex);
+      events.push_back({Event::Kind::Progress, {}, p});
+      wake.notify_one();
+    };
+  }
+
+  std::optional<nb::python_error> raised;  // from a callback, raised after the search
+  bool keyboard_interrupt = false;
+  {
+    nb::gil_scoped_release release;
+    std::thread worker([&] {
+      try {
+        run_search(running, problem, &result.summary);
+      } catch (...) {
+        failure = std::current_exception();
+      }
+      std::lock_guard lock(mutex);
+      done = true;
+      wake.notify_one();
+    });
+    for (;;) {
+      std::deque<Event> batch;
+      bool finished = false;
+      {
+        std::unique_lock lock(mutex);
+        wake.wait_for(lock, std::chrono::milliseconds(50), [&] { return done || !events.empty(); });
+        batch.swap(events);
+        finished = done;
+      }
+      nb::gil_scoped_acquire gil;
+      if (!stop.load() && PyErr_CheckSignals() != 0) {
+        // KeyboardInterrupt (or another signal handler's exception): stop and keep the front.
+        keyboard_interrupt = PyErr_ExceptionMatches(PyExc_KeyboardInterrupt) != 0;
+        if (keyboard_interrupt)
+          PyErr_Clear();
+        else
+          raised.emplace();
+        stop.store(true);
+      }
+      for (const Event& e : batch) {
+        if (raised) break;
+        try {
+          if (e.kind == Event::Kind::Member)
+            (*on_member)(member_event(e.member));
+          else
+            (*on_progress)(progress_event(e.progress));
+        } catch (nb::python_error& err) {
+          raised.emplace(std::move(err));
+          stop.store(true);
+        }
+      }
+      if (finished) break;
+    }
+    worker.join();
+  }
+  if (raised) throw std::move(*raised);
+  if (failure) std::rethrow_exception(failure);
+  result.options = options;  // without the callbacks, which point into this frame
+  (void)keyboard_interrupt;  // the summary records the interruption
+  return result;
+}
+
+// The member `rule` picks ("knee", "cost=N", "error=E") from a front given as its members'
+// costs and errors (cheapest first): (index, why).
+std::pair<std::size_t, std::string> choose(const std::vector<double>& costs,
+                                           const std::vector<double>& errors,
+                                           const std::string& rule_text,
+                                           const std::string& error_name) {
+  const ChoiceRule rule = parse_choice_rule(rule_text, {"ChoiceRule"});
+  if (costs.size() != errors.size()) throw Error("one error per cost", {"errors"});
+  std::vector<FrontMember> front(costs.size());
+  for (std::size_t i = 0; i < costs.size(); ++i) {
+    front[i].cost = costs[i];
+    front[i].loss = errors[i];
+  }
+  const Choice c = choose_member(front, rule, error_name);
+  return {c.index, c.why};
+}
+
+std::vector<nb::dict> option_fields() {
+  std::vector<nb::dict> out;
+  const SearchOptions defaults;
+  for (const SearchOptionField& f : search_option_fields()) {
+    nb::dict d;
+    d["name"] = std::string(f.name);
+    d["kind"] = std::string(option_kind_name(search_option_kind(f)));
+    d["role"] = std::string(f.role == OptionRole::Search   ? "search"
+                            : f.role == OptionRole::Budget ? "budget"
+                                                           : "run");
+    d["help"] = std::string(f.help);
+    d["choices"] = std::string(f.choices);
+    d["may_be_empty"] = f.may_be_empty;
+    d["default"] = search_option_text(defaults, f);
+    out.push_back(d);
+  }
+  return out;
+}
+
+// ---- fit, rational, data sets -----------------------------------------------------------------
+
+// `shaderfit fit` on arrays: shaderfit.fit/1 (docs/fit.md).
+std::string fit_document(const std::string& formula, const std::vector<Column>& columns,
+                         const std::vector<std::string>& names, const Column& target,
+                         const std::string& target_name, std::optional<Column> weights,
+                         std::optional<std::vector<std::string>> groups,
+                         const std::string& group_name, const std::vector<std::string>& parameters,
+                         const std::vector<std::string>& per_group, const std::string& loss,
+                         const std::string& solver, const std::vector<std::string>& constraints,
+                         const std::string& transform, const std::vector<std::string>& baselines,
+                         int max_iterations, int threads) {
+  FitSetup s;
+  Dataset d;
+  d.source = "arrays";
+  if (columns.size() != names.size()) throw Error("expected one name per column", {"inputs"});
+  for (std::size_t i = 0; i < columns.size(); ++i)
+    d.add_numeric(names[i], to_doubles(columns[i], names[i]));
+  d.add_numeric(target_name, to_doubles(target, "y"));
+  if (weights) {
+    d.add_numeric("__weights", to_doubles(*weights, "weights"));
+    s.weight = "__weights";
+  }
+  if (groups) d.add_text(group_name, *groups);
+  s.data = std::move(d);
+  s.data_name = "arrays";
+  s.formula = formula;
+  s.parameters = parameters;
+  s.per_group = per_group;
+  s.target = target_name;
+  s.constraints = constraints;
+  s.transform = transform;
+  s.baselines = baselines;
+  const auto l = loss_from_name(loss);
+  if (!l) throw Error("unknown loss '" + loss + "' (known: mse, log, max_abs)", {"loss"});
+  s.options.loss = *l;
+  if (solver == "auto")
+    s.options.solver = SolverKind::automatic;
+  else if (solver == "linear")
+    s.options.solver = SolverKind::linear;
+  else if (solver == "lm")
+    s.options.solver = SolverKind::levenberg_marquardt;
+  else
+    throw Error("unknown solver '" + solver + "' (known: auto, linear, lm)", {"solver"});
+  s.options.max_iterations = max_iterations;
+  s.options.threads = threads;
+  const PreparedFit p = prepare_fit(std::move(s));
+  FixedFormSummary summary;
+  {
+    nb::gil_scoped_release release;
+    solve_fixed_form(p.options, p.problem, &summary);
+  }
+  return fit_json(p, summary, compare_blocks(p, summary));
+}
+
+// `shaderfit rational`: shaderfit.rational/1 (docs/rational.md).
+std::string rational_document(const std::string& target, const std::string& variable,
+                              const std::string& domain, const std::vector<std::string>& conditions,
+                              const std::vector<std::string>& forms,
+                              const std::vector<std::string>& transforms,
+                              const std::vector<std::string>& parameters, int count,
+                              const std::string& fit, bool relative_minimax,
+                              const std::string& rank_by) {
+  rational::RationalSetup s;
+  s.target = target;
+  s.variable = variable;
+  s.domain = domain;
+  s.conditions = conditions;
+  s.forms = forms;
+  s.transforms = transforms;
+  s.parameters = parameters;
+  s.count = count;
+  bool known = false;
+  for (rational::Fit f : {rational::Fit::None, rational::Fit::LeastSquares, rational::Fit::Minimax})
+    if (rational::fit_name(f) == fit) {
+      s.fit = f;
+      known = true;
+    }
+  if (!known) throw Error("unknown fit '" + fit + "' (known: none, lsq, minimax)", {"fit"});
+  s.relative_minimax = relative_minimax;
+  const auto rank = loss_from_name(rank_by);
+  if (!rank || (*rank != Loss::Rmse && *rank != Loss::MaxAbs && *rank != Loss::MaxRel))
+    throw Error("unknown ranking '" + rank_by + "' (known: rmse, max_abs, max_rel)", {"rank_by"});
+  s.rank_by = *rank;
+  rational::PreparedRational prepared = rational::prepare_rational(s);
+  std::optional<rational::RationalReport> report;
+  {
+    nb::gil_scoped_release release;
+    report = rational::solve_prepared(prepared);
+  }
+  return rational_json(*report);
+}
+
+// A built-in data set: each column by name, numbers as float64 arrays, text as lists.
+nb::dict dataset(const std::string& name, std::uint64_t seed, std::size_t rows) {
+  Rng rng(seed);
+  const std::optional<Dataset> d = make_builtin_dataset(name, rng, rows);
+  if (!d) {
+    std::string known;
+    for (const std::string& n : builtin_dataset_names()) known += (known.empty() ? "" : ", ") + n;
+    throw Error("unknown data set '" + name + "' (known: " + known + ")", {"name"});
+  }
+  nb::dict out;
+  for (const shaderfit::Column& c : d->columns) {
+    if (c.numeric())
+      out[c.name.c_str()] = to_numpy(c.values);
+    else
+      out[c.name.c_str()] = nb::cast(c.labels);
+  }
+  return out;
+}
+
+}  // namespace
+
+}  // namespace shaderfit::python
+
+using namespace shaderfit;
+using namespace shaderfit::python;
+
+NB_MODULE(_shaderfit, m) {
+  m.doc() = "shaderfit's C++ library; use the shaderfit package, not this module.";
+  nb::register_exception_translator([](const std::exception_ptr& p, void*) {
+    try {
+      std::rethrow_exception(p);
+    } catch (const Error& e) {
+      raise_error(e);
+    }
+  });
+
+  nb::class_<Formula>(m, "Formula")
+      .def_prop_ro("variables", [](const Formula& f) { return f.expression.variables; })
+      .def_prop_ro("parameters", [](const Formula& f) { return f.expression.parameters; })
+      .def_prop_ro("parameter_values",
+                   [](const Formula& f) { return f.expression.parameter_values; })
+      .def("infix", &Formula::infix, nb::arg("digits") = 0, nb::arg("exact") = false)
+      .def("latex", &Formula::latex, nb::arg("digits") = 0)
+      .def("evaluate", &Formula::evaluate, nb::arg("columns"))
+      .def("cost_json", &Formula::cost_json_text, nb::arg("target") = "sass")
+      .def("search_cost", &Formula::search_cost, nb::arg("cost") = "instructions")
+      .def("code", &Formula::code, nb::arg("language"), nb::arg("name"))
+      // Pickled as its exact infix with parameters by name, and their values: parse_formula
+      // reads that back to a formula that evaluates equal on every input.
+      .def("__getstate__",
+           [](const Formula& f) {
+             return std::make_tuple(to_infix(f.expression), f.expression.variables,
+                                    f.expression.parameters, f.expression.parameter_values);
+           })
+      .def("__setstate__", [](Formula& f,
+                              const std::tuple<std::string, std::vector<std::string>,
+                                               std::vector<std::string>, std::vector<double>>& s) {
+        new (&f) Formula(parse(std::get<0>(s), std::get<1>(s), std::get<2>(s), std::get<3>(s)));
+      });
+  m.def("parse", &parse, nb::arg("text"), nb::arg("inputs"), nb::arg("parameters"),
+        nb::arg("values"));
+
+  nb::class_<SearchRun>(m, "SearchRun")
+      .def("json", &SearchRun::json)
+      .def("formulas", &SearchRun::formulas)
+      .def_prop_ro("interrupted", &SearchRun::interrupted)
+      .def_prop_ro("termination", &SearchRun::termination)
+      .def("summary_text", &SearchRun::summary_text);
+  m.def("choose", &choose, nb::arg("costs"), nb::arg("errors"), nb::arg("rule"),
+        nb::arg("error_name"));
+  m.def("option_fields", &option_fields);
+  m.def("check_options", [](const std::vector<std::pair<std::string, std::string>>& texts) {
+    (void)make_options(texts);
+  });
+  m.def("search", &run, nb::arg("columns"), nb::arg("names"), nb::arg("target"),
+        nb::arg("weights").none(), nb::arg("options"), nb::arg("on_member").none(),
+        nb::arg("on_progress").none(), nb::arg("source"), nb::arg("target_name"));
+  m.def("fit", &fit_document, nb::arg("formula"), nb::arg("columns"), nb::arg("names"),
+        nb::arg("target"), nb::arg("target_name"), nb::arg("weights").none(),
+        nb::arg("groups").none(), nb::arg("group_name"), nb::arg("parameters"),
+        nb::arg("per_group"), nb::arg("loss"), nb::arg("solver"), nb::arg("constraints"),
+        nb::arg("transform"), nb::arg("baselines"), nb::arg("max_iterations"), nb::arg("threads"));
+  m.def("rational", &rational_document, nb::arg("target"), nb::arg("variable"), nb::arg("domain"),
+        nb::arg("conditions"), nb::arg("forms"), nb::arg("transforms"), nb::arg("parameters"),
+        nb::arg("count"), nb::arg("fit"), nb::arg("relative_minimax"), nb::arg("rank_by"));
+  m.def("dataset", &dataset, nb::arg("name"), nb::arg("seed"), nb::arg("rows"));
+  m.def("dataset_names", &builtin_dataset_names);
+}
