@@ -83,14 +83,9 @@ FitSetup to_setup(const FitArgs& a) {
     o.loss = Loss::MaxAbs;
   else
     fail("unknown loss '" + a.loss + "' (ls, log, max)", "--loss");
-  if (a.solver == "auto")
-    o.solver = SolverKind::automatic;
-  else if (a.solver == "linear")
-    o.solver = SolverKind::linear;
-  else if (a.solver == "lm")
-    o.solver = SolverKind::levenberg_marquardt;
-  else
-    fail("unknown solver '" + a.solver + "' (auto, linear, lm)", "--solver");
+  const std::optional<SolverKind> solver = solver_kind_from_name(a.solver);
+  if (!solver) fail("unknown solver '" + a.solver + "' (auto, linear, lm)", "--solver");
+  o.solver = *solver;
   o.max_iterations = a.max_iterations;
   o.threads = a.threads;
   return s;

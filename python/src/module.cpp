@@ -373,14 +373,9 @@ std::string fit_document(const std::string& formula, const std::vector<Column>& 
   const auto l = loss_from_name(loss);
   if (!l) throw Error("unknown loss '" + loss + "' (known: mse, log, max_abs)", {"loss"});
   s.options.loss = *l;
-  if (solver == "auto")
-    s.options.solver = SolverKind::automatic;
-  else if (solver == "linear")
-    s.options.solver = SolverKind::linear;
-  else if (solver == "lm")
-    s.options.solver = SolverKind::levenberg_marquardt;
-  else
-    throw Error("unknown solver '" + solver + "' (known: auto, linear, lm)", {"solver"});
+  const std::optional<SolverKind> kind = solver_kind_from_name(solver);
+  if (!kind) throw Error("unknown solver '" + solver + "' (known: auto, linear, lm)", {"solver"});
+  s.options.solver = *kind;
   s.options.max_iterations = max_iterations;
   s.options.threads = threads;
   const PreparedFit p = prepare_fit(std::move(s));

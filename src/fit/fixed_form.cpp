@@ -24,12 +24,29 @@ using fit_detail::PreparedBlock;
 
 namespace {
 
+constexpr std::pair<SolverKind, std::string_view> kSolverNames[] = {
+    {SolverKind::automatic, "auto"},
+    {SolverKind::linear, "linear"},
+    {SolverKind::levenberg_marquardt, "lm"}};
+
 // The losses FixedFormOptions::loss may name.
 bool fit_minimises(Loss loss) {
   return loss == Loss::Mse || loss == Loss::Log || loss == Loss::MaxAbs;
 }
 
 }  // namespace
+
+std::string_view solver_kind_name(SolverKind kind) {
+  for (const auto& [k, name] : kSolverNames)
+    if (k == kind) return name;
+  return "?";
+}
+
+std::optional<SolverKind> solver_kind_from_name(std::string_view name) {
+  for (const auto& [k, n] : kSolverNames)
+    if (n == name) return k;
+  return std::nullopt;
+}
 
 bool FixedFormOptions::is_valid(std::string* why) const {
   auto fail = [&](const char* m) {

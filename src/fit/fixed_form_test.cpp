@@ -259,5 +259,12 @@ TEST(FixedForm, SubstituteVariable) {
   EXPECT_EQ(e.nodes.size(), inner.nodes.size() + 3);
 }
 
+TEST(SolverKind, NamesReadBack) {
+  for (SolverKind k : {SolverKind::automatic, SolverKind::linear, SolverKind::levenberg_marquardt})
+    EXPECT_EQ(solver_kind_from_name(solver_kind_name(k)), k);
+  EXPECT_EQ(solver_kind_name(SolverKind::levenberg_marquardt), "lm");
+  EXPECT_FALSE(solver_kind_from_name("newton").has_value());
+}
+
 }  // namespace
 }  // namespace shaderfit

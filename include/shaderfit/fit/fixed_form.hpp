@@ -26,6 +26,7 @@
 #include <cstddef>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -38,6 +39,9 @@
 namespace shaderfit {
 
 enum class SolverKind { automatic, linear, levenberg_marquardt };
+// "auto", "linear", "lm" (and back; nullopt for any other name).
+std::string_view solver_kind_name(SolverKind kind);
+std::optional<SolverKind> solver_kind_from_name(std::string_view name);
 
 enum class ParameterScope { global, per_block };
 
