@@ -1,6 +1,8 @@
 // Helpers for tests of the command-line tool: run it in-process, write scratch files.
 #pragma once
 
+#include <unistd.h>
+
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -28,9 +30,11 @@ inline CliResult run(std::vector<std::string> args) {
   return r;
 }
 
-// A file under the test's scratch folder with the given contents; returns its path.
+// A file under the test's scratch folder with the given contents; returns its path. The folder is
+// the process's own: ctest runs tests in parallel, each in its own process.
 inline std::string scratch_file(const std::string& name, const std::string& contents) {
-  const auto dir = std::filesystem::temp_directory_path() / "shaderfit_cli_test";
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("shaderfit_cli_test_" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const auto path = dir / name;
   std::ofstream(path, std::ios::binary) << contents;
