@@ -167,12 +167,13 @@ void add_digits_option(CLI::App* cmd, int& digits) {
                   "that reads back to the same float32)");
 }
 
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
+            Communicator* communicator) {
   CLI::App app{"shaderfit: cheap formulas for expensive shading functions", "shaderfit"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "shaderfit 0.1.0");
   // Progress bars only on a terminal: stderr itself (not a stream a caller passed), a tty.
-  Context ctx{out, err, &err == &std::cerr && isatty(STDERR_FILENO) != 0};
+  Context ctx{out, err, &err == &std::cerr && isatty(STDERR_FILENO) != 0, communicator};
 
   register_eval_command(app, ctx);
   register_search_command(app, ctx);

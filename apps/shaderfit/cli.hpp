@@ -16,6 +16,8 @@
 #include <string_view>
 #include <vector>
 
+#include "shaderfit/search/communicator.hpp"
+
 namespace shaderfit::cli {
 
 struct Context {
@@ -23,6 +25,9 @@ struct Context {
   std::ostream& err;
   // Progress bars on err (progress_bar.hpp): true only when err is stderr and a terminal.
   bool progress = true;
+  // shaderfit-mpi's ranks (apps/shaderfit-mpi/): `search` runs across them, and only rank 0
+  // reports and writes files. Null in shaderfit itself.
+  Communicator* communicator = nullptr;
 };
 
 void register_eval_command(CLI::App& app, Context& ctx);
@@ -58,7 +63,9 @@ std::string chosen_formula_lines(const std::string& formula, const std::string& 
 // 0, the default: as many as float32 needs).
 void add_digits_option(CLI::App* cmd, int& digits);
 
-// Exit status: 0 success, 1 internal failure, 2 bad input (usage or data).
-int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err);
+// Exit status: 0 success, 1 internal failure, 2 bad input (usage or data). `communicator`:
+// Context::communicator.
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err,
+            Communicator* communicator = nullptr);
 
 }  // namespace shaderfit::cli

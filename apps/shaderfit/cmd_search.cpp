@@ -111,6 +111,8 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
 
 void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   SearchOptions options = make_options(a, cmd);
+  options.communicator = ctx.communicator;
+  const bool leader = ctx.communicator == nullptr || ctx.communicator->rank() == 0;
   const ChoiceRule choice = parse_choice_rule(a.choose, {"ChoiceRule"});
   const PrintOptions print = PrintOptions::for_people(a.digits);
   const auto t0 = std::chrono::steady_clock::now();
@@ -164,12 +166,17 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
                                    static_cast<double>(p.candidates), p.candidates_per_s));
     };
   }
-  if (!options.resume_path.empty()) {
+  if (!options.resume_path.empty() && leader) {  // rank 0 reads the file for all ranks
     const CheckpointInfo c = read_checkpoint_info(options.resume_path);
+    const int ranks = ctx.communicator != nullptr ? ctx.communicator->size() : 1;
     human << fmt::format(
-        "resuming from {}: {} after {:.3g} s, {} generations, {} candidates, front of {}{}\n",
+        "resuming from {}: {} after {:.3g} s, {} generations, {} candidates, front of {}{}{}\n",
         options.resume_path, search_phase_name(c.phase), c.elapsed_s, c.generations, c.candidates,
-        c.front_size, c.phase == SearchPhase::Enumeration ? " (the enumeration runs again)" : "");
+        c.front_size, c.phase == SearchPhase::Enumeration ? " (the enumeration runs again)" : "",
+        c.ranks != ranks ? fmt::format("; written by {} rank{}, resumed on {}: the islands are "
+                                       "shared out again, and the run goes on as it would have",
+                                       c.ranks, c.ranks == 1 ? "" : "s", ranks)
+                         : "");
   }
   g_interrupted.store(false);
   options.interrupt = &g_interrupted;
@@ -188,6 +195,7 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   }
   restore_signals();
   bar.clear();
+  if (!leader) return;  // rank 0 reports and writes the files
 
   human << search_summary_lines(summary) << front_table(summary, options.loss, print);
   if (!summary.front.empty()) {

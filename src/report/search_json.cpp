@@ -52,6 +52,8 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"distinct_candidates", s.distinct_candidates},
                 {"enumeration_cost_completed", s.enumeration_cost_completed},
                 {"generations", s.generations},
+                {"ranks", s.ranks},
+                {"bytes_sent", s.bytes_sent},
                 {"symmetry", s.symmetry ? json{{"input", s.symmetry->input_name},
                                                {"kind", symmetry_kind_name(s.symmetry->kind)},
                                                {"center", s.symmetry->center},

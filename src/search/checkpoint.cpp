@@ -44,7 +44,9 @@ T get_integer(const json& j, std::string_view field) {
 json expression_json(const Expression& e) { return exact_expression_json(e); }
 Expression expression_from(const json& j) { return exact_expression_from(j); }
 
-json individual_json(const SavedIndividual& s) {
+}  // namespace
+
+json saved_individual_json(const SavedIndividual& s) {
   return {{"expression", expression_json(s.expr)},
           {"loss", num(s.loss)},
           {"cost", num(s.cost)},
@@ -56,7 +58,7 @@ json individual_json(const SavedIndividual& s) {
           {"b", num(s.b)}};
 }
 
-SavedIndividual individual_from(const json& j) {
+SavedIndividual saved_individual_from(const json& j) {
   SavedIndividual s;
   s.expr = expression_from(j.at("expression"));
   s.loss = get_num(j.at("loss"));
@@ -70,6 +72,8 @@ SavedIndividual individual_from(const json& j) {
   return s;
 }
 
+namespace {
+
 void check_rng_text(const std::string& text) {
   std::istringstream in(text);
   in.imbue(std::locale::classic());
@@ -77,17 +81,31 @@ void check_rng_text(const std::string& text) {
   if (!(in >> rng)) throw BadBody("a random generator state does not read back");
 }
 
+}  // namespace
+
+json saved_island_json(const SavedIsland& is) {
+  json pop = json::array();
+  for (const SavedIndividual& s : is.population) pop.push_back(saved_individual_json(s));
+  return {{"rng", is.rng}, {"population", pop}};
+}
+
+SavedIsland saved_island_from(const json& j) {
+  SavedIsland island;
+  island.rng = j.at("rng").get<std::string>();
+  check_rng_text(island.rng);
+  for (const json& s : j.at("population")) island.population.push_back(saved_individual_from(s));
+  return island;
+}
+
+namespace {
+
 json body_json(const Checkpoint& c) {
   json options = json::array();
   for (const auto& [k, v] : c.options) options.push_back({k, v});
   json front = json::array();
   for (const FrontMember& m : c.front) front.push_back(front_member_json(m, FrontJson::Exact));
   json islands = json::array();
-  for (const SavedIsland& is : c.evolution.islands) {
-    json pop = json::array();
-    for (const SavedIndividual& s : is.population) pop.push_back(individual_json(s));
-    islands.push_back({{"rng", is.rng}, {"population", pop}});
-  }
+  for (const SavedIsland& is : c.evolution.islands) islands.push_back(saved_island_json(is));
   json data = {{"hash", c.data_hash}, {"rows", c.rows}, {"inputs", c.input_names}};
   if (c.symmetry)
     data["symmetry"] = {{"input", c.symmetry->input_name},
@@ -110,6 +128,7 @@ json body_json(const Checkpoint& c) {
           {"evolution",
            {{"generations", c.evolution.generations},
             {"polished", c.evolution.polished},
+            {"ranks", c.ranks},
             {"islands", islands}}}};
 }
 
@@ -160,15 +179,11 @@ Checkpoint checkpoint_from(const json& j) {
   const json& ev = j.at("evolution");
   c.evolution.generations = get_integer<std::uint64_t>(ev.at("generations"), "generations");
   c.evolution.polished = ev.at("polished").get<bool>();
+  if (ev.contains("ranks")) c.ranks = get_integer<int>(ev.at("ranks"), "ranks");
+  if (c.ranks < 1) throw BadBody("a count of ranks below 1");
   for (const json& is : ev.at("islands")) {
-    SavedIsland island;
-    island.rng = is.at("rng").get<std::string>();
-    check_rng_text(island.rng);
-    for (const json& s : is.at("population")) {
-      island.population.push_back(individual_from(s));
-      over_inputs(island.population.back().expr);
-    }
-    c.evolution.islands.push_back(std::move(island));
+    c.evolution.islands.push_back(saved_island_from(is));
+    for (const SavedIndividual& s : c.evolution.islands.back().population) over_inputs(s.expr);
   }
   if (c.phase == SearchPhase::Evolution) {
     check_rng_text(c.rng);
@@ -286,12 +301,16 @@ void write_checkpoint(const std::string& path, const Checkpoint& c) {
   if (ec) throw Error("cannot rename '" + tmp + "' to '" + path + "': " + ec.message(), where);
 }
 
-Checkpoint read_checkpoint(const std::string& path) {
+std::string read_checkpoint_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error("cannot open the checkpoint '" + path + "'", {"SearchOptions::resume_path"});
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_checkpoint(text.str(), path);
+  return text.str();
+}
+
+Checkpoint read_checkpoint(const std::string& path) {
+  return parse_checkpoint(read_checkpoint_text(path), path);
 }
 
 void check_checkpoint_matches(const Checkpoint& c, const SearchOptions& options,
@@ -337,6 +356,7 @@ Checkpointer::Checkpointer(SearchContext& ctx) : ctx_(ctx) {
   base_.input_names = ctx.problem.input_names;
   base_.symmetry = ctx.symmetry;
   base_.options = checkpoint_options(o);
+  base_.ranks = ctx.ranks.size();
   // Fail now, not after an hour of searching, when the file cannot be written.
   const std::string tmp = o.checkpoint_path + ".tmp";
   std::FILE* f = std::fopen(tmp.c_str(), "wb");

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <mutex>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -53,6 +54,13 @@ struct EvolutionState {
   bool polished = false;
 };
 
+// An island and an individual in the checkpoint's exact JSON, and back (throws BadExactJson or a
+// nlohmann exception for anything else): also the form the ranks of a distributed search send.
+nlohmann::json saved_island_json(const SavedIsland& island);
+SavedIsland saved_island_from(const nlohmann::json& j);
+nlohmann::json saved_individual_json(const SavedIndividual& individual);
+SavedIndividual saved_individual_from(const nlohmann::json& j);
+
 struct Checkpoint {
   SearchPhase phase = SearchPhase::Enumeration;  // Enumeration: the front so far; Evolution: all
   std::string shaderfit_version;
@@ -74,6 +82,10 @@ struct Checkpoint {
   int enumeration_cost_completed = -1;
   std::string rng;
   EvolutionState evolution;
+  // The ranks that ran it (SearchOptions::communicator; 1 in checkpoints of one process, and in
+  // those written before searches ran across ranks). A run resumes on any number of ranks: the
+  // islands are shared out again, and the result depends on the islands, not the ranks.
+  int ranks = 1;
 };
 
 // The version of shaderfit that this build writes into checkpoints (and accepts in them).
@@ -96,6 +108,8 @@ Checkpoint parse_checkpoint(std::string_view text, const std::string& path);
 // a whole checkpoint. Throws Error when it cannot.
 void write_checkpoint(const std::string& path, const Checkpoint& c);
 Checkpoint read_checkpoint(const std::string& path);
+// The file's bytes (throws Error when it cannot be opened), for parse_checkpoint.
+std::string read_checkpoint_text(const std::string& path);
 // Throws Error when the checkpoint was made for other data or with other options (an option it
 // does not record counts as its default, so adding an option keeps checkpoints resumable).
 void check_checkpoint_matches(const Checkpoint& c, const SearchOptions& options,
@@ -120,13 +134,14 @@ class Checkpointer {
   void at_end(bool generation_cut, const EvolutionState& current);
   // During the enumeration, from any thread: writes the front so far when the interval passed.
   void enumeration_tick();
+  // Whether checkpoint_interval_s has passed since the last write.
+  [[nodiscard]] bool due() const;
   // When the search ends without an evolution: the front so far, phase "enumeration".
   void write_enumeration();
 
  private:
   Checkpoint capture(SearchPhase phase);
   void write(const Checkpoint& c);
-  [[nodiscard]] bool due() const;
 
   SearchContext& ctx_;
   Checkpoint base_;  // fingerprint and enumeration results, filled once

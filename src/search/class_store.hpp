@@ -69,8 +69,7 @@ class ClassStore {
   // Gives class `id` a cheaper recipe `record` whose column (`column`, in an arena block) is
   // equivalent to its own up to sign. A pending class: merging thread, during the batch; a
   // committed one: only between batches (workers read committed records and columns).
-  void improve(std::uint32_t id, const float* column, const ColumnStats& stats,
-               ClassRecord record);
+  void improve(std::uint32_t id, const float* column, const ColumnStats& stats, ClassRecord record);
   // Room for `columns` columns in the arena, or null when it is spent. Thread-safe.
   float* allocate_block(std::size_t columns);
   // Ends a batch: the pending classes become committed. No batch may be running.

@@ -31,7 +31,7 @@ struct Enumerator::Costs {
   std::vector<std::pair<int, int>> powers;  // (k, increment)
   // By Op::Add (for AddSub), Mul, Div, Min, Max, Pow, CopySign; -1: off.
   std::array<int, kOpCount> binary{};
-  int fused = -1;                      // m +- b over cost(m) + cost(b); -1: fusion saves nothing
+  int fused = -1;  // m +- b over cost(m) + cost(b); -1: fusion saves nothing
   std::vector<LiteralGroup> literal_groups;  // filled once the literal classes exist
 
   Costs(const SearchOptions& options);

@@ -4,10 +4,12 @@
 #include <cmath>
 #include <limits>
 #include <locale>
+#include <map>
 #include <set>
 #include <sstream>
 
 #include "search/constant_fit.hpp"
+#include "search/exact_json.hpp"
 #include "search/nsga2.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/evaluate.hpp"
@@ -41,6 +43,30 @@ constexpr std::size_t kMigrants = 4;
 constexpr double kPolishAt = 0.9;
 constexpr int kPolishIterations = 100;
 constexpr int kPolishPasses = 100;
+
+nlohmann::json metrics_json(const ErrorMetrics& m) {
+  return {m.rows,
+          exact_number(m.mse),
+          exact_number(m.rmse),
+          exact_number(m.max_abs),
+          exact_number(m.max_rel),
+          exact_number(m.rel),
+          exact_number(m.log),
+          m.nonfinite};
+}
+
+ErrorMetrics metrics_from(const nlohmann::json& j) {
+  ErrorMetrics m;
+  m.rows = exact_integer_from<std::size_t>(j.at(0), "rows");
+  m.mse = exact_number_from(j.at(1));
+  m.rmse = exact_number_from(j.at(2));
+  m.max_abs = exact_number_from(j.at(3));
+  m.max_rel = exact_number_from(j.at(4));
+  m.rel = exact_number_from(j.at(5));
+  m.log = exact_number_from(j.at(6));
+  m.nonfinite = exact_integer_from<std::size_t>(j.at(7), "nonfinite");
+  return m;
+}
 
 double best_at(const std::vector<std::pair<double, double>>& front, double cost) {
   double best = std::numeric_limits<double>::infinity();
@@ -92,8 +118,33 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
 
   const int count = o.islands > 0 ? o.islands : 4;
   for (int i = 0; i < count; ++i) islands_.push_back(Island{Rng(rng()), {}, {}, 0});
+  for (std::size_t i = 0; i < islands_.size(); ++i)
+    if (owns(i)) owned_.push_back(i);
   if (ctx.device == ComputeDevice::Cuda)
     gpu_ = std::make_unique<GpuEvaluator>(fit_pointers_, fit_target_, fit_weights_);
+}
+
+SavedIndividual Evolution::saved(const Individual& ind) {
+  return {ind.expr, ind.loss,   ind.cost, ind.raw_loss, ind.raw_cost,
+          ind.hash, ind.scaled, ind.a,    ind.b};
+}
+
+Evolution::Individual Evolution::restored(const SavedIndividual& s) {
+  return {s.expr, s.loss, s.cost, s.hash, s.raw_loss, s.raw_cost, s.scaled, s.a, s.b};
+}
+
+SavedIsland Evolution::saved_island(const Island& island) {
+  SavedIsland out;
+  std::ostringstream rng;
+  rng.imbue(std::locale::classic());
+  rng << island.rng;
+  out.rng = rng.str();
+  for (const Individual& ind : island.population) out.population.push_back(saved(ind));
+  return out;
+}
+
+bool Evolution::owns(std::size_t island) const {
+  return ctx_.ranks.owner(island) == ctx_.ranks.rank();
 }
 
 bool Evolution::out_of_time() const {
@@ -172,11 +223,15 @@ Evolution::Candidate Evolution::score_on_all_rows(Expression e, double front_los
 }
 
 void Evolution::consider(const Individual& ind, Island& island, const Snapshot& front) const {
-  if (ind.raw_loss <= kFrontMargin * best_at(front, ind.raw_cost))
+  if (ind.raw_loss <= kFrontMargin * best_at(front, ind.raw_cost)) {
     island.found.push_back(score_on_all_rows(ind.expr, best_at(front, ind.raw_cost)));
-  if (ind.scaled && ind.loss <= kFrontMargin * best_at(front, ind.cost))
+    island.found.back().generation = generations_;
+  }
+  if (ind.scaled && ind.loss <= kFrontMargin * best_at(front, ind.cost)) {
     island.found.push_back(
         score_on_all_rows(with_linear_scaling(ind.expr, ind.a, ind.b), best_at(front, ind.cost)));
+    island.found.back().generation = generations_;
+  }
 }
 
 const Evolution::Individual& Evolution::tournament(Island& island, const std::vector<int>& rank,
@@ -305,7 +360,7 @@ void Evolution::migrate() {
   const std::size_t n = islands_.size();
   if (n < 2) return;
   std::vector<std::vector<Individual>> emigrants(n);
-  for (std::size_t i = 0; i < n; ++i) {
+  for (std::size_t i : owned_) {
     std::vector<const Individual*> best;
     for (const Individual& ind : islands_[i].population) best.push_back(&ind);
     std::sort(best.begin(), best.end(), [](const Individual* a, const Individual* b) {
@@ -314,7 +369,37 @@ void Evolution::migrate() {
     for (std::size_t k = 0; k < std::min(kMigrants, best.size()); ++k)
       emigrants[i].push_back(*best[k]);
   }
+  if (ctx_.ranks.distributed()) {
+    // Island i's emigrants go to island i + 1; those whose destination another rank owns travel
+    // in one message per rank, sent without waiting, then each rank receives its islands'
+    // immigrants from the ranks that own their sources.
+    std::map<int, nlohmann::json> sends;
+    std::set<int> from;
+    for (std::size_t i : owned_) {
+      const std::size_t to = (i + 1) % n;
+      if (!owns(to)) {
+        nlohmann::json people = nlohmann::json::array();
+        for (const Individual& ind : emigrants[i])
+          people.push_back(saved_individual_json(saved(ind)));
+        nlohmann::json& message = sends[ctx_.ranks.owner(to)];
+        if (message.is_null()) message = nlohmann::json::array();
+        message.push_back({i, people});
+      }
+      const std::size_t source = (i + n - 1) % n;
+      if (!owns(source)) from.insert(ctx_.ranks.owner(source));
+    }
+    const std::vector<nlohmann::json> received = ctx_.ranks.exchange(
+        {sends.begin(), sends.end()}, std::vector<int>(from.begin(), from.end()));
+    for (const nlohmann::json& message : received)
+      for (const nlohmann::json& batch : message) {
+        const auto source = exact_integer_from<std::size_t>(batch.at(0), "island");
+        if (source >= n) throw BadExactJson("migrants from an island out of range");
+        for (const nlohmann::json& j : batch.at(1))
+          emigrants[source].push_back(restored(saved_individual_from(j)));
+      }
+  }
   for (std::size_t i = 0; i < n; ++i) {
+    if (!owns((i + 1) % n)) continue;
     Island& to = islands_[(i + 1) % n];
     for (Individual& ind : emigrants[i]) to.population.push_back(std::move(ind));
     std::vector<Objectives> obj;
@@ -326,13 +411,72 @@ void Evolution::migrate() {
   }
 }
 
+Evolution::Joint Evolution::synchronize(bool cut) {
+  const SearchOptions& o = ctx_.options;
+  nlohmann::json islands = nlohmann::json::array();
+  for (std::size_t i : owned_) {
+    nlohmann::json found = nlohmann::json::array();
+    for (const Candidate& c : islands_[i].found)
+      found.push_back({exact_expression_json(c.expr), metrics_json(c.metrics), c.generation});
+    islands.push_back({i, islands_[i].evaluated, found});
+  }
+  nlohmann::json mine = {{"islands", islands},
+                         {"interrupted", o.interrupt != nullptr && o.interrupt->load()},
+                         {"cut", cut}};
+  if (ctx_.ranks.leader()) {
+    const double now = ctx_.elapsed();
+    mine["time_up"] = now >= o.time_limit_s;
+    mine["polish"] = !polished_ && now >= kPolishAt * o.time_limit_s;
+    mine["checkpoint"] = ctx_.checkpointer != nullptr && ctx_.checkpointer->due();
+  }
+  Joint joint;
+  const std::vector<nlohmann::json> all = ctx_.ranks.all_gather(mine);
+  for (const nlohmann::json& r : all) {
+    for (const nlohmann::json& is : r.at("islands")) {
+      const auto i = exact_integer_from<std::size_t>(is.at(0), "island");
+      if (i >= islands_.size()) throw BadExactJson("an island out of range");
+      Island& island = islands_[i];
+      island.evaluated = exact_integer_from<std::uint64_t>(is.at(1), "evaluated");
+      island.found.clear();
+      for (const nlohmann::json& c : is.at(2))
+        island.found.push_back({exact_expression_from(c.at(0)), metrics_from(c.at(1)),
+                                exact_integer_from<std::uint64_t>(c.at(2), "generation")});
+    }
+    joint.interrupted = joint.interrupted || r.at("interrupted").get<bool>();
+    joint.cut = joint.cut || r.at("cut").get<bool>();
+  }
+  joint.time_up = all.front().at("time_up").get<bool>();
+  joint.polish = all.front().at("polish").get<bool>();
+  joint.checkpoint = all.front().at("checkpoint").get<bool>();
+  return joint;
+}
+
+EvolutionState Evolution::gathered_state() {
+  nlohmann::json mine = nlohmann::json::array();
+  for (std::size_t i : owned_) {
+    SavedIsland out = saved_island(islands_[i]);
+    mine.push_back({i, saved_island_json(out)});
+  }
+  EvolutionState s;
+  s.generations = generations_;
+  s.polished = polished_;
+  s.islands.resize(islands_.size());
+  for (const nlohmann::json& r : ctx_.ranks.all_gather(mine))
+    for (const nlohmann::json& is : r) {
+      const auto i = exact_integer_from<std::size_t>(is.at(0), "island");
+      if (i >= islands_.size()) throw BadExactJson("an island out of range");
+      s.islands[i] = saved_island_from(is.at(1));
+    }
+  return s;
+}
+
 void Evolution::run(const std::vector<Expression>& seeds) {
   std::vector<Expression> all = seeds;
   for (const FrontMember& m : ctx_.front.members()) all.insert(all.begin(), m.expression);
   parallel_for(
-      islands_.size(), 1,
+      owned_.size(), 1,
       [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) init_island(islands_[i], all, i);
+        for (std::size_t k = b; k < e; ++k) init_island(islands_[owned_[k]], all, owned_[k]);
       },
       ctx_.threads);
   evolve();
@@ -342,17 +486,7 @@ EvolutionState Evolution::state() const {
   EvolutionState s;
   s.generations = generations_;
   s.polished = polished_;
-  for (const Island& is : islands_) {
-    SavedIsland out;
-    std::ostringstream rng;
-    rng.imbue(std::locale::classic());
-    rng << is.rng;
-    out.rng = rng.str();
-    for (const Individual& ind : is.population)
-      out.population.push_back({ind.expr, ind.loss, ind.cost, ind.raw_loss, ind.raw_cost, ind.hash,
-                                ind.scaled, ind.a, ind.b});
-    s.islands.push_back(std::move(out));
-  }
+  for (const Island& is : islands_) s.islands.push_back(saved_island(is));
   return s;
 }
 
@@ -367,10 +501,8 @@ void Evolution::resume(const EvolutionState& state) {
     rng.imbue(std::locale::classic());
     rng >> is.rng;
     is.population.clear();
-    for (const SavedIndividual& s : state.islands[i].population) {
-      Individual ind{s.expr, s.loss, s.cost, s.hash, s.raw_loss, s.raw_cost, s.scaled, s.a, s.b};
-      is.population.push_back(std::move(ind));
-    }
+    for (const SavedIndividual& s : state.islands[i].population)
+      is.population.push_back(restored(s));
   }
   generations_ = state.generations;
   polished_ = state.polished;
@@ -379,47 +511,82 @@ void Evolution::resume(const EvolutionState& state) {
 
 void Evolution::evolve() {
   const auto threads = static_cast<std::size_t>(ctx_.threads);
-  Checkpointer* checkpoints = ctx_.checkpointer;
+  const bool distributed = ctx_.ranks.distributed();
+  if (distributed) ctx_.joint_stop = true;
+  const auto interval = static_cast<std::uint64_t>(ctx_.options.migration_interval);
+  Checkpointer* checkpoints = ctx_.checkpointer;  // rank 0's only, across ranks
+  const bool checkpointing = !ctx_.options.checkpoint_path.empty();
   bool cut = false;  // the last generation stopped early: its islands are not a boundary state
   while (true) {
-    std::uint64_t evaluated = 0;
-    for (Island& is : islands_) {
-      // Offered at this synchronisation point, in island order.
-      for (Candidate& c : is.found) {
-        Expression tidy = simplify(c.expr);
-        ctx_.offer(
-            expression_cost(tidy, ctx_.options.cost) <= expression_cost(c.expr, ctx_.options.cost)
-                ? tidy
-                : c.expr,
-            loss_value(ctx_.options.loss, c.metrics), SearchPhase::Evolution);
+    // One process synchronises its islands after every generation; ranks every interval.
+    if (!distributed || generations_ % interval == 0) {
+      Joint joint;
+      if (distributed) joint = synchronize(cut);
+      // Offered at this synchronisation point in the order (generation, island).
+      std::vector<Candidate*> found;
+      std::uint64_t evaluated = 0;
+      for (Island& is : islands_) {
+        for (Candidate& c : is.found) found.push_back(&c);
+        evaluated += is.evaluated;
+        is.evaluated = 0;
       }
-      is.found.clear();
-      evaluated += is.evaluated;
-      is.evaluated = 0;
+      std::stable_sort(found.begin(), found.end(), [](const Candidate* a, const Candidate* b) {
+        return a->generation < b->generation;
+      });
+      for (Candidate* c : found) {
+        Expression tidy = simplify(c->expr);
+        ctx_.offer(
+            expression_cost(tidy, ctx_.options.cost) <= expression_cost(c->expr, ctx_.options.cost)
+                ? tidy
+                : c->expr,
+            loss_value(ctx_.options.loss, c->metrics), SearchPhase::Evolution);
+      }
+      for (Island& is : islands_) is.found.clear();
+      ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
+      ctx_.maybe_progress(SearchPhase::Evolution);
+      if (joint.interrupted) ctx_.stop(Termination::Interrupted);
+      if (joint.time_up) ctx_.stop(Termination::TimeLimit);
+      if (ctx_.should_stop()) break;
+      if (!polished_ &&
+          (distributed ? joint.polish : ctx_.elapsed() >= kPolishAt * ctx_.options.time_limit_s)) {
+        polish_front();
+        polished_ = true;
+      }
+      // A generation boundary: what a checkpoint records, and where a resumed run starts. Across
+      // ranks the islands are gathered only when rank 0 is due to write.
+      if (!distributed && checkpoints != nullptr) checkpoints->at_boundary(state());
+      if (distributed && joint.checkpoint) {
+        const EvolutionState s = gathered_state();
+        if (checkpoints != nullptr) checkpoints->at_boundary(s);
+      }
     }
-    ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
-    ctx_.maybe_progress(SearchPhase::Evolution);
-    if (ctx_.should_stop()) break;
-    if (!polished_ && ctx_.elapsed() >= kPolishAt * ctx_.options.time_limit_s) {
-      polish_front();
-      polished_ = true;
-    }
-    // A generation boundary: what a checkpoint records, and where a resumed run starts.
-    if (checkpoints != nullptr) checkpoints->at_boundary(state());
+    // The front the islands rank against: the synchronised one and, across ranks, this rank's
+    // finds since (one process has none waiting).
     Snapshot front;
     for (const FrontMember& m : ctx_.front.members()) front.emplace_back(m.cost, m.loss);
-    std::vector<char> complete(islands_.size(), 1);
+    for (const Island& is : islands_)
+      for (const Candidate& c : is.found)
+        front.emplace_back(expression_cost(c.expr, ctx_.options.cost),
+                           loss_value(ctx_.options.loss, c.metrics));
+    std::vector<char> complete(owned_.size(), 1);
     parallel_for(
-        islands_.size(), 1,
+        owned_.size(), 1,
         [&](std::size_t b, std::size_t e) {
-          for (std::size_t i = b; i < e; ++i) complete[i] = generation(islands_[i], front) ? 1 : 0;
+          for (std::size_t k = b; k < e; ++k)
+            complete[k] = generation(islands_[owned_[k]], front) ? 1 : 0;
         },
         static_cast<int>(threads));
     cut = std::find(complete.begin(), complete.end(), 0) != complete.end();
     ++generations_;
-    if (generations_ % static_cast<std::uint64_t>(ctx_.options.migration_interval) == 0) migrate();
+    if (generations_ % interval == 0) migrate();
   }
-  if (checkpoints != nullptr) checkpoints->at_end(cut, state());
+  if (!distributed && checkpoints != nullptr) checkpoints->at_end(cut, state());
+  // Across ranks the state where the run stopped (a generation cut short by the clock or an
+  // interrupt included: such stops are not reproducible anyway).
+  if (distributed && checkpointing) {
+    const EvolutionState s = gathered_state();
+    if (checkpoints != nullptr) checkpoints->at_end(false, s);
+  }
 }
 
 }  // namespace shaderfit::search_detail

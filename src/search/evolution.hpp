@@ -6,6 +6,12 @@
 // are offered in island order, and every migration_interval generations each island sends its
 // best individuals to the next (a ring). The result therefore depends on the seed and the
 // number of islands, not on the number of threads, as long as the stop is not by the clock.
+// Across ranks (SearchOptions::communicator) each rank evolves a block of the islands, and the
+// ranks synchronise every migration_interval generations, where the migrants cross: every rank
+// receives every island's candidates found since the last synchronisation and offers them in
+// the order (generation, island), so all ranks hold the same front. Between synchronisations a
+// rank ranks its candidates against that front and its own islands' finds. The result depends on
+// the seed, the islands and the number of ranks (one rank is the synchronous model above).
 #pragma once
 
 #include <cstdint>
@@ -48,6 +54,7 @@ class Evolution {
   struct Candidate {  // for the front, scored on every row
     Expression expr;
     ErrorMetrics metrics;
+    std::uint64_t generation = 0;  // in which it was found: candidates are offered in that order
   };
   struct Island {
     Rng rng;
@@ -56,6 +63,19 @@ class Evolution {
     std::uint64_t evaluated = 0;
   };
   using Snapshot = std::vector<std::pair<double, double>>;  // (cost, loss) of the front
+  // What the ranks of a distributed search decide together at a synchronisation point.
+  struct Joint {
+    bool time_up = false;      // rank 0's clock passed the time limit
+    bool interrupted = false;  // some rank's interrupt flag is set
+    bool polish = false;       // rank 0's clock passed kPolishAt of the time limit
+    bool checkpoint = false;   // rank 0's checkpoint interval has passed
+    bool cut = false;          // some rank's last generation stopped early
+  };
+
+  // As checkpoints and messages hold them.
+  static SavedIndividual saved(const Individual& ind);
+  static Individual restored(const SavedIndividual& s);
+  static SavedIsland saved_island(const Island& island);
 
   void init_island(Island& island, const std::vector<Expression>& seeds, std::size_t index);
   void evolve();  // the generation loop
@@ -76,6 +96,12 @@ class Evolution {
   [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
                                              const std::vector<double>& crowd) const;
   void migrate();
+  // Distributed: every rank's islands' found candidates and evaluation counts to every rank (so
+  // that each offers the same candidates in island order), with the votes of Joint.
+  Joint synchronize(bool cut);
+  // Distributed: the state of every island, from the ranks that own them (collective).
+  EvolutionState gathered_state();
+  [[nodiscard]] bool owns(std::size_t island) const;
   void polish_front();
   [[nodiscard]] bool out_of_time() const;
 
@@ -86,6 +112,7 @@ class Evolution {
   std::vector<const double*> fit_pointers_;
   std::vector<double> fit_target_, fit_weights_;
   std::vector<Island> islands_;
+  std::vector<std::size_t> owned_;  // the islands this rank evolves (all in one process)
   std::uint64_t generations_ = 0;
   bool polished_ = false;
   std::unique_ptr<GpuEvaluator> gpu_;  // the fit rows on the GPU, when ctx.device is Cuda

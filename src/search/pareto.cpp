@@ -30,6 +30,11 @@ double ParetoFront::best_loss_at(double cost) const {
   return best;
 }
 
+void ParetoFront::assign(std::vector<FrontMember> members) {
+  std::lock_guard lock(mutex_);
+  members_ = std::move(members);
+}
+
 bool ParetoFront::offer(FrontMember member) {
   std::lock_guard lock(mutex_);
   if (dominated_locked(member.cost, member.loss)) return false;

@@ -10,7 +10,8 @@
 namespace shaderfit::search_detail {
 
 // Thread-safe. A member enters when its cost and loss are finite and no member has cost <= its
-// cost and loss <= its loss; it evicts the members it dominates. Kept sorted by cost, so losses strictly decrease along it.
+// cost and loss <= its loss; it evicts the members it dominates. Kept sorted by cost, so losses
+// strictly decrease along it.
 class ParetoFront {
  public:
   // Called under the front's lock for each member that enters, so calls never overlap.
@@ -23,6 +24,9 @@ class ParetoFront {
   [[nodiscard]] double best_loss_at(double cost) const;
   // Inserts when not dominated; returns whether it entered.
   bool offer(FrontMember member);
+  // Becomes `members` (a front, cheapest first), without calling on_enter: how the ranks of a
+  // distributed search take rank 0's front.
+  void assign(std::vector<FrontMember> members);
 
   [[nodiscard]] std::vector<FrontMember> members() const;
   [[nodiscard]] std::size_t size() const;

@@ -10,8 +10,10 @@
 
 #include "search/checkpoint.hpp"
 #include "search/constant_fit.hpp"
+#include "search/distributed.hpp"
 #include "search/enumerator.hpp"
 #include "search/evolution.hpp"
+#include "search/exact_json.hpp"
 #include "search/float32_check.hpp"
 #include "search/search_context.hpp"
 #include "search/start.hpp"
@@ -99,12 +101,70 @@ CheckpointInfo read_checkpoint_info(const std::string& path) {
   info.candidates = c.candidates;
   info.generations = c.evolution.generations;
   info.front_size = c.front.size();
+  info.ranks = c.ranks;
   return info;
 }
 
 namespace {
 
 using search_detail::Checkpoint;
+
+// A rank of a distributed search other than rank 0: it evolves its islands and returns nothing.
+bool follower(const SearchOptions& o) {
+  return o.communicator != nullptr && o.communicator->size() > 1 && o.communicator->rank() != 0;
+}
+
+std::string rng_text(const Rng& rng) {
+  std::ostringstream out;
+  out.imbue(std::locale::classic());
+  out << rng;
+  return out.str();
+}
+
+// Across ranks: what rank 0's enumeration (and start formulas, and a resumed checkpoint's front)
+// left, so that every rank starts the evolution from the same front, seeds, counts and generator.
+void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
+                       std::vector<Expression>* seeds, Rng* rng) {
+  using nlohmann::json;
+  json j;
+  if (ctx.ranks.leader()) {
+    json front = json::array(), seed = json::array();
+    for (const FrontMember& m : ctx.front.members())
+      front.push_back(front_member_json(m, FrontJson::Exact));
+    for (const Expression& e : *seeds) seed.push_back(search_detail::exact_expression_json(e));
+    j = {{"front", front},
+         {"seeds", seed},
+         {"candidates", ctx.candidates.load()},
+         {"node_evaluations", ctx.node_evaluations.load()},
+         {"distinct", s->distinct_candidates},
+         {"cost_completed", s->enumeration_cost_completed},
+         {"elapsed", search_detail::exact_number(ctx.elapsed())},
+         {"rng", rng_text(*rng)},
+         {"stopped", ctx.stopped()},
+         {"reason", termination_name(ctx.stop_reason())}};
+  }
+  j = ctx.ranks.broadcast(j, 0);
+  if (ctx.ranks.leader()) return;
+  std::vector<FrontMember> front;
+  for (const json& m : j.at("front"))
+    front.push_back(front_member_from_json(m, ctx.problem.input_names, {}, "rank 0").member);
+  ctx.front.assign(std::move(front));
+  seeds->clear();
+  for (const json& e : j.at("seeds")) seeds->push_back(search_detail::exact_expression_from(e));
+  ctx.candidates.store(j.at("candidates").get<std::uint64_t>());
+  ctx.node_evaluations.store(0);  // rank 0 counts the enumeration's work
+  s->distinct_candidates = j.at("distinct").get<std::uint64_t>();
+  s->enumeration_cost_completed = j.at("cost_completed").get<int>();
+  ctx.resume_clock(search_detail::exact_number_from(j.at("elapsed")) - ctx.elapsed());
+  std::istringstream state(j.at("rng").get<std::string>());
+  state.imbue(std::locale::classic());
+  state >> *rng;
+  if (j.at("stopped").get<bool>()) {
+    for (Termination t : {Termination::Done, Termination::TimeLimit, Termination::CandidateLimit,
+                          Termination::TargetReached, Termination::Interrupted})
+      if (termination_name(t) == j.at("reason").get<std::string>()) ctx.stop(t);
+  }
+}
 
 // The search proper, on `problem`: the data, or its half when `symmetry` is set.
 void search_on(const SearchOptions& options, const SearchProblem& problem,
@@ -118,8 +178,9 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
   search_detail::SearchContext ctx(options, problem);
   ctx.device = device;
   ctx.symmetry = symmetry;
+  const bool distributed = ctx.ranks.distributed();
   std::unique_ptr<search_detail::Checkpointer> checkpoints;
-  if (!options.checkpoint_path.empty()) {
+  if (!options.checkpoint_path.empty() && ctx.ranks.leader()) {
     checkpoints = std::make_unique<search_detail::Checkpointer>(ctx);
     ctx.checkpointer = checkpoints.get();
   }
@@ -147,17 +208,22 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     // Afresh, or from a checkpoint taken during the enumeration: the enumeration runs again
     // (with count stops it finds the same classes), then the checkpoint's front joins.
     // The start formulas first, so that they seed the evolution whatever the enumeration finds.
-    std::vector<Expression> seeds = search_detail::offer_start_formulas(ctx, starts);
-    if (options.enumerate) {
-      search_detail::Enumerator enumerator(ctx, rng);
-      enumerator.run();
-      s.distinct_candidates = enumerator.classes();
-      s.enumeration_cost_completed = enumerator.cost_completed();
-      if (options.evolve)
-        for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
+    // Across ranks rank 0 does this part alone, and the others take what it left.
+    std::vector<Expression> seeds;
+    if (ctx.ranks.leader()) {
+      seeds = search_detail::offer_start_formulas(ctx, starts);
+      if (options.enumerate) {
+        search_detail::Enumerator enumerator(ctx, rng);
+        enumerator.run();
+        s.distinct_candidates = enumerator.classes();
+        s.enumeration_cost_completed = enumerator.cost_completed();
+        if (options.evolve)
+          for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
+      }
+      if (resumed)
+        for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));
     }
-    if (resumed)
-      for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));
+    if (distributed) share_enumeration(ctx, &s, &seeds, &rng);
     s.enumeration_time_s = ctx.elapsed();
     if (options.evolve && !ctx.should_stop()) {
       if (checkpoints)
@@ -168,6 +234,24 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
       s.generations = evolution.generations();
     } else if (checkpoints) {
       checkpoints->write_enumeration();
+    }
+  }
+  if (distributed) {
+    // Every rank's bytes sent and work, summed; then the other ranks are done.
+    const std::vector<nlohmann::json> counts =
+        ctx.ranks.all_gather({ctx.ranks.bytes_sent(), ctx.node_evaluations.load()});
+    s.ranks = ctx.ranks.size();
+    std::uint64_t others = 0;
+    for (std::size_t r = 0; r < counts.size(); ++r) {
+      s.bytes_sent += counts[r].at(0).get<std::uint64_t>();
+      if (r != 0) others += counts[r].at(1).get<std::uint64_t>();
+    }
+    ctx.node_evaluations.fetch_add(others);
+    if (!ctx.ranks.leader()) {
+      s.termination = ctx.stop_reason();
+      s.interrupted = s.termination == Termination::Interrupted;
+      *summary = std::move(s);
+      return;
     }
   }
   // At most this share of the time budget goes to the final minimax polish.
@@ -205,8 +289,22 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
   const std::vector<search_detail::StartFormula> starts =
       search_detail::parse_start_formulas(options, problem);
 
+  const search_detail::RankGroup ranks(options.communicator);
+  if (ranks.distributed() && options.evolve && options.islands < ranks.size())
+    throw Error(std::to_string(options.islands) + " islands for " + std::to_string(ranks.size()) +
+                    " ranks: give every rank at least one island",
+                {"SearchOptions::islands"});
+
   std::optional<Checkpoint> resumed;
-  if (!options.resume_path.empty()) resumed = search_detail::read_checkpoint(options.resume_path);
+  if (!options.resume_path.empty() && !ranks.distributed()) {
+    resumed = search_detail::read_checkpoint(options.resume_path);
+  } else if (!options.resume_path.empty()) {
+    // Rank 0 reads the file (the others may not see it) and sends its bytes to all.
+    std::string text;
+    if (ranks.leader()) text = search_detail::read_checkpoint_text(options.resume_path);
+    text = options.communicator->broadcast(text, 0);
+    resumed = search_detail::parse_checkpoint(text, options.resume_path);
+  }
   // A resumed search keeps the decision its checkpoint recorded (none in older checkpoints).
   std::optional<DataSymmetry> symmetry =
       resumed ? resumed->symmetry : search_symmetry(options, problem);
@@ -219,8 +317,10 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
     SearchOptions half_options = options;
     half_options.on_new_member = whole.forward_new_members();
     search_on(half_options, half, {}, std::move(resumed), symmetry, summary);
+    if (follower(options)) return;
     whole.finish(starts, summary);
   }
+  if (follower(options)) return;
   // The one place where the front is tidied before it is shown (docs/search.md, "Tidy front").
   summary->front = search_detail::tidy_front(options, problem, std::move(summary->front),
                                              &summary->node_evaluations);

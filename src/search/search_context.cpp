@@ -25,6 +25,7 @@ SearchContext::SearchContext(const SearchOptions& opts, const SearchProblem& pro
     : options(opts),
       problem(prob),
       front(opts.on_new_member),
+      ranks(opts.communicator),
       start_(std::chrono::steady_clock::now()) {
   for (const auto& c : problem.inputs) columns.push_back(c.data());
   rows = problem.target.size();
@@ -51,9 +52,13 @@ Termination SearchContext::stop_reason() const {
 
 bool SearchContext::should_stop() {
   if (stopped()) return true;
-  if (options.interrupt != nullptr && options.interrupt->load(std::memory_order_relaxed)) {
+  // With joint_stop the clock and the interrupt flag are the ranks' joint decision (stop() is
+  // called for them); the counts are the same on every rank.
+  const bool interrupted =
+      options.interrupt != nullptr && options.interrupt->load(std::memory_order_relaxed);
+  if (!joint_stop && interrupted) {
     stop(Termination::Interrupted);
-  } else if (elapsed() >= options.time_limit_s) {
+  } else if (!joint_stop && elapsed() >= options.time_limit_s) {
     stop(Termination::TimeLimit);
   } else if (options.max_candidates && candidates.load(std::memory_order_relaxed) >=
                                            static_cast<std::uint64_t>(*options.max_candidates)) {

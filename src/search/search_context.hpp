@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "search/distributed.hpp"
 #include "search/pareto.hpp"
 #include "shaderfit/search/search.hpp"
 #include "shaderfit/search/symmetry.hpp"
@@ -40,6 +41,11 @@ class SearchContext {
   ParetoFront front;
   // Set when `problem` is the half of symmetric data (run_search); the checkpoints record it.
   std::optional<DataSymmetry> symmetry;
+  // The ranks of a distributed search (one process: not distributed).
+  RankGroup ranks;
+  // Set by a distributed evolution: should_stop() then leaves the clock and the interrupt flag to
+  // the ranks' joint decision (Evolution's synchronisation), so that every rank stops together.
+  bool joint_stop = false;
 
   std::atomic<std::uint64_t> candidates{0};
   std::atomic<std::uint64_t> node_evaluations{0};

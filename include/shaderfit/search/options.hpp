@@ -30,6 +30,7 @@
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/op.hpp"
 #include "shaderfit/gpu/device.hpp"
+#include "shaderfit/search/communicator.hpp"
 #include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit {
@@ -125,6 +126,12 @@ struct SearchOptions {
   // When set and it becomes true (e.g. from a SIGINT handler), the search stops soon and returns
   // the front found so far.
   const std::atomic<bool>* interrupt = nullptr;
+  // When set (and of more than one rank), the search runs across the ranks, each calling
+  // run_search with the same data and options (docs/distributed.md): rank 0 enumerates, the
+  // evolution's islands are shared out in blocks (islands >= ranks), and rank 0's summary holds
+  // the result, the same as one process with the same islands would give under a count budget.
+  // Only rank 0 writes checkpoints and calls on_new_member and on_progress.
+  Communicator* communicator = nullptr;
 
   // Checkpoints (docs/reliability.md). With a path, the search writes its state there (to
   // PATH.tmp, then renamed) at the first generation boundary after every checkpoint_interval_s

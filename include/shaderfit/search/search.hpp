@@ -72,6 +72,10 @@ struct SearchSummary {
   // Set when the search fitted the half of symmetric data (SearchOptions::symmetry); the front's
   // formulas include the reflection and are scored on every row.
   std::optional<DataSymmetry> symmetry;
+  // Across ranks (SearchOptions::communicator): their number, and the bytes of the messages all
+  // of them sent (each rank's payloads, before MPI's own framing).
+  int ranks = 1;
+  std::uint64_t bytes_sent = 0;
 
   // A few lines: termination, times, counts, and the front as a table.
   [[nodiscard]] std::string brief_report() const;
@@ -107,6 +111,7 @@ struct CheckpointInfo {
   std::uint64_t candidates = 0;
   std::uint64_t generations = 0;
   std::size_t front_size = 0;
+  int ranks = 1;  // that wrote it (SearchOptions::communicator)
 };
 CheckpointInfo read_checkpoint_info(const std::string& path);
 

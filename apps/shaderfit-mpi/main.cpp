@@ -1,0 +1,33 @@
+// shaderfit-mpi: the shaderfit command line with searches across MPI ranks
+// (docs/distributed.md): `mpirun -np 4 shaderfit-mpi search ...`. Every rank runs the same
+// command on the same data; rank 0 prints and writes files, the others evolve their islands.
+// A separate program so that shaderfit itself neither links MPI nor pays for starting it.
+#include <mpi.h>
+
+#include <iostream>
+#include <sstream>
+
+#include "mpi_communicator.hpp"
+#include "shaderfit/cli.hpp"
+
+int main(int argc, char** argv) {
+  int provided = 0;
+  // MPI is called only from the search's own thread, never from its worker threads.
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
+  int status = 0;
+  {
+    shaderfit::mpi::MpiCommunicator world(MPI_COMM_WORLD);
+    const bool leader = world.rank() == 0;
+    std::ostringstream discarded, held;
+    status = shaderfit::cli::run_cli(argc, argv, leader ? std::cout : discarded,
+                                     leader ? std::cerr : held, &world);
+    if (status != 0) {
+      // A rank that failed alone (a file only rank 0 can read, say) says why; then every rank
+      // stops, as the others may be waiting for it.
+      if (!leader) std::cerr << "rank " << world.rank() << ": " << held.str() << std::flush;
+      MPI_Abort(MPI_COMM_WORLD, status);
+    }
+  }
+  MPI_Finalize();
+  return status;
+}

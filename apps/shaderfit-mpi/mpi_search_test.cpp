@@ -1,0 +1,211 @@
+// shaderfit-mpi under mpirun: two ranks (oversubscribed on a small machine) give the same front
+// from the same seed under a count budget, on the seed task (finding the seed's formula) and on a
+// problem from the literature (recovered exactly); a resumed run ends as the uninterrupted one; a
+// rank that dies leaves the last checkpoint whole. Skipped where mpirun is not found or cannot
+// start two ranks.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "shaderfit/core/random.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int status = -1;
+  std::string output;  // stdout and stderr
+};
+
+Outcome run(const std::string& command) {
+  Outcome r;
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
+  if (p == nullptr) return r;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, p) != nullptr) r.output += buffer;
+  const int s = pclose(p);
+  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
+  return r;
+}
+
+// mpirun for the tests: as root too (CI), any number of ranks on few cores, and without the
+// shared-memory single-copy mechanism that containers often forbid.
+std::string mpirun(int ranks) {
+  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
+         "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_rmaps_base_oversubscribe=1 " +
+         std::string(SHADERFIT_MPIEXEC) + " -np " + std::to_string(ranks) + " " +
+         SHADERFIT_MPI_PATH;
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("shaderfit_mpi_test_" + std::to_string(getpid()));
+  fs::create_directories(dir);
+  return dir / name;
+}
+
+nlohmann::json read_json(const fs::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+std::vector<std::string> formulas(const nlohmann::json& doc) {
+  std::vector<std::string> out;
+  for (const auto& m : doc.at("front")) out.push_back(m.at("formula").get<std::string>());
+  return out;
+}
+
+// Why two ranks cannot run here ("" when they can): no mpirun, or one that fails to start them
+// (a sandbox without shared memory, say).
+const std::string& cannot_run_ranks() {
+  static const std::string why = [] {
+    if (!fs::exists(SHADERFIT_MPIEXEC) && run("command -v mpirun").status != 0)
+      return std::string("mpirun not found");
+    const Outcome r = run(mpirun(2) + " --version");
+    if (r.status == 0) return std::string();
+    return "mpirun cannot start 2 ranks here: " + r.output.substr(0, r.output.find('\n'));
+  }();
+  return why;
+}
+
+#define REQUIRE_MPIRUN() \
+  if (!cannot_run_ranks().empty()) GTEST_SKIP() << "skipped: " << cannot_run_ranks()
+
+// The seed task under a count budget, one thread per rank: a short enumeration (rank 0's), then
+// about 50,000 candidates of evolution spread over the ranks.
+const std::string kSeedSearch =
+    " search --dataset fresnel-seed --inputs r0,x --target R --threads 1 --quiet --seed 3";
+const std::string kShort = " --max-enumeration-cost 2 --time 120";
+
+TEST(MpiSearch, SeedTaskIsReproducibleAndFindsTheSeedFormula) {
+  REQUIRE_MPIRUN();
+  // The enumeration up to cost 4 finds the seed's r0 + (x - r0) x^4 (MSE 3.5227e-4 on this data)
+  // or better; the evolution then runs on both ranks.
+  const std::string budget = " --max-enumeration-cost 4 --evals 6680000 --time 120";
+  const fs::path first = scratch("first.json"), second = scratch("second.json");
+  const Outcome a = run(mpirun(2) + kSeedSearch + budget + " --json " + first.string());
+  ASSERT_EQ(a.status, 0) << a.output;
+  const Outcome b = run(mpirun(2) + kSeedSearch + budget + " --json " + second.string());
+  ASSERT_EQ(b.status, 0) << b.output;
+  const nlohmann::json d1 = read_json(first), d2 = read_json(second);
+  EXPECT_EQ(formulas(d1), formulas(d2));
+  EXPECT_EQ(d1["summary"]["candidates"], d2["summary"]["candidates"]);
+  EXPECT_EQ(d1["summary"]["termination"], "candidate limit");
+  EXPECT_EQ(d1["summary"]["ranks"], 2);
+  EXPECT_GT(d1["summary"]["generations"].get<int>(), 0);
+  EXPECT_GT(d1["summary"]["bytes_sent"].get<double>(), 0);
+  bool found = false;
+  for (const auto& m : d1["front"])
+    found = found || (m["cost"].get<double>() <= 4 && m["mse"].get<double>() <= 3.5227e-4);
+  EXPECT_TRUE(found) << a.output;
+}
+
+TEST(MpiSearch, LiteratureProblemIsRecoveredReproducibly) {
+  REQUIRE_MPIRUN();
+  // Nguyen-3 (Uy et al. 2011): x^5 + x^4 + x^3 + x^2 + x, 20 points with x ~ U[-1, 1].
+  const fs::path csv = scratch("nguyen3.csv");
+  {
+    std::ofstream out(csv);
+    out.precision(17);
+    out << "x,y\n";
+    shaderfit::Rng rng(2024);
+    for (int i = 0; i < 20; ++i) {
+      const double x = shaderfit::uniform(rng, -1, 1);
+      out << x << ',' << x * (1 + x * (1 + x * (1 + x * (1 + x)))) << '\n';
+    }
+  }
+  const std::string search = " search --data " + csv.string() +
+                             " --inputs x --target y --threads 1 --quiet --evals 150000 "
+                             "--time 120 --islands 3";
+  const fs::path first = scratch("n1.json"), second = scratch("n2.json");
+  const Outcome a = run(mpirun(2) + search + " --json " + first.string());
+  ASSERT_EQ(a.status, 0) << a.output;
+  const Outcome b = run(mpirun(2) + search + " --json " + second.string());
+  ASSERT_EQ(b.status, 0) << b.output;
+  EXPECT_EQ(formulas(read_json(first)), formulas(read_json(second)));
+  EXPECT_LE(read_json(first)["front"].back()["mse"].get<double>(), 1e-20) << a.output;
+}
+
+TEST(MpiSearch, ResumedRunEndsAsTheUninterruptedOne) {
+  REQUIRE_MPIRUN();
+  const fs::path whole = scratch("whole.json"), resumed = scratch("resumed.json");
+  const fs::path ckpt = scratch("run.ckpt");
+  const Outcome a =
+      run(mpirun(2) + kSeedSearch + kShort + " --evals 40000 --json " + whole.string());
+  ASSERT_EQ(a.status, 0) << a.output;
+  const Outcome b = run(mpirun(2) + kSeedSearch + kShort + " --evals 20000 --checkpoint " +
+                        ckpt.string() + " --checkpoint-every 0");
+  ASSERT_EQ(b.status, 0) << b.output;
+  const Outcome c = run(mpirun(2) + kSeedSearch + kShort + " --evals 40000 --resume " +
+                        ckpt.string() + " --json " + resumed.string());
+  ASSERT_EQ(c.status, 0) << c.output;
+  EXPECT_EQ(formulas(read_json(resumed)), formulas(read_json(whole)));
+  EXPECT_EQ(read_json(resumed)["summary"]["candidates"], read_json(whole)["summary"]["candidates"]);
+  EXPECT_EQ(read_json(resumed)["summary"]["generations"],
+            read_json(whole)["summary"]["generations"]);
+}
+
+TEST(MpiSearch, ARankThatDiesLeavesTheLastCheckpointWhole) {
+  REQUIRE_MPIRUN();
+  const fs::path ckpt = scratch("dies.ckpt"), log = scratch("dies.log");
+  fs::remove(ckpt);
+  // In the background: a long run that writes a checkpoint at every generation.
+  const std::string command = mpirun(2) + kSeedSearch + " --time 60 --checkpoint " + ckpt.string() +
+                              " --checkpoint-every 0 > " + log.string() + " 2>&1";
+  const pid_t launcher = fork();
+  ASSERT_GE(launcher, 0);
+  if (launcher == 0) {
+    execl("/bin/sh", "sh", "-c", command.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  while (!fs::exists(ckpt) && std::chrono::steady_clock::now() - start < std::chrono::seconds(30))
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(fs::exists(ckpt)) << "no checkpoint within 30 s";
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));  // a few more generations
+  // One of the ranks (the shaderfit-mpi processes writing this checkpoint) dies.
+  const Outcome named = run("pgrep -x shaderfit-mpi");
+  std::istringstream pids(named.output);
+  std::vector<pid_t> found;
+  for (pid_t p; pids >> p;) {
+    std::ifstream cmdline("/proc/" + std::to_string(p) + "/cmdline", std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(cmdline)), {});
+    if (text.find(ckpt.string()) != std::string::npos) found.push_back(p);
+  }
+  ASSERT_EQ(found.size(), 2u) << named.output;
+  kill(found.back(), SIGKILL);
+  int status = 0;
+  waitpid(launcher, &status, 0);
+  EXPECT_FALSE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "the run did not fail";
+  // The checkpoint is whole: one process resumes from it and finishes.
+  const Outcome resumed =
+      run(std::string(SHADERFIT_CLI_PATH) + kSeedSearch + " --time 2 --resume " + ckpt.string());
+  EXPECT_EQ(resumed.status, 0) << resumed.output;
+  EXPECT_NE(resumed.output.find("written by 2 ranks, resumed on 1"), std::string::npos)
+      << resumed.output;
+}
+
+TEST(MpiSearch, FewerIslandsThanRanksIsOneClearError) {
+  REQUIRE_MPIRUN();
+  const Outcome r = run(mpirun(2) + kSeedSearch + " --time 1 --islands 1");
+  EXPECT_NE(r.status, 0);
+  EXPECT_NE(r.output.find("shaderfit: error: --islands: 1 islands for 2 ranks: give every rank "
+                          "at least one island"),
+            std::string::npos)
+      << r.output;
+}
+
+}  // namespace

@@ -1,0 +1,49 @@
+#include "search/distributed.hpp"
+
+#include <string>
+
+namespace shaderfit::search_detail {
+
+namespace {
+
+std::string encode(const nlohmann::json& j) {
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(j);
+  return {bytes.begin(), bytes.end()};
+}
+
+nlohmann::json decode(const std::string& bytes) {
+  return nlohmann::json::from_cbor(bytes.begin(), bytes.end());
+}
+
+}  // namespace
+
+std::vector<nlohmann::json> RankGroup::all_gather(const nlohmann::json& mine) {
+  const std::string bytes = encode(mine);
+  bytes_sent_ += bytes.size();
+  std::vector<nlohmann::json> out;
+  for (const std::string& b : comm_->all_gather(bytes)) out.push_back(decode(b));
+  return out;
+}
+
+nlohmann::json RankGroup::broadcast(const nlohmann::json& value, int root) {
+  std::string bytes;
+  if (rank() == root) {
+    bytes = encode(value);
+    bytes_sent_ += bytes.size();
+  }
+  return decode(comm_->broadcast(bytes, root));
+}
+
+std::vector<nlohmann::json> RankGroup::exchange(
+    const std::vector<std::pair<int, nlohmann::json>>& sends, const std::vector<int>& from) {
+  std::vector<std::pair<int, std::string>> encoded;
+  for (const auto& [to, j] : sends) {
+    encoded.emplace_back(to, encode(j));
+    bytes_sent_ += encoded.back().second.size();
+  }
+  std::vector<nlohmann::json> out;
+  for (const std::string& b : comm_->exchange(encoded, from)) out.push_back(decode(b));
+  return out;
+}
+
+}  // namespace shaderfit::search_detail
