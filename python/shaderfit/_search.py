@@ -27,8 +27,9 @@ class _Bar:
         from tqdm.auto import tqdm
 
         self.time_s, self.evals = time_s, evals
-        self.bar = tqdm(total=1000, desc="search", leave=False,
-                        bar_format="{desc}: {percentage:3.0f}%|{bar}| {postfix}")
+        # The phase and counts go where tqdm puts the description, which it prints as given.
+        self.bar = tqdm(total=1000, desc="", leave=False,
+                        bar_format="search {percentage:3.0f}% |{bar}| {desc}")
         self.shown = 0
 
     def __call__(self, p: dict) -> None:
@@ -39,8 +40,8 @@ class _Bar:
         if n > self.shown:
             self.bar.update(n - self.shown)
             self.shown = n
-        self.bar.set_postfix_str(f"{p['phase']}, front {p['front_size']}, "
-                                 f"{p['candidates_per_s']:.3g} candidates/s", refresh=False)
+        self.bar.set_description_str(f"{p['phase']}, front {p['front_size']}, "
+                                     f"{p['candidates_per_s']:.3g} candidates/s", refresh=False)
 
     def close(self) -> None:
         self.bar.close()
