@@ -24,7 +24,11 @@ class _Bar:
     """A tqdm bar over the time budget (or the evaluation budget, whichever is further)."""
 
     def __init__(self, time_s: float, evals: int | None):
-        from tqdm.auto import tqdm
+        try:
+            from tqdm.auto import tqdm
+        except ImportError:
+            raise ImportError("progress=True draws a bar with tqdm, which is not installed "
+                              "(pip install tqdm); or pass a callable") from None
 
         self.time_s, self.evals = time_s, evals
         # The phase and counts go where tqdm puts the description, which it prints as given.

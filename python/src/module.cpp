@@ -246,7 +246,6 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
   }
 
   std::optional<nb::python_error> raised;  // from a callback, raised after the search
-  bool keyboard_interrupt = false;
   {
     nb::gil_scoped_release release;
     std::thread worker([&] {
@@ -271,8 +270,7 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
       nb::gil_scoped_acquire gil;
       if (!stop.load() && PyErr_CheckSignals() != 0) {
         // KeyboardInterrupt (or another signal handler's exception): stop and keep the front.
-        keyboard_interrupt = PyErr_ExceptionMatches(PyExc_KeyboardInterrupt) != 0;
-        if (keyboard_interrupt)
+        if (PyErr_ExceptionMatches(PyExc_KeyboardInterrupt) != 0)
           PyErr_Clear();
         else
           raised.emplace();
@@ -297,7 +295,6 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
   if (raised) throw std::move(*raised);
   if (failure) std::rethrow_exception(failure);
   result.options = options;  // without the callbacks, which point into this frame
-  (void)keyboard_interrupt;  // the summary records the interruption
   return result;
 }
 
