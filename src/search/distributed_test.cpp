@@ -1,0 +1,176 @@
+// A search across ranks without MPI: threads of this process as the ranks, over an in-process
+// Communicator, so that the distributed search is tested where mpirun cannot run
+// (apps/shaderfit-mpi/mpi_search_test.cpp runs it under mpirun).
+#include "search/distributed.hpp"
+
+#include <gtest/gtest.h>
+
+#include <condition_variable>
+#include <deque>
+#include <map>
+#include <mutex>
+#include <thread>
+
+#include "search/seed_problem_test_util.hpp"
+#include "shaderfit/search/search.hpp"
+
+namespace shaderfit {
+namespace {
+
+// The ranks' shared state: a barrier that gathers one message per rank, and mailboxes.
+struct LocalGroup {
+  explicit LocalGroup(int n) : size(n), slots(static_cast<std::size_t>(n)) {}
+  int size;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<std::string> slots, result;
+  int arrived = 0;
+  std::uint64_t phase = 0;
+  std::map<std::pair<int, int>, std::deque<std::string>> mail;  // (from, to)
+};
+
+class LocalRank final : public Communicator {
+ public:
+  LocalRank(LocalGroup& group, int rank) : g_(group), rank_(rank) {}
+  [[nodiscard]] int rank() const override { return rank_; }
+  [[nodiscard]] int size() const override { return g_.size; }
+
+  std::vector<std::string> all_gather(std::string_view mine) override {
+    std::unique_lock lock(g_.mutex);
+    const std::uint64_t phase = g_.phase;
+    g_.slots[static_cast<std::size_t>(rank_)] = std::string(mine);
+    if (++g_.arrived == g_.size) {
+      g_.result = g_.slots;
+      g_.arrived = 0;
+      ++g_.phase;
+      g_.changed.notify_all();
+    } else {
+      g_.changed.wait(lock, [&] { return g_.phase != phase; });
+    }
+    return g_.result;
+  }
+
+  std::string broadcast(std::string_view bytes, int root) override {
+    return all_gather(rank_ == root ? bytes : std::string_view())[static_cast<std::size_t>(root)];
+  }
+
+  std::vector<std::string> exchange(const std::vector<std::pair<int, std::string>>& sends,
+                                    const std::vector<int>& from) override {
+    std::unique_lock lock(g_.mutex);
+    for (const auto& [to, bytes] : sends) g_.mail[{rank_, to}].push_back(bytes);
+    g_.changed.notify_all();
+    std::vector<std::string> out;
+    for (int source : from) {
+      auto& box = g_.mail[{source, rank_}];
+      g_.changed.wait(lock, [&] { return !box.empty(); });
+      out.push_back(std::move(box.front()));
+      box.pop_front();
+    }
+    return out;
+  }
+
+ private:
+  LocalGroup& g_;
+  int rank_;
+};
+
+// Runs the search on `ranks` threads; returns rank 0's summary and checks the others'.
+SearchSummary run_on_ranks(int ranks, SearchOptions options, const SearchProblem& problem) {
+  LocalGroup group(ranks);
+  std::vector<LocalRank> members;
+  for (int r = 0; r < ranks; ++r) members.emplace_back(group, r);
+  std::vector<SearchSummary> summaries(static_cast<std::size_t>(ranks));
+  std::vector<std::thread> threads;
+  for (int r = 0; r < ranks; ++r) {
+    threads.emplace_back([&, r] {
+      SearchOptions o = options;
+      o.communicator = &members[static_cast<std::size_t>(r)];  // the same options otherwise
+      run_search(o, problem, &summaries[static_cast<std::size_t>(r)]);
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  for (int r = 1; r < ranks; ++r) EXPECT_TRUE(summaries[static_cast<std::size_t>(r)].front.empty());
+  return summaries.front();
+}
+
+std::vector<std::string> formulas(const SearchSummary& s) {
+  std::vector<std::string> out;
+  for (const FrontMember& m : s.front) out.push_back(m.formula);
+  return out;
+}
+
+SearchOptions short_search() {
+  SearchOptions o;
+  o.threads = 1;
+  o.seed = 3;
+  o.time_limit_s = 120;
+  o.max_enumeration_cost = 2;
+  o.max_candidates = 20'000;
+  return o;
+}
+
+TEST(Distributed, IslandsAreSharedRoundRobin) {
+  LocalGroup group(3);
+  LocalRank rank(group, 1);
+  const search_detail::RankGroup ranks(&rank);
+  EXPECT_TRUE(ranks.distributed());
+  EXPECT_EQ(ranks.owner(0), 0);
+  EXPECT_EQ(ranks.owner(4), 1);
+  EXPECT_EQ(ranks.owner(5), 2);
+  EXPECT_FALSE(search_detail::RankGroup(nullptr).distributed());
+}
+
+TEST(Distributed, TwoRanksAreReproducibleAndFindTheSeedFormula) {
+  const SearchProblem problem = test::fresnel_seed_problem();
+  SearchOptions o = short_search();
+  o.max_enumeration_cost = 4;
+  o.max_candidates = 6'680'000;  // the enumeration to cost 4, then some evolution
+  const SearchSummary a = run_on_ranks(2, o, problem);
+  const SearchSummary b = run_on_ranks(2, o, problem);
+  EXPECT_EQ(formulas(a), formulas(b));
+  EXPECT_EQ(a.candidates, b.candidates);
+  EXPECT_EQ(a.ranks, 2);
+  EXPECT_GT(a.bytes_sent, 0u);
+  EXPECT_GT(a.generations, 0u);
+  bool found = false;
+  for (const FrontMember& m : a.front) found = found || (m.cost <= 4 && m.metrics.mse <= 3.5227e-4);
+  EXPECT_TRUE(found);
+}
+
+TEST(Distributed, ResumedRunEndsAsTheUninterruptedOne) {
+  const SearchProblem problem = test::fresnel_seed_problem();
+  const std::string path = testing::TempDir() + "distributed_resume.ckpt";
+  SearchOptions whole = short_search();
+  whole.max_candidates = 30'000;
+  const SearchSummary a = run_on_ranks(3, whole, problem);
+  SearchOptions first = short_search();
+  first.max_candidates = 15'000;
+  first.checkpoint_path = path;
+  first.checkpoint_interval_s = 0;
+  (void)run_on_ranks(3, first, problem);
+  SearchOptions rest = whole;
+  rest.resume_path = path;
+  const SearchSummary b = run_on_ranks(3, rest, problem);
+  EXPECT_EQ(formulas(a), formulas(b));
+  EXPECT_EQ(a.candidates, b.candidates);
+  EXPECT_EQ(a.generations, b.generations);
+}
+
+TEST(Distributed, FewerIslandsThanRanksIsAnError) {
+  SearchOptions o = short_search();
+  o.islands = 1;
+  LocalGroup group(2);
+  LocalRank rank(group, 0);
+  o.communicator = &rank;
+  SearchSummary s;
+  try {
+    run_search(o, test::fresnel_seed_problem(), &s);
+    FAIL() << "no error";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "SearchOptions::islands");
+    EXPECT_NE(e.message().find("1 islands for 2 ranks"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace shaderfit
