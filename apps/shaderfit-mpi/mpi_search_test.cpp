@@ -93,8 +93,15 @@ const std::string kShort = " --max-enumeration-cost 2 --time 120";
 TEST(MpiSearch, SeedTaskIsReproducibleAndFindsTheSeedFormula) {
   REQUIRE_MPIRUN();
   // The enumeration up to cost 4 finds the seed's r0 + (x - r0) x^4 (MSE 3.5227e-4 on this data)
-  // or better; the evolution then runs on both ranks.
-  const std::string budget = " --max-enumeration-cost 4 --evals 6680000 --time 120";
+  // or better; then 40,000 candidates of evolution run on both ranks.
+  const fs::path counted = scratch("enumeration.json");
+  const Outcome e =
+      run(std::string(SHADERFIT_CLI_PATH) + kSeedSearch +
+          " --max-enumeration-cost 4 --strategy enumerate --time 120 --json " + counted.string());
+  ASSERT_EQ(e.status, 0) << e.output;
+  const auto enumerated = read_json(counted)["summary"]["candidates"].get<std::int64_t>();
+  const std::string budget =
+      " --max-enumeration-cost 4 --time 120 --evals " + std::to_string(enumerated + 40'000);
   const fs::path first = scratch("first.json"), second = scratch("second.json");
   const Outcome a = run(mpirun(2) + kSeedSearch + budget + " --json " + first.string());
   ASSERT_EQ(a.status, 0) << a.output;

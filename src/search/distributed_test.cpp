@@ -124,7 +124,14 @@ TEST(Distributed, TwoRanksAreReproducibleAndFindTheSeedFormula) {
   const SearchProblem problem = test::fresnel_seed_problem();
   SearchOptions o = short_search();
   o.max_enumeration_cost = 4;
-  o.max_candidates = 6'680'000;  // the enumeration to cost 4, then some evolution
+  // The enumeration to cost 4 (which finds the seed's formula), then 40,000 candidates of
+  // evolution across the ranks.
+  SearchOptions enumeration = o;
+  enumeration.evolve = false;
+  enumeration.max_candidates.reset();
+  SearchSummary e;
+  run_search(enumeration, problem, &e);
+  o.max_candidates = static_cast<std::int64_t>(e.candidates) + 40'000;
   const SearchSummary a = run_on_ranks(2, o, problem);
   const SearchSummary b = run_on_ranks(2, o, problem);
   EXPECT_EQ(formulas(a), formulas(b));

@@ -25,6 +25,12 @@ struct Enumerator::TileOutput {
   float* block = nullptr;
   std::size_t used = kBlockColumns;  // columns used in `block`
   std::vector<const float*> cols;
+  // Room the merge gave back: columns of survivors it dropped (a class made earlier in the batch
+  // computes the same values), used again before new room. Kept across tiles: about half the
+  // survivors are dropped, and their room would otherwise be fresh memory the kernel must zero.
+  std::vector<float*> spare;
+  float* next = nullptr;  // what next_column() returned
+  bool next_is_spare = false;
   bool full = false;
   std::vector<std::uint64_t> table;  // local dedup: (fingerprint << 32) | (index + 1)
   std::vector<float> scratch;        // a fused sum's column (losses without a closed form)
@@ -47,17 +53,22 @@ struct Enumerator::TileOutput {
   // Room for the next candidate's column; keep() makes it survivor records.size()'s.
   // A tile's unused room stays with its output for the next tile (blocks are never returned).
   float* next_column() {
+    next_is_spare = !spare.empty();
+    if (next_is_spare) return next = spare.back();
     if (used == kBlockColumns) {
       float* b = store->allocate_block(kBlockColumns);
       if (b == nullptr) return nullptr;
       block = b;
       used = 0;
     }
-    return block + used * rows;
+    return next = block + used * rows;
   }
   void keep_column() {
-    cols.push_back(block + used * rows);
-    ++used;
+    cols.push_back(next);
+    if (next_is_spare)
+      spare.pop_back();
+    else
+      ++used;
   }
 };
 

@@ -298,14 +298,20 @@ void Enumerator::merge(TileOutput& out, bool materialize) {
     const auto L = static_cast<std::size_t>(level);
     if (out.improves[i] >= 0) {  // a cheaper recipe for a committed class: applied after the batch
       const auto id = static_cast<std::uint32_t>(out.improves[i]);
-      if (!improved_.insert(id).second) continue;  // the first in merge order wins
+      if (!improved_.insert(id).second) {  // the first in merge order wins
+        out.spare.push_back(const_cast<float*>(col));
+        continue;
+      }
       deferred_.push_back({id, col, st, rec, out.fused[i]});
       continue;
     }
     if (const std::int64_t p = store_->find_pending(col, st); p >= 0) {
       const auto id = static_cast<std::uint32_t>(p);
       const int old = store_->record(id).cost;
-      if (old <= level) continue;         // workers checked the committed classes
+      if (old <= level) {  // workers checked the committed classes
+        out.spare.push_back(const_cast<float*>(col));
+        continue;
+      }
       store_->improve(id, col, st, rec);  // a class of the next level, made earlier this batch
       moved_.emplace_back(id, old);
       if (materialize) continue;
