@@ -61,6 +61,7 @@
 #include "shaderfit/report/search_json.hpp"
 #include "shaderfit/report/search_report.hpp"
 #include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/communicator.hpp"
 #include "shaderfit/search/front_member.hpp"
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/report.hpp"

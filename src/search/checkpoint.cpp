@@ -75,10 +75,8 @@ SavedIndividual saved_individual_from(const json& j) {
 namespace {
 
 void check_rng_text(const std::string& text) {
-  std::istringstream in(text);
-  in.imbue(std::locale::classic());
   Rng rng;
-  if (!(in >> rng)) throw BadBody("a random generator state does not read back");
+  if (!rng_from_text(text, &rng)) throw BadBody("a random generator state does not read back");
 }
 
 }  // namespace
@@ -373,10 +371,7 @@ void Checkpointer::begin_evolution(double enumeration_time_s, std::uint64_t dist
   base_.enumeration_time_s = enumeration_time_s;
   base_.distinct_candidates = distinct_candidates;
   base_.enumeration_cost_completed = enumeration_cost_completed;
-  std::ostringstream out;
-  out.imbue(std::locale::classic());
-  out << rng;
-  base_.rng = out.str();
+  base_.rng = rng_text(rng);
 }
 
 Checkpoint Checkpointer::capture(SearchPhase phase) {

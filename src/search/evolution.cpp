@@ -135,10 +135,7 @@ Evolution::Individual Evolution::restored(const SavedIndividual& s) {
 
 SavedIsland Evolution::saved_island(const Island& island) {
   SavedIsland out;
-  std::ostringstream rng;
-  rng.imbue(std::locale::classic());
-  rng << island.rng;
-  out.rng = rng.str();
+  out.rng = rng_text(island.rng);
   for (const Individual& ind : island.population) out.population.push_back(saved(ind));
   return out;
 }
@@ -497,9 +494,7 @@ void Evolution::resume(const EvolutionState& state) {
                 {"SearchOptions::resume_path"});
   for (std::size_t i = 0; i < islands_.size(); ++i) {
     Island& is = islands_[i];
-    std::istringstream rng(state.islands[i].rng);
-    rng.imbue(std::locale::classic());
-    rng >> is.rng;
+    rng_from_text(state.islands[i].rng, &is.rng);  // checked when the checkpoint was read
     is.population.clear();
     for (const SavedIndividual& s : state.islands[i].population)
       is.population.push_back(restored(s));

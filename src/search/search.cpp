@@ -114,13 +114,6 @@ bool follower(const SearchOptions& o) {
   return o.communicator != nullptr && o.communicator->size() > 1 && o.communicator->rank() != 0;
 }
 
-std::string rng_text(const Rng& rng) {
-  std::ostringstream out;
-  out.imbue(std::locale::classic());
-  out << rng;
-  return out.str();
-}
-
 // Across ranks: what rank 0's enumeration (and start formulas, and a resumed checkpoint's front)
 // left, so that every rank starts the evolution from the same front, seeds, counts and generator.
 void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
@@ -135,7 +128,6 @@ void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
     j = {{"front", front},
          {"seeds", seed},
          {"candidates", ctx.candidates.load()},
-         {"node_evaluations", ctx.node_evaluations.load()},
          {"distinct", s->distinct_candidates},
          {"cost_completed", s->enumeration_cost_completed},
          {"elapsed", search_detail::exact_number(ctx.elapsed())},
@@ -156,9 +148,8 @@ void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
   s->distinct_candidates = j.at("distinct").get<std::uint64_t>();
   s->enumeration_cost_completed = j.at("cost_completed").get<int>();
   ctx.resume_clock(search_detail::exact_number_from(j.at("elapsed")) - ctx.elapsed());
-  std::istringstream state(j.at("rng").get<std::string>());
-  state.imbue(std::locale::classic());
-  state >> *rng;
+  if (!rng_from_text(j.at("rng").get<std::string>(), rng))
+    throw Error("rank 0 sent a generator state that does not read back", {"communicator"});
   if (j.at("stopped").get<bool>()) {
     for (Termination t : {Termination::Done, Termination::TimeLimit, Termination::CandidateLimit,
                           Termination::TargetReached, Termination::Interrupted})
@@ -195,9 +186,7 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     s.distinct_candidates = resumed->distinct_candidates;
     s.enumeration_cost_completed = resumed->enumeration_cost_completed;
     s.enumeration_time_s = resumed->enumeration_time_s;
-    std::istringstream state(resumed->rng);
-    state.imbue(std::locale::classic());
-    state >> rng;
+    rng_from_text(resumed->rng, &rng);  // checked when the checkpoint was read
     if (checkpoints)
       checkpoints->begin_evolution(s.enumeration_time_s, s.distinct_candidates,
                                    s.enumeration_cost_completed, rng);

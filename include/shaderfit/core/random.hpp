@@ -9,6 +9,8 @@
 
 #include <cstdint>
 #include <random>
+#include <string>
+#include <string_view>
 
 namespace shaderfit {
 
@@ -28,5 +30,11 @@ inline std::uint64_t uniform_index(Rng& rng, std::uint64_t n) {
 
 // True with probability p.
 inline bool bernoulli(Rng& rng, double p) { return uniform01(rng) < p; }
+
+// The generator's whole state as text (operator<< in the classic locale), and back: how
+// checkpoints and the ranks of a distributed search carry it. rng_from_text returns false, and
+// leaves *rng as it was, for text that is not such a state.
+std::string rng_text(const Rng& rng);
+bool rng_from_text(std::string_view text, Rng* rng);
 
 }  // namespace shaderfit
