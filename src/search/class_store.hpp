@@ -62,6 +62,14 @@ class ClassStore {
   [[nodiscard]] std::int64_t find_committed(const float* column, const ColumnStats& stats) const;
   // A class of the current batch equivalent to `column`, or -1. Merging thread only.
   [[nodiscard]] std::int64_t find_pending(const float* column, const ColumnStats& stats) const;
+  // Asks the cache for the pending-table slot find_pending(stats) reads first: the table is
+  // larger than the cache, so the merge prefetches a few survivors ahead. Merging thread only.
+  void prefetch_pending(const ColumnStats& stats) const {
+    __builtin_prefetch(&pending_table_[stats.hash & (pending_table_.size() - 1)]);
+  }
+  // Then, once that slot is in the cache, the column of the class it names when the fingerprint
+  // matches (the column find_pending compares first).
+  void prefetch_pending_column(const ColumnStats& stats) const;
   // Appends a class (the caller checked it is new and !full()); returns its id. Merging thread.
   // `column` must be in a block from allocate_block (insert_copy copies it into one).
   std::uint32_t insert(const float* column, const ColumnStats& stats, ClassRecord record);

@@ -290,7 +290,15 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
 }
 
 void Enumerator::merge(TileOutput& out, bool materialize) {
-  for (std::size_t i = 0; i < out.records.size(); ++i) {
+  // The pending table and the columns it points to are larger than the cache: each survivor's
+  // table slot is fetched 2k survivors ahead, and the column it names k ahead.
+  constexpr std::size_t k = 8;
+  const std::size_t n = out.records.size();
+  for (std::size_t i = 0; i < std::min(n, 2 * k); ++i) store_->prefetch_pending(out.stats[i]);
+  for (std::size_t i = 0; i < std::min(n, k); ++i) store_->prefetch_pending_column(out.stats[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i + 2 * k < n) store_->prefetch_pending(out.stats[i + 2 * k]);
+    if (i + k < n) store_->prefetch_pending_column(out.stats[i + k]);
     const float* col = out.column(i);
     const ColumnStats& st = out.stats[i];
     const ClassRecord& rec = out.records[i];
