@@ -5,13 +5,22 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <condition_variable>
 #include <deque>
+#include <functional>
 #include <map>
 #include <mutex>
+#include <set>
 #include <thread>
 
+#include "search/exact_json.hpp"
+#include "search/search_context.hpp"
 #include "search/seed_problem_test_util.hpp"
+#include "shaderfit/cost/cost_model.hpp"
+#include "shaderfit/eval/loss.hpp"
+#include "shaderfit/expr/print.hpp"
+#include "shaderfit/expr/simplify.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -36,6 +45,7 @@ class LocalRank final : public Communicator {
   [[nodiscard]] int size() const override { return g_.size; }
 
   std::vector<std::string> all_gather(std::string_view mine) override {
+    gathered.emplace_back(mine);
     std::unique_lock lock(g_.mutex);
     const std::uint64_t phase = g_.phase;
     g_.slots[static_cast<std::size_t>(rank_)] = std::string(mine);
@@ -69,13 +79,18 @@ class LocalRank final : public Communicator {
     return out;
   }
 
+  std::vector<std::string> gathered;  // what this rank gave every all_gather
+
  private:
   LocalGroup& g_;
   int rank_;
 };
 
-// Runs the search on `ranks` threads; returns rank 0's summary and checks the others'.
-SearchSummary run_on_ranks(int ranks, SearchOptions options, const SearchProblem& problem) {
+// Runs the search on `ranks` threads; returns rank 0's summary and checks the others'. `each`
+// may add what only observes (a callback) to a rank's options; `members` keeps the ranks.
+SearchSummary run_on_ranks(int ranks, SearchOptions options, const SearchProblem& problem,
+                           const std::function<void(int, SearchOptions&)>& each = {},
+                           std::vector<LocalRank>* kept = nullptr) {
   LocalGroup group(ranks);
   std::vector<LocalRank> members;
   for (int r = 0; r < ranks; ++r) members.emplace_back(group, r);
@@ -85,11 +100,13 @@ SearchSummary run_on_ranks(int ranks, SearchOptions options, const SearchProblem
     threads.emplace_back([&, r] {
       SearchOptions o = options;
       o.communicator = &members[static_cast<std::size_t>(r)];  // the same options otherwise
+      if (each) each(r, o);
       run_search(o, problem, &summaries[static_cast<std::size_t>(r)]);
     });
   }
   for (std::thread& t : threads) t.join();
   for (int r = 1; r < ranks; ++r) EXPECT_TRUE(summaries[static_cast<std::size_t>(r)].front.empty());
+  if (kept != nullptr) *kept = std::move(members);
   return summaries.front();
 }
 
@@ -161,6 +178,70 @@ TEST(Distributed, ResumedRunEndsAsTheUninterruptedOne) {
   EXPECT_EQ(formulas(a), formulas(b));
   EXPECT_EQ(a.candidates, b.candidates);
   EXPECT_EQ(a.generations, b.generations);
+}
+
+// The front every rank holds is built from what the ranks reported at their synchronisations:
+// rank 0's front after the evolution holds a member as good as every candidate any rank sent
+// (nothing is lost on the way), and each member the evolution added is one of them or its
+// simplified form (nothing comes from elsewhere). Every rank announces the same members.
+TEST(Distributed, TheFrontIsTheUnionOfWhatTheRanksReported) {
+  const SearchProblem problem = test::fresnel_seed_problem();
+  SearchOptions o = short_search();
+  o.max_candidates = 30'000;
+  constexpr int kRanks = 3;
+  std::vector<std::vector<FrontMember>> announced(kRanks);
+  std::vector<LocalRank> ranks;
+  (void)run_on_ranks(
+      kRanks, o, problem,
+      [&](int r, SearchOptions& each) {
+        each.on_new_member = [&announced, r](const FrontMember& m) {
+          announced[static_cast<std::size_t>(r)].push_back(m);
+        };
+      },
+      &ranks);
+  // The other ranks take rank 0's front before the evolution whole (nothing is announced then).
+  const auto evolved = [](const std::vector<FrontMember>& all) {
+    std::vector<std::string> out;
+    for (const FrontMember& m : all)
+      if (m.origin == SearchPhase::Evolution) out.push_back(m.formula);
+    return out;
+  };
+  ASSERT_FALSE(evolved(announced[0]).empty());
+  for (int r = 1; r < kRanks; ++r)
+    EXPECT_EQ(evolved(announced[static_cast<std::size_t>(r)]), evolved(announced[0]));
+  // Every candidate each rank sent at a synchronisation, as one process scores it.
+  search_detail::SearchContext scorer(o, problem);
+  std::set<std::string> reported_formulas;
+  std::size_t reported = 0, checked = 0;
+  for (const LocalRank& rank : ranks) {
+    for (const std::string& bytes : rank.gathered) {
+      if (bytes.empty()) continue;  // a broadcast's receivers give nothing
+      const nlohmann::json message = nlohmann::json::from_cbor(bytes);
+      if (!message.is_object() || !message.contains("islands")) continue;
+      for (const nlohmann::json& island : message.at("islands")) {
+        for (const nlohmann::json& c : island.at(2)) {
+          const Expression e = search_detail::exact_expression_from(c.at(0));
+          ++reported;
+          reported_formulas.insert(to_infix(e, {.substitute_parameters = true}));
+          reported_formulas.insert(to_infix(simplify(e), {.substitute_parameters = true}));
+          if (!scorer.finite_everywhere(e)) continue;
+          const double loss = loss_value(o.loss, scorer.score(e));
+          if (!std::isfinite(loss)) continue;
+          const double cost = expression_cost(e, o.cost);
+          ++checked;
+          bool covered = false;
+          for (const FrontMember& m : announced[0])
+            covered = covered || (m.cost <= cost && m.loss <= loss * (1 + 1e-9) + 1e-300);
+          EXPECT_TRUE(covered) << "reported but lost: " << to_infix(e) << " (cost " << cost
+                               << ", loss " << loss << ")";
+        }
+      }
+    }
+  }
+  EXPECT_GT(checked, 0u);
+  EXPECT_GE(reported, evolved(announced[0]).size());
+  for (const std::string& f : evolved(announced[0]))
+    EXPECT_TRUE(reported_formulas.count(f) > 0) << "not reported by any rank: " << f;
 }
 
 TEST(Distributed, FewerIslandsThanRanksIsAnError) {
