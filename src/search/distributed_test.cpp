@@ -141,13 +141,12 @@ TEST(Distributed, TwoRanksAreReproducibleAndFindTheSeedFormula) {
   const SearchProblem problem = test::fresnel_seed_problem();
   SearchOptions o = short_search();
   o.max_enumeration_cost = 4;
-  // The enumeration to cost 4 (which finds the seed's formula), then 40,000 candidates of
-  // evolution across the ranks.
+  // The enumeration to cost 4 (which finds the seed's formula) across the ranks, then 40,000
+  // candidates of evolution.
   SearchOptions enumeration = o;
   enumeration.evolve = false;
   enumeration.max_candidates.reset();
-  SearchSummary e;
-  run_search(enumeration, problem, &e);
+  const SearchSummary e = run_on_ranks(2, enumeration, problem);
   o.max_candidates = static_cast<std::int64_t>(e.candidates) + 40'000;
   const SearchSummary a = run_on_ranks(2, o, problem);
   const SearchSummary b = run_on_ranks(2, o, problem);
@@ -216,7 +215,8 @@ TEST(Distributed, TheFrontIsTheUnionOfWhatTheRanksReported) {
   for (const LocalRank& rank : ranks) {
     for (const std::string& bytes : rank.gathered) {
       if (bytes.empty()) continue;  // a broadcast's receivers give nothing
-      const nlohmann::json message = nlohmann::json::from_cbor(bytes);
+      // The evolution's synchronisations are CBOR; the enumeration's records are not.
+      const nlohmann::json message = nlohmann::json::from_cbor(bytes, true, false);
       if (!message.is_object() || !message.contains("islands")) continue;
       for (const nlohmann::json& island : message.at("islands")) {
         for (const nlohmann::json& c : island.at(2)) {
@@ -242,6 +242,31 @@ TEST(Distributed, TheFrontIsTheUnionOfWhatTheRanksReported) {
   EXPECT_GE(reported, evolved(announced[0]).size());
   for (const std::string& f : evolved(announced[0]))
     EXPECT_TRUE(reported_formulas.count(f) > 0) << "not reported by any rank: " << f;
+}
+
+// The enumeration split across ranks finds the classes one process finds, and the same front.
+TEST(Distributed, EnumerationAcrossRanksFindsWhatOneProcessFinds) {
+  const SearchProblem problem = test::fresnel_seed_problem();
+  SearchOptions o = short_search();
+  o.max_enumeration_cost = 3;  // levels whose batches complete: the counts are equal too
+  o.evolve = false;
+  o.max_candidates.reset();
+  SearchSummary one;
+  run_search(o, problem, &one);
+  for (int ranks : {2, 3}) {
+    const SearchSummary many = run_on_ranks(ranks, o, problem);
+    EXPECT_EQ(many.distinct_candidates, one.distinct_candidates) << ranks << " ranks";
+    EXPECT_EQ(many.candidates, one.candidates) << ranks << " ranks";
+    EXPECT_EQ(many.enumeration_cost_completed, 3);
+    EXPECT_EQ(formulas(many), formulas(one)) << ranks << " ranks";
+  }
+  // Stopped in the middle of a batch by a full class store: the same classes and front.
+  o.max_enumeration_cost = 4;
+  o.max_classes = 100'000;
+  run_search(o, problem, &one);
+  const SearchSummary many = run_on_ranks(2, o, problem);
+  EXPECT_EQ(many.distinct_candidates, one.distinct_candidates);
+  EXPECT_EQ(formulas(many), formulas(one));
 }
 
 TEST(Distributed, FewerIslandsThanRanksIsAnError) {
