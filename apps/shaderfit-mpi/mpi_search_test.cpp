@@ -93,12 +93,11 @@ const std::string kShort = " --max-enumeration-cost 2 --time 120";
 TEST(MpiSearch, SeedTaskIsReproducibleAndFindsTheSeedFormula) {
   REQUIRE_MPIRUN();
   // The enumeration up to cost 4 finds the seed's r0 + (x - r0) x^4 (MSE 3.5227e-4 on this data)
-  // or better; then 40,000 candidates of evolution run on both ranks. (Counted on 2 ranks: they
-  // stop at the end of a round of tiles, not of a tile.)
+  // or better; then 40,000 candidates of evolution run on both ranks.
   const fs::path counted = scratch("enumeration.json");
-  const Outcome e = run(mpirun(2) + kSeedSearch +
-                        " --max-enumeration-cost 4 --strategy enumerate --time 120 --json " +
-                        counted.string());
+  const Outcome e =
+      run(mpirun(2) + kSeedSearch +
+          " --max-enumeration-cost 4 --strategy enumerate --time 120 --json " + counted.string());
   ASSERT_EQ(e.status, 0) << e.output;
   const auto enumerated = read_json(counted)["summary"]["candidates"].get<std::int64_t>();
   const std::string budget =

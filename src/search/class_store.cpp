@@ -107,7 +107,6 @@ std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats,
   records_[id] = record;
   columns_[id] = column;
   hashes_.push_back(stats.hash);
-  if (sharded_) return id;
   const std::uint32_t pending = size_ - committed_;
   if (pending_table_.size() < 2 * pending) {  // keep it at most half full
     std::vector<std::uint64_t> bigger(2 * pending_table_.size(), 0);
@@ -127,7 +126,7 @@ void ClassStore::improve(std::uint32_t id, const float* column, const ColumnStat
       records_[id].has(ClassRecord::kCanonicalNeg) != record.has(ClassRecord::kCanonicalNeg);
   records_[id] = record;
   columns_[id] = column;
-  if (!sign_changed || (sharded_ && id >= committed_)) return;
+  if (!sign_changed) return;
   // The slot records the stored column's canonical sign: flip it.
   std::vector<std::uint64_t>& table = id >= committed_ ? pending_table_ : committed_table_;
   const std::size_t mask = table.size() - 1;

@@ -80,13 +80,6 @@ class ClassStore {
   void improve(std::uint32_t id, const float* column, const ColumnStats& stats, ClassRecord record);
   // Room for `columns` columns in the arena, or null when it is spent. Thread-safe.
   float* allocate_block(std::size_t columns);
-
-  // Across ranks (enum_ranks.cpp), the classes of a batch are deduplicated by the rank that owns
-  // their hash, not here: insert() and improve() leave the pending table alone, and a class
-  // inserted with a null column gets it (set_column) before the next batch reads it.
-  void set_sharded(bool sharded) { sharded_ = sharded; }
-  void set_column(std::uint32_t id, const float* column) { columns_[id] = column; }
-  [[nodiscard]] std::size_t verify_rows() const { return verify_rows_; }
   // Ends a batch: the pending classes become committed. No batch may be running.
   void commit();
 
@@ -107,7 +100,6 @@ class ClassStore {
   std::vector<std::uint64_t> committed_table_, pending_table_;  // (fingerprint << 32) | (id + 1)
   std::vector<std::uint64_t> hashes_;                           // per class, for rebuilding
   std::uint32_t size_ = 0, committed_ = 0;
-  bool sharded_ = false;
 };
 
 }  // namespace shaderfit::search_detail

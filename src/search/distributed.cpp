@@ -46,15 +46,4 @@ std::vector<nlohmann::json> RankGroup::exchange(
   return out;
 }
 
-std::vector<std::string> RankGroup::all_gather_bytes(std::string mine) {
-  bytes_sent_ += mine.size();
-  return comm_->all_gather(mine);
-}
-
-std::vector<std::string> RankGroup::exchange_bytes(
-    const std::vector<std::pair<int, std::string>>& sends, const std::vector<int>& from) {
-  for (const auto& [to, bytes] : sends) bytes_sent_ += bytes.size();
-  return comm_->exchange(sends, from);
-}
-
 }  // namespace shaderfit::search_detail

@@ -4,7 +4,6 @@
 
 #include <cstdint>
 #include <nlohmann/json.hpp>
-#include <string>
 #include <utility>
 #include <vector>
 
@@ -34,11 +33,6 @@ class RankGroup {
   nlohmann::json broadcast(const nlohmann::json& value, int root);
   std::vector<nlohmann::json> exchange(const std::vector<std::pair<int, nlohmann::json>>& sends,
                                        const std::vector<int>& from);
-
-  // As Communicator's, on bytes as they are (the enumeration's binary records).
-  std::vector<std::string> all_gather_bytes(std::string mine);
-  std::vector<std::string> exchange_bytes(const std::vector<std::pair<int, std::string>>& sends,
-                                          const std::vector<int>& from);
 
   // The bytes this rank has sent (its payloads).
   [[nodiscard]] std::uint64_t bytes_sent() const { return bytes_sent_; }

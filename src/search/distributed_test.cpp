@@ -215,7 +215,7 @@ TEST(Distributed, TheFrontIsTheUnionOfWhatTheRanksReported) {
   for (const LocalRank& rank : ranks) {
     for (const std::string& bytes : rank.gathered) {
       if (bytes.empty()) continue;  // a broadcast's receivers give nothing
-      // The evolution's synchronisations are CBOR; the enumeration's records are not.
+      // The evolution's synchronisations (other messages are skipped).
       const nlohmann::json message = nlohmann::json::from_cbor(bytes, true, false);
       if (!message.is_object() || !message.contains("islands")) continue;
       for (const nlohmann::json& island : message.at("islands")) {
@@ -244,7 +244,7 @@ TEST(Distributed, TheFrontIsTheUnionOfWhatTheRanksReported) {
     EXPECT_TRUE(reported_formulas.count(f) > 0) << "not reported by any rank: " << f;
 }
 
-// The enumeration split across ranks finds the classes one process finds, and the same front.
+// Across ranks the enumeration finds the classes one process finds, and the same front.
 TEST(Distributed, EnumerationAcrossRanksFindsWhatOneProcessFinds) {
   const SearchProblem problem = test::fresnel_seed_problem();
   SearchOptions o = short_search();

@@ -3,7 +3,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <unordered_set>
 #include <vector>
 
 #include "search/class_store.hpp"
@@ -70,30 +69,6 @@ struct Enumerator::TileOutput {
       spare.pop_back();
     else
       ++used;
-  }
-};
-
-// Across ranks, during a batch: the pending classes whose hash this rank owns (it alone
-// deduplicates candidates with that hash), and where the candidates it receives are computed.
-struct Enumerator::Shard {
-  struct Entry {
-    const float* column;
-    std::uint64_t hash;
-    bool canonical_neg;
-    int cost;
-  };
-  std::vector<Entry> entries;                   // by handle: the order this rank made them
-  std::vector<std::uint64_t> table;             // (hash >> 32) << 32 | (handle + 1)
-  std::unordered_set<std::uint32_t> improved;   // committed classes given a cheaper recipe
-  std::vector<std::vector<std::uint32_t>> ids;  // per owner rank: its handles' class ids
-  TileOutput received;                          // room for the columns of received candidates
-
-  void clear(int ranks, std::size_t rows) {
-    entries.clear();
-    table.assign(4096, 0);
-    improved.clear();
-    ids.assign(static_cast<std::size_t>(ranks), {});
-    received.clear(rows);
   }
 };
 

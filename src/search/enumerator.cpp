@@ -29,7 +29,6 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
     piecewise = piecewise || op == Op::Min || op == Op::Max || op == Op::Abs ||
                 op == Op::Saturate || op == Op::Sign || op == Op::CopySign || op == Op::Select;
   store_ = std::make_unique<ClassStore>(screen_rows_, o.max_classes, piecewise ? screen_rows_ : 64);
-  store_->set_sharded(ctx.ranks.distributed());
   const std::size_t levels = static_cast<std::size_t>(std::max(o.max_enumeration_cost, 0)) + 2;
   level_ids_.resize(levels);
   fusable_ids_.resize(levels);
@@ -163,8 +162,6 @@ bool Enumerator::fusable(const ClassRecord& r) const {
 }
 
 bool Enumerator::enumeration_should_stop() {
-  // Across ranks every stop is the ranks' joint decision, taken in run_batch_ranks.
-  if (ctx_.ranks.distributed()) return exhausted_.load(std::memory_order_relaxed);
   if (ctx_.should_stop() || exhausted_.load(std::memory_order_relaxed)) return true;
   // CPU seconds per thread cannot exceed wall seconds: the process clock (a system call) is read
   // only once the wall clock has passed the share.
@@ -202,8 +199,7 @@ void Enumerator::run() {
     const bool complete = run_batch(steps, false);
     prune_elite(level);
     if (complete) cost_completed_ = level;
-    if ((ctx_.stopped() && !ctx_.ranks.distributed()) || exhausted_.load(std::memory_order_relaxed))
-      break;
+    if (ctx_.stopped() || exhausted_.load(std::memory_order_relaxed)) break;
   }
 }
 
@@ -228,7 +224,6 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
   const std::vector<Tile> tiles = make_tiles(steps, &complete);
   const std::size_t n = tiles.size();
   if (n == 0) return true;
-  if (ctx_.ranks.distributed()) return run_batch_ranks(steps, tiles, complete, materialize);
   const auto threads = static_cast<std::size_t>(ctx_.threads);
   std::vector<std::unique_ptr<TileOutput>> outputs(n);
   std::unique_ptr<std::atomic<bool>[]> ready(new std::atomic<bool>[n]);
@@ -354,7 +349,6 @@ void Enumerator::finish_improvements(bool materialize) {
   for (const Improvement& d : deferred_) {
     moved_.emplace_back(d.id, store_->record(d.id).cost);
     store_->improve(d.id, d.column, d.stats, d.record);
-    if (d.column == nullptr) missing_columns_.push_back(d.id);  // another rank owns it
   }
   if (!moved_.empty()) {
     // Move each improved class to its new level's lists. A product whose new level's fused sums

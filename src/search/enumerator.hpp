@@ -78,13 +78,6 @@ class Enumerator {
   // fused sums into classes (already offered to the front). Returns whether the batch's own
   // level is complete (false when the enumeration stopped before).
   bool run_batch(const std::vector<Step>& steps, bool materialize);
-  // Across ranks (enum_ranks.cpp): the batch's tiles are shared out round robin; each new
-  // candidate is deduplicated by the rank that owns its hash, and every rank applies the owners'
-  // decisions in the tiles' order, so all hold the same classes (those one process finds).
-  bool run_batch_ranks(const std::vector<Step>& steps, const std::vector<Tile>& tiles,
-                       std::size_t complete, bool materialize);
-  // Before a batch across ranks: computes the columns of classes another rank owns.
-  bool replicate_columns();
   void materialize_fused(int level);
   void process_tile(const Step& step, const Tile& tile, TileOutput& out) const;
   int emit(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,
@@ -146,9 +139,6 @@ class Enumerator {
     FusedBest fused;
   };
   std::vector<Improvement> deferred_;
-  struct Shard;  // the classes whose hash this rank owns, during a batch across ranks
-  std::unique_ptr<Shard> shard_;
-  std::vector<std::uint32_t> missing_columns_;        // classes without their column here
   std::vector<std::pair<std::uint32_t, int>> moved_;  // (class, its former level)
   std::unordered_set<std::uint32_t> improved_;        // committed classes improved this batch
   int cost_completed_ = -1;

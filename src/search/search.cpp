@@ -114,9 +114,8 @@ bool follower(const SearchOptions& o) {
   return o.communicator != nullptr && o.communicator->size() > 1 && o.communicator->rank() != 0;
 }
 
-// Across ranks: what rank 0 holds after the enumeration (the front with the start formulas and a
-// resumed checkpoint's, the seeds, the counts, the generator), so that every rank starts the
-// evolution from the same state. (Each rank counts its own node evaluations.)
+// Across ranks: what rank 0's enumeration (and start formulas, and a resumed checkpoint's front)
+// left, so that every rank starts the evolution from the same front, seeds, counts and generator.
 void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
                        std::vector<Expression>* seeds, Rng* rng) {
   using nlohmann::json;
@@ -145,6 +144,7 @@ void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
   seeds->clear();
   for (const json& e : j.at("seeds")) seeds->push_back(search_detail::exact_expression_from(e));
   ctx.candidates.store(j.at("candidates").get<std::uint64_t>());
+  ctx.node_evaluations.store(0);  // rank 0 counts the enumeration's work
   s->distinct_candidates = j.at("distinct").get<std::uint64_t>();
   s->enumeration_cost_completed = j.at("cost_completed").get<int>();
   ctx.resume_clock(search_detail::exact_number_from(j.at("elapsed")) - ctx.elapsed());
@@ -197,20 +197,21 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     // Afresh, or from a checkpoint taken during the enumeration: the enumeration runs again
     // (with count stops it finds the same classes), then the checkpoint's front joins.
     // The start formulas first, so that they seed the evolution whatever the enumeration finds.
-    // Across ranks rank 0 offers the start formulas and keeps the front; every rank enumerates
-    // its share (enum_ranks.cpp).
+    // Across ranks rank 0 does this part alone, and the others take what it left.
     std::vector<Expression> seeds;
-    if (ctx.ranks.leader()) seeds = search_detail::offer_start_formulas(ctx, starts);
-    if (options.enumerate) {
-      search_detail::Enumerator enumerator(ctx, rng);
-      enumerator.run();
-      s.distinct_candidates = enumerator.classes();
-      s.enumeration_cost_completed = enumerator.cost_completed();
-      if (options.evolve && ctx.ranks.leader())
-        for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
+    if (ctx.ranks.leader()) {
+      seeds = search_detail::offer_start_formulas(ctx, starts);
+      if (options.enumerate) {
+        search_detail::Enumerator enumerator(ctx, rng);
+        enumerator.run();
+        s.distinct_candidates = enumerator.classes();
+        s.enumeration_cost_completed = enumerator.cost_completed();
+        if (options.evolve)
+          for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
+      }
+      if (resumed)
+        for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));
     }
-    if (resumed && ctx.ranks.leader())
-      for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));
     if (distributed) share_enumeration(ctx, &s, &seeds, &rng);
     s.enumeration_time_s = ctx.elapsed();
     if (options.evolve && !ctx.should_stop()) {
