@@ -96,7 +96,7 @@ TEST(MpiSearch, SeedTaskIsReproducibleAndFindsTheSeedFormula) {
   // or better; then 40,000 candidates of evolution run on both ranks.
   const fs::path counted = scratch("enumeration.json");
   const Outcome e =
-      run(mpirun(2) + kSeedSearch +
+      run(std::string(SHADERFIT_CLI_PATH) + kSeedSearch +
           " --max-enumeration-cost 4 --strategy enumerate --time 120 --json " + counted.string());
   ASSERT_EQ(e.status, 0) << e.output;
   const auto enumerated = read_json(counted)["summary"]["candidates"].get<std::int64_t>();

@@ -87,7 +87,7 @@ class LocalRank final : public Communicator {
 };
 
 // Runs the search on `ranks` threads; returns rank 0's summary and checks the others'. `each`
-// may add what only observes (a callback) to a rank's options; `members` keeps the ranks.
+// may add what only observes (a callback) to a rank's options; `kept` receives the ranks.
 SearchSummary run_on_ranks(int ranks, SearchOptions options, const SearchProblem& problem,
                            const std::function<void(int, SearchOptions&)>& each = {},
                            std::vector<LocalRank>* kept = nullptr) {
