@@ -11,7 +11,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <locale>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>

@@ -3,10 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <locale>
 #include <map>
 #include <set>
-#include <sstream>
 
 #include "search/constant_fit.hpp"
 #include "search/exact_json.hpp"

@@ -2,11 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <locale>
 #include <memory>
 #include <optional>
 #include <set>
-#include <sstream>
 
 #include "search/checkpoint.hpp"
 #include "search/constant_fit.hpp"
