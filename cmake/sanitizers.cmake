@@ -63,7 +63,8 @@ function(shaderfit_sanitized_part)
   shaderfit_warnings(shaderfit_part)
   set(fuzz_dir ${PROJECT_SOURCE_DIR}/fuzz)
   add_executable(shaderfit_part_tests ${tests} ${fuzz_dir}/fuzz_regressions_test.cpp
-                 ${fuzz_dir}/formula_fuzz.cpp ${fuzz_dir}/csv_fuzz.cpp ${fuzz_dir}/front_fuzz.cpp)
+                 ${fuzz_dir}/formula_fuzz.cpp ${fuzz_dir}/csv_fuzz.cpp ${fuzz_dir}/front_fuzz.cpp
+                 ${fuzz_dir}/reference_fuzz.cpp ${fuzz_dir}/shader_fuzz.cpp)
   target_include_directories(shaderfit_part_tests PRIVATE ${PROJECT_SOURCE_DIR}/src)
   target_link_libraries(shaderfit_part_tests PRIVATE shaderfit_part GTest::gtest_main
                         Eigen3::Eigen nlohmann_json::nlohmann_json)

@@ -32,8 +32,8 @@ std::vector<std::uint8_t> bytes_of(const fs::path& path) {
   return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
 }
 
-// Each target compiled into this program (all four in shaderfit_tests; the sanitizer part of
-// scripts/test holds formula, csv and front).
+// Each target compiled into this program (all of them in shaderfit_tests; the sanitizer part of
+// scripts/test holds formula, csv, front, reference and shader).
 TEST(FuzzInputs, SeedsAndRegressionsRunClean) {
   const fs::path root = fs::path(SHADERFIT_SOURCE_DIR) / "fuzz";
   ASSERT_FALSE(registered_targets().empty());

@@ -40,6 +40,11 @@ void front(const std::uint8_t* data, std::size_t size);
 // checkpoint: parse_checkpoint (`shaderfit search --resume FILE`), its write-back round trip and
 //   the check against a search's data and options.
 void checkpoint(const std::uint8_t* data, std::size_t size);
+// reference: compile_reference on a reference formula (the lines before the last: definitions),
+//   the program's checks (program_checks.hpp), and the superset of parse_formula it must be.
+// shader: compile_reference on a GLSL or HLSL source whose first line names the function.
+void reference(const std::uint8_t* data, std::size_t size);
+void shader(const std::uint8_t* data, std::size_t size);
 
 struct Target {
   const char* name;  // also the folder under fuzz/corpus and fuzz/regressions

@@ -1,0 +1,232 @@
+// The reference language's parts, shared by its two front ends (language.cpp: formulas and
+// definitions; language_shader.cpp: GLSL and HLSL functions): tokens (language_lexer.cpp), the
+// program builder with constant folding and the function library (language_library.cpp), and
+// the one expression parser (language_expression.cpp). Internal to src/reference/.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
+
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/reference/builtin.hpp"
+#include "shaderfit/reference/language.hpp"
+#include "shaderfit/reference/program.hpp"
+
+namespace shaderfit::reference::detail {
+
+// Parentheses, calls, signs, `?:`, blocks and inlined calls nest at most this deep (as
+// expr/parse.hpp's kMaxFormulaNesting), so that no input can exhaust the parser's stack.
+inline constexpr int kMaxNesting = 256;
+// Instructions in one program at most (a shader's inlined calls can multiply its size).
+inline constexpr std::size_t kMaxInstructions = std::size_t{1} << 18;
+
+// Formulas (the approximation's syntax and its extensions, `^` is a power) or shader code
+// (C's symbols and comments, literal suffixes, preprocessor lines; `^` is C's exclusive or).
+enum class Dialect { Formula, Shader };
+
+struct Token {
+  enum Kind : std::uint8_t { Number, Ident, Symbol, Directive, End };
+  Kind kind = End;
+  bool integral = false;  // a number written without '.', exponent or float suffix
+  std::string_view text;  // Directive: the line after '#'
+  double number = 0;
+  int line = 1, column = 1;
+
+  [[nodiscard]] bool is(std::string_view symbol) const { return kind == Symbol && text == symbol; }
+  [[nodiscard]] bool is_word(std::string_view word) const { return kind == Ident && text == word; }
+};
+
+// "'x'", or "end of formula" / "end of file" for End.
+std::string describe(const Token& t, Dialect dialect);
+
+// The tokens of `text`, ending with one End token; `line` and `column` are the position of
+// text[0]. Throws Error at the offending character for a malformed number or a character
+// outside the dialect.
+std::vector<Token> tokenize(std::string_view text, Dialect dialect, const std::string& source,
+                            int line = 1, int column = 1);
+
+[[noreturn]] void fail_at(const std::string& message, const std::string& source, const Token& at);
+
+using Reg = std::uint32_t;
+
+// Appends instructions to a Program. Instructions whose operands are all constants are
+// evaluated at once (by the one interpreter) and become constants; a select with a constant
+// condition or equal operands is its operand; equal constants share one register.
+class ProgramBuilder {
+ public:
+  ProgramBuilder(Program& program, std::string source);
+
+  Reg constant(double v);
+  Reg input(int index);
+  Reg emit(ProgramOp op, std::span<const Reg> operands, std::int32_t index = 0);
+  Reg emit(ProgramOp op, Reg a) { return emit(op, std::span<const Reg>(&a, 1)); }
+  Reg emit(ProgramOp op, Reg a, Reg b) {
+    const Reg r[] = {a, b};
+    return emit(op, r);
+  }
+  Reg emit(ProgramOp op, Reg a, Reg b, Reg c) {
+    const Reg r[] = {a, b, c};
+    return emit(op, r);
+  }
+  // The register's value when it is a constant.
+  [[nodiscard]] std::optional<double> constant_value(Reg r) const;
+  // Where an error about the program's size is located: the token being compiled.
+  void at(const Token& t) {
+    line_ = t.line;
+    column_ = t.column;
+  }
+  [[nodiscard]] const Program& program() const { return program_; }
+
+ private:
+  Reg append(const Instruction& in);
+
+  Program& program_;
+  std::string source_;
+  int line_ = 0, column_ = 0;
+  std::unordered_map<std::uint64_t, Reg> constants_;  // by bit pattern
+  Program fold_;                                      // scratch for constant folding
+  std::vector<double> fold_registers_;
+};
+
+// Drops the instructions no output depends on (folded constants' operands, the untaken side of
+// a constant condition) and renumbers the rest.
+void remove_dead_code(Program& program);
+
+// The types of shader values; formulas have only Float. Bool values are 0 or 1.
+enum class Type : std::uint8_t { Float, Int, Bool };
+
+struct Value {
+  Reg reg = 0;
+  Type type = Type::Float;
+};
+
+// Where a library function is offered.
+enum Library : unsigned { kFormulaLibrary = 1u, kShaderLibrary = 2u };
+
+struct LibraryFunction {
+  std::string_view name;
+  int arity;
+  unsigned libraries;
+  ProgramOp op;  // the instruction, when `expand` is null
+  Value (*expand)(ProgramBuilder&, std::span<const Value>);
+  bool keeps_int;  // Int arguments give an Int (abs, sign, min, max, clamp)
+};
+
+// The entries named `name` offered in `library` (an overloaded name has one per arity).
+std::vector<const LibraryFunction*> find_library_function(std::string_view name, Library library);
+// The built-in reference called `name` in formulas (its name with '_' for '-'), or nullptr.
+const BuiltinFunction* find_builtin_by_call_name(std::string_view name);
+std::string builtin_call_name(const BuiltinFunction& f);
+// Every name a library offers, sorted (formulas: with the built-in references).
+std::vector<std::string> library_function_names(Library library);
+
+// The name among `known` closest to `name` by edit distance, when it is close enough to be
+// worth suggesting ("" otherwise).
+std::string closest_name(std::string_view name, std::span<const std::string> known);
+// "a, b, c".
+std::string join_names(std::span<const std::string> names);
+
+// The scalar type a shader type name denotes (float, half, double, min16float; int, uint; bool).
+std::optional<Type> scalar_type(std::string_view name);
+
+// A value converted to a type (shader declarations, parameters, returns): Float to Int
+// truncates, anything to Bool compares with 0.
+Value convert(ProgramBuilder& b, Value v, Type to);
+
+// Recursive descent over a token range with C's precedence (?: || && == != < <= > >= + - * / %,
+// unary - + !, then the formula's `^`), emitting as it goes. The front ends resolve names and
+// calls of their own (variables, definitions, locals, the shader's functions) through the
+// virtual functions.
+class ExpressionParser {
+ public:
+  ExpressionParser(std::span<const Token> tokens, std::size_t position, ProgramBuilder& builder,
+                   Dialect dialect, const std::string& source, int& nesting);
+  virtual ~ExpressionParser() = default;
+  ExpressionParser(const ExpressionParser&) = delete;
+  ExpressionParser& operator=(const ExpressionParser&) = delete;
+
+  // expression := binary ('?' expression ':' expression)?
+  Value expression();
+
+  [[nodiscard]] const Token& peek(std::size_t ahead = 0) const;
+  const Token& next();
+  bool accept(std::string_view symbol);
+  void expect(std::string_view symbol, const std::string& what);
+  [[nodiscard]] std::size_t position() const { return pos_; }
+  void seek(std::size_t position) { pos_ = position; }
+  [[noreturn]] void fail(const std::string& message, const Token& at) const;
+
+  ProgramBuilder& builder() { return b_; }
+  [[nodiscard]] Dialect dialect() const { return dialect_; }
+  [[nodiscard]] const std::string& source() const { return source_; }
+
+  // One more level of nesting for as long as it lives (kMaxNesting).
+  class Nest {
+   public:
+    Nest(const ExpressionParser& p, const Token& at);
+    ~Nest() { --nesting_; }
+    Nest(const Nest&) = delete;
+    Nest& operator=(const Nest&) = delete;
+
+   private:
+    int& nesting_;
+  };
+
+ protected:
+  // The value of a name that is not called.
+  virtual Value name(const Token& name) = 0;
+  // A call the front end handles itself (a shader's own functions, type constructors), before
+  // the library is looked up; nullopt: not its own.
+  virtual std::optional<Value> own_call(const Token& name, std::span<const Value> args);
+  // Called at a call's name before its arguments are read (shader: vector constructors and
+  // texture functions are errors at the name).
+  virtual void before_call(const Token& /*name*/) {}
+  // What follows a primary in the shader dialect ('.', '[', '++') is an error here.
+  virtual void check_postfix() {}
+  // A message for a call of a name nobody knows.
+  virtual std::string unknown_function(const Token& name);
+
+  // a op b for a binary operator's symbol ("+", "<=", "&&", ...), with C's types (integer
+  // division truncates).
+  Value apply_binary(std::string_view op, Value a, Value b);
+
+ private:
+  Value binary(int min_precedence);
+  Value unary();
+  Value power();
+  Value exponent();
+  Value primary();
+  Value call(const Token& name);
+  Value library_call(const Token& name, std::span<const Value> args,
+                     const std::vector<std::size_t>& literal_arguments);
+  // The integer written by tokens [begin, end) when they are one integer literal with at most
+  // one sign, in the int32 range.
+  [[nodiscard]] std::optional<std::int32_t> integer_literal(std::size_t begin,
+                                                            std::size_t end) const;
+
+  std::span<const Token> tokens_;
+  std::size_t pos_;
+  ProgramBuilder& b_;
+  Dialect dialect_;
+  const std::string& source_;
+  int& nesting_;
+};
+
+// The shader front end (language_shader.cpp): text.function of text.shader_source compiled into
+// the builder's program, whose inputs become the function's parameters (in text.variables'
+// order when given).
+struct ShaderFunction {
+  std::string name;
+  std::vector<Reg> inputs;  // the Input register of each program input
+  Reg result = 0;
+};
+ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder& builder,
+                                       Program& program);
+
+}  // namespace shaderfit::reference::detail

@@ -1,0 +1,337 @@
+// The program builder (constant folding through the one interpreter) and the functions the
+// reference language knows: C's math library for formulas, the shading languages' built-ins for
+// shaders, each an instruction or a short expansion into instructions.
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <set>
+
+#include "language_internal.hpp"
+#include "shaderfit/reference/program_evaluate.hpp"
+
+namespace shaderfit::reference::detail {
+
+// --- builder -------------------------------------------------------------------------------
+
+ProgramBuilder::ProgramBuilder(Program& program, std::string source)
+    : program_(program), source_(std::move(source)) {}
+
+Reg ProgramBuilder::append(const Instruction& in) {
+  if (program_.code.size() >= kMaxInstructions) {
+    throw Error("the reference is too large: more than " + std::to_string(kMaxInstructions) +
+                    " instructions (with every call inlined)",
+                SourceLocation{source_, line_, column_});
+  }
+  program_.code.push_back(in);
+  return static_cast<Reg>(program_.code.size() - 1);
+}
+
+Reg ProgramBuilder::constant(double v) {
+  const std::uint64_t bits = std::bit_cast<std::uint64_t>(v);
+  if (const auto it = constants_.find(bits); it != constants_.end()) return it->second;
+  Instruction in;
+  in.op = ProgramOp::Const;
+  in.value = v;
+  const Reg r = append(in);
+  constants_.emplace(bits, r);
+  return r;
+}
+
+Reg ProgramBuilder::input(int index) {
+  Instruction in;
+  in.op = ProgramOp::Input;
+  in.index = index;
+  return append(in);
+}
+
+std::optional<double> ProgramBuilder::constant_value(Reg r) const {
+  const Instruction& in = program_.code[r];
+  if (in.op != ProgramOp::Const) return std::nullopt;
+  return in.value;
+}
+
+Reg ProgramBuilder::emit(ProgramOp op, std::span<const Reg> operands, std::int32_t index) {
+  if (op == ProgramOp::Select) {
+    if (const auto c = constant_value(operands[0])) {
+      // The interpreter's own truth test decides, as it would at run time.
+      return ProgramLogic<double>::is_true(*c) ? operands[1] : operands[2];
+    }
+    if (operands[1] == operands[2]) return operands[1];
+  }
+  Instruction in;
+  in.op = op;
+  in.index = index;
+  in.arity = static_cast<std::uint8_t>(operands.size());
+  for (std::size_t k = 0; k < operands.size(); ++k) in.operands[k] = operands[k];
+  const bool foldable = std::all_of(operands.begin(), operands.end(),
+                                    [&](Reg r) { return constant_value(r).has_value(); });
+  if (!foldable) return append(in);
+  // All operands constant: run the instruction on them, by the interpreter itself.
+  fold_.code.clear();
+  for (std::size_t k = 0; k < operands.size(); ++k) {
+    Instruction c;
+    c.op = ProgramOp::Const;
+    c.value = *constant_value(operands[k]);
+    fold_.code.push_back(c);
+    in.operands[k] = static_cast<Reg>(k);
+  }
+  fold_.code.push_back(in);
+  evaluate_program<double>(fold_, std::span<const double>(), fold_registers_);
+  return constant(fold_registers_.back());
+}
+
+void remove_dead_code(Program& program) {
+  std::vector<char> live(program.code.size(), 0);
+  for (const Reg r : program.outputs) live[r] = 1;
+  for (std::size_t i = program.code.size(); i-- > 0;) {
+    if (live[i] == 0) continue;
+    const Instruction& in = program.code[i];
+    for (int k = 0; k < in.arity; ++k) live[in.operands[static_cast<std::size_t>(k)]] = 1;
+  }
+  std::vector<Reg> renumbered(program.code.size(), 0);
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < program.code.size(); ++i) {
+    if (live[i] == 0) continue;
+    Instruction in = program.code[i];
+    for (int k = 0; k < in.arity; ++k) {
+      auto& r = in.operands[static_cast<std::size_t>(k)];
+      r = renumbered[r];
+    }
+    renumbered[i] = static_cast<Reg>(next);
+    program.code[next++] = in;
+  }
+  program.code.resize(next);
+  for (Reg& r : program.outputs) r = renumbered[r];
+}
+
+// --- types ---------------------------------------------------------------------------------
+
+std::optional<Type> scalar_type(std::string_view name) {
+  for (const std::string_view f : {"float", "half", "double", "min16float", "min10float"})
+    if (name == f) return Type::Float;
+  for (const std::string_view i : {"int", "uint", "min16int", "min12int", "min16uint"})
+    if (name == i) return Type::Int;
+  if (name == "bool") return Type::Bool;
+  return std::nullopt;
+}
+
+// --- conversions ---------------------------------------------------------------------------
+
+Value convert(ProgramBuilder& b, Value v, Type to) {
+  if (v.type == to) return v;
+  switch (to) {
+    case Type::Float: return {v.reg, Type::Float};
+    case Type::Int:
+      return {v.type == Type::Bool ? v.reg : b.emit(ProgramOp::Trunc, v.reg), Type::Int};
+    case Type::Bool: return {b.emit(ProgramOp::NotEqual, v.reg, b.constant(0.0)), Type::Bool};
+  }
+  return v;
+}
+
+// --- the functions -------------------------------------------------------------------------
+
+namespace {
+
+using Args = std::span<const Value>;
+
+Value f(Reg r) { return {r, Type::Float}; }
+
+// 1 / sqrt(a), 1 / a: as expr/op.hpp defines rsqrt and rcp.
+Value rsqrt(ProgramBuilder& b, Args a) {
+  return f(b.emit(ProgramOp::Div, b.constant(1.0), b.emit(ProgramOp::Sqrt, a[0].reg)));
+}
+Value rcp(ProgramBuilder& b, Args a) {
+  return f(b.emit(ProgramOp::Div, b.constant(1.0), a[0].reg));
+}
+// fma(a, b, c) = a * b + c, rounded twice (as expr/op.hpp's Fma).
+Value fma(ProgramBuilder& b, Args a) {
+  return f(b.emit(ProgramOp::Add, b.emit(ProgramOp::Mul, a[0].reg, a[1].reg), a[2].reg));
+}
+Value select(ProgramBuilder& b, Args a) {
+  const Type t = a[1].type == a[2].type ? a[1].type : Type::Float;
+  return {b.emit(ProgramOp::Select, a[0].reg, a[1].reg, a[2].reg), t};
+}
+// clamp(x, lo, hi) = min(max(x, lo), hi), as GLSL defines it (a NaN x gives lo).
+Value clamp(ProgramBuilder& b, Args a) {
+  const bool ints = a[0].type == Type::Int && a[1].type == Type::Int && a[2].type == Type::Int;
+  return {b.emit(ProgramOp::Min, b.emit(ProgramOp::Max, a[0].reg, a[1].reg), a[2].reg),
+          ints ? Type::Int : Type::Float};
+}
+Value saturate(ProgramBuilder& b, Args a) {
+  const Value args[] = {a[0], f(b.constant(0.0)), f(b.constant(1.0))};
+  return f(clamp(b, args).reg);
+}
+// GLSL mix(x, y, a) = x (1 - a) + y a; HLSL lerp(x, y, s) = x + s (y - x).
+Value mix(ProgramBuilder& b, Args a) {
+  const Reg one_minus = b.emit(ProgramOp::Sub, b.constant(1.0), a[2].reg);
+  return f(b.emit(ProgramOp::Add, b.emit(ProgramOp::Mul, a[0].reg, one_minus),
+                  b.emit(ProgramOp::Mul, a[1].reg, a[2].reg)));
+}
+Value lerp(ProgramBuilder& b, Args a) {
+  const Reg d = b.emit(ProgramOp::Sub, a[1].reg, a[0].reg);
+  return f(b.emit(ProgramOp::Add, a[0].reg, b.emit(ProgramOp::Mul, a[2].reg, d)));
+}
+// step(edge, x) = x < edge ? 0 : 1.
+Value step(ProgramBuilder& b, Args a) {
+  return f(b.emit(ProgramOp::Select, b.emit(ProgramOp::Less, a[1].reg, a[0].reg), b.constant(0.0),
+                  b.constant(1.0)));
+}
+// smoothstep(e0, e1, x): t = clamp((x - e0) / (e1 - e0), 0, 1), t t (3 - 2 t).
+Value smoothstep(ProgramBuilder& b, Args a) {
+  const Reg q = b.emit(ProgramOp::Div, b.emit(ProgramOp::Sub, a[2].reg, a[0].reg),
+                       b.emit(ProgramOp::Sub, a[1].reg, a[0].reg));
+  const Value qv[] = {f(q)};
+  const Reg t = saturate(b, qv).reg;
+  const Reg poly =
+      b.emit(ProgramOp::Sub, b.constant(3.0), b.emit(ProgramOp::Mul, b.constant(2.0), t));
+  return f(b.emit(ProgramOp::Mul, b.emit(ProgramOp::Mul, t, t), poly));
+}
+// fract(x) = x - floor(x); GLSL mod(x, y) = x - y floor(x / y).
+Value fract(ProgramBuilder& b, Args a) {
+  return f(b.emit(ProgramOp::Sub, a[0].reg, b.emit(ProgramOp::Floor, a[0].reg)));
+}
+Value glsl_mod(ProgramBuilder& b, Args a) {
+  const Reg q = b.emit(ProgramOp::Floor, b.emit(ProgramOp::Div, a[0].reg, a[1].reg));
+  return f(b.emit(ProgramOp::Sub, a[0].reg, b.emit(ProgramOp::Mul, a[1].reg, q)));
+}
+Value radians(ProgramBuilder& b, Args a) {
+  return f(b.emit(ProgramOp::Mul, a[0].reg, b.constant(std::numbers::pi / 180.0)));
+}
+Value degrees(ProgramBuilder& b, Args a) {
+  return f(b.emit(ProgramOp::Mul, a[0].reg, b.constant(180.0 / std::numbers::pi)));
+}
+
+constexpr unsigned kF = kFormulaLibrary, kS = kShaderLibrary, kFS = kF | kS;
+constexpr ProgramOp kExpanded = ProgramOp::Count_;
+
+// Formulas: C's math library and the approximation's functions (expr/parse.hpp). Shaders: GLSL's
+// and HLSL's scalar built-ins.
+const LibraryFunction kFunctions[] = {
+    {"abs", 1, kFS, ProgramOp::Abs, nullptr, true},
+    {"fabs", 1, kF, ProgramOp::Abs, nullptr, false},
+    {"sign", 1, kFS, ProgramOp::Sign, nullptr, true},
+    {"sqrt", 1, kFS, ProgramOp::Sqrt, nullptr, false},
+    {"rsqrt", 1, kFS, kExpanded, rsqrt, false},
+    {"inversesqrt", 1, kFS, kExpanded, rsqrt, false},
+    {"rcp", 1, kFS, kExpanded, rcp, false},
+    {"cbrt", 1, kF, ProgramOp::Cbrt, nullptr, false},
+    {"exp", 1, kFS, ProgramOp::Exp, nullptr, false},
+    {"exp2", 1, kFS, ProgramOp::Exp2, nullptr, false},
+    {"expm1", 1, kF, ProgramOp::Expm1, nullptr, false},
+    {"log", 1, kFS, ProgramOp::Log, nullptr, false},
+    {"log2", 1, kFS, ProgramOp::Log2, nullptr, false},
+    {"log10", 1, kFS, ProgramOp::Log10, nullptr, false},
+    {"log1p", 1, kF, ProgramOp::Log1p, nullptr, false},
+    {"sin", 1, kFS, ProgramOp::Sin, nullptr, false},
+    {"cos", 1, kFS, ProgramOp::Cos, nullptr, false},
+    {"tan", 1, kFS, ProgramOp::Tan, nullptr, false},
+    {"asin", 1, kFS, ProgramOp::Asin, nullptr, false},
+    {"acos", 1, kFS, ProgramOp::Acos, nullptr, false},
+    {"atan", 1, kFS, ProgramOp::Atan, nullptr, false},
+    {"atan", 2, kS, ProgramOp::Atan2, nullptr, false},  // GLSL's atan(y, x)
+    {"atan2", 2, kFS, ProgramOp::Atan2, nullptr, false},
+    {"sinh", 1, kFS, ProgramOp::Sinh, nullptr, false},
+    {"cosh", 1, kFS, ProgramOp::Cosh, nullptr, false},
+    {"tanh", 1, kFS, ProgramOp::Tanh, nullptr, false},
+    {"asinh", 1, kFS, ProgramOp::Asinh, nullptr, false},
+    {"acosh", 1, kFS, ProgramOp::Acosh, nullptr, false},
+    {"atanh", 1, kFS, ProgramOp::Atanh, nullptr, false},
+    {"erf", 1, kF, ProgramOp::Erf, nullptr, false},
+    {"erfc", 1, kF, ProgramOp::Erfc, nullptr, false},
+    {"floor", 1, kFS, ProgramOp::Floor, nullptr, false},
+    {"ceil", 1, kFS, ProgramOp::Ceil, nullptr, false},
+    {"trunc", 1, kFS, ProgramOp::Trunc, nullptr, false},
+    {"round", 1, kFS, ProgramOp::Round, nullptr, false},
+    {"pow", 2, kFS, ProgramOp::Pow, nullptr, false},
+    {"hypot", 2, kF, ProgramOp::Hypot, nullptr, false},
+    {"fmod", 2, kFS, ProgramOp::Fmod, nullptr, false},
+    {"fmin", 2, kF, ProgramOp::Min, nullptr, false},
+    {"fmax", 2, kF, ProgramOp::Max, nullptr, false},
+    {"min", 2, kFS, ProgramOp::Min, nullptr, true},
+    {"max", 2, kFS, ProgramOp::Max, nullptr, true},
+    {"copysign", 2, kF, ProgramOp::CopySign, nullptr, false},
+    {"clamp", 3, kFS, kExpanded, clamp, true},
+    {"saturate", 1, kFS, kExpanded, saturate, false},
+    {"fma", 3, kFS, kExpanded, fma, false},
+    {"mad", 3, kS, kExpanded, fma, false},
+    {"select", 3, kF, kExpanded, select, false},
+    {"mix", 3, kS, kExpanded, mix, false},
+    {"lerp", 3, kS, kExpanded, lerp, false},
+    {"step", 2, kS, kExpanded, step, false},
+    {"smoothstep", 3, kS, kExpanded, smoothstep, false},
+    {"fract", 1, kS, kExpanded, fract, false},
+    {"frac", 1, kS, kExpanded, fract, false},
+    {"mod", 2, kS, kExpanded, glsl_mod, false},
+    {"radians", 1, kS, kExpanded, radians, false},
+    {"degrees", 1, kS, kExpanded, degrees, false},
+};
+
+}  // namespace
+
+std::vector<const LibraryFunction*> find_library_function(std::string_view name, Library library) {
+  std::vector<const LibraryFunction*> out;
+  for (const LibraryFunction& fn : kFunctions)
+    if (fn.name == name && (fn.libraries & library) != 0) out.push_back(&fn);
+  return out;
+}
+
+std::string builtin_call_name(const BuiltinFunction& fn) {
+  std::string s(fn.name);
+  std::replace(s.begin(), s.end(), '-', '_');
+  return s;
+}
+
+const BuiltinFunction* find_builtin_by_call_name(std::string_view name) {
+  for (const BuiltinFunction& fn : builtin_functions())
+    if (builtin_call_name(fn) == name) return &fn;
+  return nullptr;
+}
+
+std::vector<std::string> library_function_names(Library library) {
+  std::set<std::string> names;
+  for (const LibraryFunction& fn : kFunctions)
+    if ((fn.libraries & library) != 0) names.emplace(fn.name);
+  if (library == kFormulaLibrary)
+    for (const BuiltinFunction& fn : builtin_functions()) names.insert(builtin_call_name(fn));
+  return {names.begin(), names.end()};
+}
+
+std::string closest_name(std::string_view name, std::span<const std::string> known) {
+  // Levenshtein distance, one row at a time.
+  auto distance = [](std::string_view a, std::string_view b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = up;
+      }
+    }
+    return row[b.size()];
+  };
+  if (name.size() > 64) return "";
+  // Close enough: at most one edit in three characters of the longer name.
+  std::string best;
+  std::size_t best_distance = std::numeric_limits<std::size_t>::max();
+  for (const std::string& k : known) {
+    const std::size_t d = distance(name, k);
+    if (d >= 1 && 3 * d <= std::max(name.size(), k.size()) && d < best_distance) {
+      best_distance = d;
+      best = k;
+    }
+  }
+  return best;
+}
+
+std::string join_names(std::span<const std::string> names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+}  // namespace shaderfit::reference::detail

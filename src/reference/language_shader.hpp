@@ -1,0 +1,90 @@
+// A GLSL or HLSL source as the shader front end sees it (internal to src/reference/): its tokens,
+// its functions (found by shape, their bodies read only when the reference calls them), its
+// file-scope constants and object-like macros (evaluated when first used), and the other
+// file-scope names, kept so that using one is a clear error.
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "language_internal.hpp"
+
+namespace shaderfit::reference::detail {
+
+// Throws "<what> are not supported (<shown>); the reference subset is listed in
+// docs/reference.md" at the token; `shown` is the token's text unless given.
+[[noreturn]] void unsupported(const std::string& what, const std::string& path, const Token& at,
+                              std::string_view shown = {});
+
+bool is_vector_type(std::string_view name);       // vec3, float3, mat2, float4x4, ...
+bool is_texture_type(std::string_view name);      // sampler2D, Texture2D, SamplerState, ...
+bool is_texture_function(std::string_view name);  // texture, texture2D, tex2D, texelFetch, ...
+
+struct FunctionDef {
+  std::size_t type = 0;        // the return type's token
+  std::size_t name = 0;        // the name's token
+  std::size_t open = 0;        // '(' of the parameters
+  std::size_t close = 0;       // its ')'
+  std::size_t body = 0;        // '{' of the body
+  std::size_t end = 0;         // its '}'
+  std::size_t parameters = 0;  // how many
+};
+
+struct Global {
+  enum Kind { Constant, Macro, Other } kind = Other;
+  std::string what;  // Other: the construct, as errors name it ("uniforms")
+  Token at;          // where it is declared
+  Type type = Type::Float;
+  // Constant, Macro: the tokens of its value, ending with the token after it (',', ';', End).
+  std::span<const Token> value_tokens;
+  int order = 0;  // declaration order: a value may use the names declared before it
+  std::optional<Value> value;
+  bool evaluating = false;
+};
+
+class ShaderFile {
+ public:
+  // Reads the source: throws for a preprocessor directive outside the subset, an unclosed
+  // brace, or a malformed token.
+  ShaderFile(const ReferenceText& text, ProgramBuilder& builder);
+  ShaderFile(const ShaderFile&) = delete;
+  ShaderFile& operator=(const ShaderFile&) = delete;
+
+  [[nodiscard]] const std::string& path() const { return path_; }
+  [[nodiscard]] std::span<const Token> tokens() const { return tokens_; }
+  [[nodiscard]] const std::vector<FunctionDef>& functions() const { return functions_; }
+  [[nodiscard]] std::string_view name_of(const FunctionDef& f) const {
+    return tokens_[f.name].text;
+  }
+  [[nodiscard]] std::vector<const FunctionDef*> find(std::string_view name) const;
+  // The file-scope name, or nullptr.
+  Global* global(std::string_view name);
+  // A constant's or macro's value, evaluated on first use (at `use`); an error for the rest.
+  Value global_value(Global& g, const Token& use);
+  // The names a message may suggest: the file-scope ones.
+  [[nodiscard]] std::vector<std::string> global_names() const;
+
+  ProgramBuilder& builder;
+  int nesting = 0;                      // shared by every parser of this file
+  std::vector<std::string_view> calls;  // the functions being inlined, outermost first
+
+ private:
+  void scan();
+  void directive(const Token& t);
+  void declaration(std::size_t begin, std::size_t end);
+  std::size_t matching(std::size_t open) const;  // the '}' or ')' closing tokens_[open]
+  void add(const std::string& name, Global g);
+
+  std::string path_;
+  std::vector<Token> tokens_;
+  std::deque<std::vector<Token>> macro_tokens_;
+  std::vector<FunctionDef> functions_;
+  std::map<std::string, Global, std::less<>> globals_;
+};
+
+}  // namespace shaderfit::reference::detail

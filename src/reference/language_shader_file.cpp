@@ -1,0 +1,344 @@
+// Reading a shader source's file scope (language_shader.hpp): preprocessor lines, functions,
+// constants and the declarations the subset leaves out.
+#include <algorithm>
+#include <cctype>
+
+#include "language_shader.hpp"
+
+namespace shaderfit::reference::detail {
+
+namespace {
+
+bool starts_with(std::string_view s, std::string_view prefix) {
+  return s.substr(0, prefix.size()) == prefix;
+}
+
+bool is_qualifier(std::string_view w) {
+  for (const std::string_view q :
+       {"const",   "static",    "uniform",  "extern",   "in",          "out",           "inout",
+        "varying", "attribute", "buffer",   "shared",   "groupshared", "highp",         "mediump",
+        "lowp",    "precise",   "volatile", "flat",     "smooth",      "noperspective", "centroid",
+        "inline",  "layout",    "readonly", "writeonly"})
+    if (w == q) return true;
+  return false;
+}
+
+// The construct a file-scope declaration with these qualifiers and type is, as errors name it.
+std::string construct(const std::vector<std::string_view>& qualifiers, std::string_view type,
+                      bool array) {
+  auto has = [&](std::string_view q) {
+    return std::find(qualifiers.begin(), qualifiers.end(), q) != qualifiers.end();
+  };
+  if (has("uniform")) return "uniforms";
+  if (has("in") || has("out") || has("varying") || has("attribute") || has("buffer"))
+    return "shader inputs and outputs";
+  if (is_texture_type(type)) return "textures";
+  if (is_vector_type(type)) return "vector and matrix types";
+  if (array) return "arrays";
+  if (!scalar_type(type)) return "types other than float, half, double, int and bool";
+  return "global variables";
+}
+
+}  // namespace
+
+void unsupported(const std::string& what, const std::string& path, const Token& at,
+                 std::string_view shown) {
+  fail_at(what + " are not supported (" + std::string(shown.empty() ? at.text : shown) +
+              "); the reference subset is listed in docs/reference.md",
+          path, at);
+}
+
+bool is_vector_type(std::string_view name) {
+  for (const std::string_view p : {"vec", "ivec", "uvec", "bvec", "dvec"}) {
+    if (starts_with(name, p) && name.size() == p.size() + 1 && name.back() >= '2' &&
+        name.back() <= '4')
+      return true;
+  }
+  for (const std::string_view p : {"mat", "dmat"}) {
+    if (!starts_with(name, p)) continue;
+    const std::string_view rest = name.substr(p.size());
+    if (rest.size() == 1 && rest[0] >= '2' && rest[0] <= '4') return true;
+    if (rest.size() == 3 && rest[1] == 'x') return true;
+  }
+  for (const std::string_view p : {"float", "half", "double", "int", "uint", "bool", "min16float",
+                                   "min10float", "min16int", "min12int", "min16uint", "dword"}) {
+    if (!starts_with(name, p) || name.size() == p.size()) continue;
+    const std::string_view rest = name.substr(p.size());
+    const bool n = rest[0] >= '1' && rest[0] <= '4';
+    if (n && rest.size() == 1) return true;
+    if (n && rest.size() == 3 && rest[1] == 'x' && rest[2] >= '1' && rest[2] <= '4') return true;
+  }
+  return name == "vector" || name == "matrix";
+}
+
+bool is_texture_type(std::string_view name) {
+  for (const std::string_view p :
+       {"sampler", "isampler", "usampler", "Sampler", "Texture", "RWTexture", "image", "iimage",
+        "uimage", "Buffer", "RWBuffer", "StructuredBuffer", "RWStructuredBuffer",
+        "ByteAddressBuffer", "texture1D", "texture2D", "texture3D", "textureCube"})
+    if (starts_with(name, p)) return true;
+  return false;
+}
+
+bool is_texture_function(std::string_view name) {
+  if (starts_with(name, "texture") || starts_with(name, "texel")) return true;
+  // HLSL's tex1D, tex2D, tex3D, texCUBE and their variants.
+  return starts_with(name, "tex") && name.size() > 3 &&
+         (std::isdigit(static_cast<unsigned char>(name[3])) != 0 ||
+          std::isupper(static_cast<unsigned char>(name[3])) != 0);
+}
+
+ShaderFile::ShaderFile(const ReferenceText& text, ProgramBuilder& b)
+    : builder(b),
+      path_(text.shader_path.empty() ? "shader" : text.shader_path),
+      tokens_(tokenize(text.shader_source, Dialect::Shader, path_)) {
+  scan();
+}
+
+std::vector<const FunctionDef*> ShaderFile::find(std::string_view name) const {
+  std::vector<const FunctionDef*> out;
+  for (const FunctionDef& f : functions_)
+    if (name_of(f) == name) out.push_back(&f);
+  return out;
+}
+
+Global* ShaderFile::global(std::string_view name) {
+  const auto it = globals_.find(name);
+  return it == globals_.end() ? nullptr : &it->second;
+}
+
+std::vector<std::string> ShaderFile::global_names() const {
+  std::vector<std::string> out;
+  for (const auto& [name, g] : globals_) out.push_back(name);
+  return out;
+}
+
+void ShaderFile::add(const std::string& name, Global g) {
+  g.order = static_cast<int>(globals_.size());
+  globals_.insert_or_assign(name, std::move(g));
+}
+
+std::size_t ShaderFile::matching(std::size_t open) const {
+  const bool brace = tokens_[open].is("{");
+  const std::string_view o = brace ? "{" : "(", c = brace ? "}" : ")";
+  int depth = 0;
+  for (std::size_t i = open; i < tokens_.size(); ++i) {
+    if (tokens_[i].is(o)) ++depth;
+    if (tokens_[i].is(c) && --depth == 0) return i;
+    if (tokens_[i].kind == Token::End) break;
+  }
+  fail_at("'" + std::string(o) + "' is not closed", path_, tokens_[open]);
+}
+
+// File scope: directives, functions (`type name(parameters) [: semantic] { body }`), and
+// declarations up to their ';' (structs, cbuffers and interface blocks with their braces).
+void ShaderFile::scan() {
+  std::size_t i = 0;
+  while (tokens_[i].kind != Token::End) {
+    const Token& t = tokens_[i];
+    if (t.kind == Token::Directive) {
+      directive(t);
+      ++i;
+      continue;
+    }
+    if (t.is(";")) {
+      ++i;
+      continue;
+    }
+    const std::size_t begin = i;
+    const bool block_only = t.is_word("cbuffer") || t.is_word("tbuffer");
+    // A '(' after a name before any '=': a function, its prototype, or a layout qualifier.
+    bool function_shape = false, saw_equals = false;  // '=' or ':' (a semantic, a register)
+    int bracket = 0;
+    bool done = false;
+    while (!done) {
+      const Token& u = tokens_[i];
+      if (u.kind == Token::End) fail_at("expected ';' to end this declaration", path_, t);
+      if (u.kind == Token::Directive) fail_at("a preprocessor line inside a declaration", path_, u);
+      if (u.is("[")) ++bracket;
+      if (u.is("]")) --bracket;
+      if ((u.is("=") || u.is(":")) && bracket == 0) saw_equals = true;
+      if (u.is("(") && bracket == 0) {
+        const std::size_t close = matching(i);
+        if (!function_shape && !saw_equals && !block_only && i > begin &&
+            tokens_[i - 1].kind == Token::Ident) {
+          function_shape = true;
+          // A function: its ')' followed by '{', or by an HLSL semantic and '{'.
+          std::size_t body = close + 1;
+          if (tokens_[body].is(":") && tokens_[body + 1].kind == Token::Ident) body += 2;
+          if (tokens_[body].is("{")) {
+            FunctionDef f;
+            f.name = i - 1;
+            f.type = i >= begin + 2 ? i - 2 : i - 1;
+            f.open = i;
+            f.close = close;
+            f.body = body;
+            f.end = matching(body);
+            if (close > i + 1 && !(close == i + 2 && tokens_[i + 1].is_word("void"))) {
+              f.parameters = 1;
+              int depth = 0;
+              for (std::size_t k = i + 1; k < close; ++k) {
+                if (tokens_[k].is("(") || tokens_[k].is("[")) ++depth;
+                if (tokens_[k].is(")") || tokens_[k].is("]")) --depth;
+                if (depth == 0 && tokens_[k].is(",")) ++f.parameters;
+              }
+            }
+            functions_.push_back(f);
+            i = f.end + 1;
+            break;
+          }
+        }
+        i = close + 1;
+        continue;
+      }
+      if (u.is("{")) {
+        i = matching(i) + 1;
+        if (block_only) done = true;
+        continue;
+      }
+      if (u.is(";")) {
+        if (!function_shape) declaration(begin, i);
+        done = true;
+      }
+      ++i;
+    }
+  }
+}
+
+// A file-scope declaration, tokens [begin, end) before its ';'.
+void ShaderFile::declaration(std::size_t begin, std::size_t end) {
+  std::size_t i = begin;
+  if (tokens_[i].is_word("struct")) {
+    if (tokens_[i + 1].kind == Token::Ident)
+      add(std::string(tokens_[i + 1].text), Global{Global::Other, "structs", tokens_[i + 1]});
+    return;
+  }
+  if (tokens_[i].is_word("precision")) return;
+  std::vector<std::string_view> qualifiers;
+  while (i < end && tokens_[i].kind == Token::Ident && is_qualifier(tokens_[i].text)) {
+    qualifiers.push_back(tokens_[i].text);
+    ++i;
+  }
+  if (i + 1 >= end || tokens_[i].kind != Token::Ident) return;  // precision statements and such
+  const Token& type = tokens_[i++];
+  const bool is_const =
+      std::find(qualifiers.begin(), qualifiers.end(), "const") != qualifiers.end();
+  // Declarators: name ['[' ... ']'] ['=' value] separated by ','.
+  while (i < end) {
+    if (tokens_[i].kind != Token::Ident) return;
+    const Token& name = tokens_[i++];
+    const bool array = i < end && tokens_[i].is("[");
+    std::size_t value = 0, value_end = i;
+    int depth = 0;
+    for (; value_end < end; ++value_end) {
+      const Token& u = tokens_[value_end];
+      if (u.is("(") || u.is("[") || u.is("{")) ++depth;
+      if (u.is(")") || u.is("]") || u.is("}")) --depth;
+      if (depth == 0 && u.is("=") && value == 0) value = value_end + 1;
+      if (depth == 0 && u.is(",")) break;
+    }
+    const std::optional<Type> scalar = scalar_type(type.text);
+    const std::string what = construct(qualifiers, type.text, array);
+    if (is_const && scalar && !array && what == "global variables" && value != 0) {
+      Global g{Global::Constant, "", name, *scalar};
+      g.value_tokens = std::span<const Token>(tokens_).subspan(value, value_end + 1 - value);
+      add(std::string(name.text), std::move(g));
+    } else {
+      add(std::string(name.text), Global{Global::Other, what, name});
+    }
+    i = value_end + 1;
+  }
+}
+
+namespace {
+
+// A constant's or macro's value: names resolve to the constants and macros declared before it.
+class ConstantParser : public ExpressionParser {
+ public:
+  ConstantParser(ShaderFile& file, const Global& g)
+      : ExpressionParser(g.value_tokens, 0, file.builder, Dialect::Shader, file.path(),
+                         file.nesting),
+        file_(file),
+        global_(g) {}
+
+ protected:
+  Value name(const Token& t) override {
+    if (t.is_word("true") || t.is_word("false"))
+      return {builder().constant(t.is_word("true") ? 1.0 : 0.0), Type::Bool};
+    Global* g = file_.global(t.text);
+    if (g == nullptr || g->order >= global_.order) {
+      fail("unknown identifier '" + std::string(t.text) + "' in the value of '" +
+               std::string(global_.at.text) + "' (it may use the constants declared before it)",
+           t);
+    }
+    return file_.global_value(*g, t);
+  }
+
+ private:
+  ShaderFile& file_;
+  const Global& global_;
+};
+
+}  // namespace
+
+Value ShaderFile::global_value(Global& g, const Token& use) {
+  if (g.kind == Global::Other) unsupported(g.what, path_, use);
+  if (g.value) return *g.value;
+  if (g.evaluating)
+    fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);
+  g.evaluating = true;
+  ConstantParser parser(*this, g);
+  Value v = parser.expression();
+  if (parser.position() + 1 != g.value_tokens.size()) {
+    parser.fail("unexpected " + describe(parser.peek(), Dialect::Shader) + " in the value of '" +
+                    std::string(g.at.text) + "'",
+                parser.peek());
+  }
+  if (!builder.constant_value(v.reg)) {
+    fail_at("the value of '" + std::string(g.at.text) + "' is not a constant expression", path_,
+            g.at);
+  }
+  if (g.kind == Global::Constant) v = convert(builder, v, g.type);
+  g.evaluating = false;
+  g.value = v;
+  return v;
+}
+
+// #version, #extension and #pragma are ignored; #define NAME value makes a constant.
+void ShaderFile::directive(const Token& t) {
+  const std::string_view text = t.text;
+  std::size_t p = 0;
+  while (p < text.size() && (text[p] == ' ' || text[p] == '\t')) ++p;
+  std::size_t q = p;
+  while (q < text.size() && std::isalnum(static_cast<unsigned char>(text[q])) != 0) ++q;
+  const std::string_view word = text.substr(p, q - p);
+  if (word.empty() || word == "version" || word == "extension" || word == "pragma") return;
+  if (word != "define") {
+    fail_at("preprocessor directive #" + std::string(word) +
+                " is not supported (only #define NAME value, #version, #extension and #pragma); "
+                "the reference subset is listed in docs/reference.md",
+            path_, t);
+  }
+  // Tokens of the rest of the line, at their own columns ('#' is at t.column - 1).
+  const std::vector<Token>& rest = macro_tokens_.emplace_back(
+      tokenize(text.substr(q), Dialect::Shader, path_, t.line, t.column + 1 + static_cast<int>(q)));
+  if (rest[0].kind != Token::Ident) fail_at("#define needs a name", path_, rest[0]);
+  const Token& name = rest[0];
+  const bool function_like = rest[1].is("(") &&
+                             rest[1].column == name.column + static_cast<int>(name.text.size()) &&
+                             rest[1].line == name.line;
+  if (function_like) {
+    fail_at("function-like macros are not supported (#define " + std::string(name.text) +
+                "(...)); the reference subset is listed in docs/reference.md",
+            path_, name);
+  }
+  if (rest[1].kind == Token::End) {
+    add(std::string(name.text), Global{Global::Other, "macros without a value", name});
+    return;
+  }
+  Global g{Global::Macro, "", name};
+  g.value_tokens = std::span<const Token>(rest).subspan(1);
+  add(std::string(name.text), std::move(g));
+}
+
+}  // namespace shaderfit::reference::detail
