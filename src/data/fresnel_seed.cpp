@@ -55,6 +55,11 @@ Dataset make_fresnel_seed_dataset(Rng& rng, const FresnelSeedOptions& options) {
 
 std::vector<std::string> builtin_dataset_names() { return {"fresnel-seed", "fresnel-seed-half"}; }
 
+std::optional<BuiltinDatasetInfo> builtin_dataset_info(std::string_view name) {
+  if (name != "fresnel-seed" && name != "fresnel-seed-half") return std::nullopt;
+  return BuiltinDatasetInfo{std::string(name), {"r0", "x"}, "R", "+,-,*,/,^", "pow,exp2"};
+}
+
 std::optional<Dataset> make_builtin_dataset(std::string_view name, Rng& rng, std::size_t rows) {
   if (name == "fresnel-seed") return make_fresnel_seed_dataset(rng, {rows, false});
   if (name == "fresnel-seed-half") return make_fresnel_seed_dataset(rng, {rows, true});

@@ -28,4 +28,14 @@ std::string format_number(double value) {
   return std::string(buffer, ptr);
 }
 
+std::string format_count(std::size_t n) {
+  const std::string digits = std::to_string(n);
+  std::string out;
+  for (std::size_t i = 0; i < digits.size(); ++i) {
+    if (i > 0 && (digits.size() - i) % 3 == 0) out += ',';
+    out += digits[i];
+  }
+  return out;
+}
+
 }  // namespace shaderfit::data_internal

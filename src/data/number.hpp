@@ -1,7 +1,8 @@
 // Internal: the one definition of "this CSV cell is a number", shared by the CSV reader and
-// Dataset::numeric, and the matching writer.
+// Dataset::numeric, and the matching writer; counts written for people.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <string_view>
 
@@ -21,5 +22,8 @@ NumberParse parse_number(std::string_view cell, double& out);
 
 // Shortest text that reads back as exactly `value` (std::to_chars). `value` must be finite.
 std::string format_number(double value);
+
+// A count for people, its digits grouped by commas: 10001 -> "10,001".
+std::string format_count(std::size_t n);
 
 }  // namespace shaderfit::data_internal

@@ -50,6 +50,21 @@ struct FresnelSeedOptions {
 // The seed post's data set; its source is "fresnel-seed" or "fresnel-seed-half".
 Dataset make_fresnel_seed_dataset(Rng& rng, const FresnelSeedOptions& options = {});
 
+// What a built-in data set is for: the columns formulas read and the one they approximate, and
+// the search's operators for it, as text that parse_operator_list (search/options.hpp) reads
+// (this area does not include search/). The seed data sets: inputs r0, x; target R; operators
+// "+,-,*,/,^" and evolution operators "pow,exp2" (seed 001's task, as searched before "auto").
+struct BuiltinDatasetInfo {
+  std::string name;
+  std::vector<std::string> inputs;
+  std::string target;
+  std::string operators;
+  std::string evolution_operators;
+};
+
+// The descriptor of the built-in data set with this name, or nullopt for an unknown name.
+std::optional<BuiltinDatasetInfo> builtin_dataset_info(std::string_view name);
+
 // Names of the built-in data sets: "fresnel-seed" (theta in [0, pi]) and "fresnel-seed-half"
 // (theta in [0, pi/2]).
 std::vector<std::string> builtin_dataset_names();
