@@ -32,10 +32,12 @@ T evaluate_builtin(BuiltinId id, std::span<const T> args) {
     case BuiltinId::FresnelDielectric: return fresnel_dielectric(x, args[1]);
     case BuiltinId::FresnelDielectricF0: return fresnel_dielectric(x, ior_from_f0(args[1]));
     case BuiltinId::FresnelConductor: return fresnel_conductor(x, args[1], args[2]);
-    case BuiltinId::FresnelExact:
+    case BuiltinId::FresnelExact: {
       // k == 0, written with the comparisons every T has.
-      return args[2] <= T(0) && args[2] >= T(0) ? fresnel_dielectric(x, args[1])
-                                                : fresnel_conductor(x, args[1], args[2]);
+      const T conductor = fresnel_conductor(x, args[1], args[2]);
+      return choose(args[2] <= T(0),
+                    choose(args[2] >= T(0), fresnel_dielectric(x, args[1]), conductor), conductor);
+    }
     case BuiltinId::FvSchlickSmithLh: return fv_schlick_smith_lh(x, args[1], args[2]);
     case BuiltinId::FvSchlickSmith: return fv_schlick_smith_peak(x, args[1], args[2]);
     case BuiltinId::FvExact: return fv_exact_dielectric(x, args[1], args[2]);

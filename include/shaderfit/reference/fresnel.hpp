@@ -22,6 +22,15 @@
 
 namespace shaderfit::reference {
 
+// condition ? a : b, for the branches of the reference templates: `condition` is a bool for
+// float, double and jets. Number types whose comparisons may be undecided (the intervals of
+// certified bounds, src/verify/interval.hpp) overload it, found by argument-dependent lookup, to
+// join both values. Both operands are computed, so a double result is bit for bit the `?:` one.
+template <typename C, typename T>
+SF_CPU_GPU T choose(C condition, T a, T b) {
+  return condition ? a : b;
+}
+
 namespace detail {
 
 template <typename T>
@@ -33,7 +42,7 @@ SF_CPU_GPU constexpr T sqr(T x) {
 template <typename T>
 SF_CPU_GPU T sqrt0(T x) {
   using std::sqrt;
-  return sqrt(x > T(0) ? x : T(0));
+  return sqrt(choose(x > T(0), x, T(0)));
 }
 
 // cos of the refracted angle from Snell's law, sin_t = sin_i / eta; -1 under total internal
@@ -41,7 +50,7 @@ SF_CPU_GPU T sqrt0(T x) {
 template <typename T>
 SF_CPU_GPU T refracted_cos(T cos_i, T eta) {
   T sin2_t = (T(1) - cos_i * cos_i) / (eta * eta);
-  return sin2_t >= T(1) ? T(-1) : sqrt0(T(1) - sin2_t);
+  return choose(sin2_t >= T(1), T(-1), sqrt0(T(1) - sin2_t));
 }
 
 }  // namespace detail
@@ -51,8 +60,7 @@ SF_CPU_GPU T refracted_cos(T cos_i, T eta) {
 template <typename T>
 SF_CPU_GPU T fresnel_dielectric_s(T cos_i, T eta) {
   T cos_t = detail::refracted_cos(cos_i, eta);
-  if (cos_t < T(0)) return T(1);
-  return detail::sqr((cos_i - eta * cos_t) / (cos_i + eta * cos_t));
+  return choose(cos_t < T(0), T(1), detail::sqr((cos_i - eta * cos_t) / (cos_i + eta * cos_t)));
 }
 
 // Dielectric, p-polarized (electric field in the plane of incidence):
@@ -61,8 +69,7 @@ SF_CPU_GPU T fresnel_dielectric_s(T cos_i, T eta) {
 template <typename T>
 SF_CPU_GPU T fresnel_dielectric_p(T cos_i, T eta) {
   T cos_t = detail::refracted_cos(cos_i, eta);
-  if (cos_t < T(0)) return T(1);
-  return detail::sqr((eta * cos_i - cos_t) / (eta * cos_i + cos_t));
+  return choose(cos_t < T(0), T(1), detail::sqr((eta * cos_i - cos_t) / (eta * cos_i + cos_t)));
 }
 
 // Exact unpolarized dielectric reflectance R = (R_s + R_p) / 2. R(cos_i = 1) = r0_from_ior(eta),
@@ -123,7 +130,7 @@ SF_CPU_GPU ConductorTerms<T> conductor_terms(T cos_i, T n, T k) {
 // num / den, or 1 when den is 0 (only reachable at grazing incidence with n + ik = 1).
 template <typename T>
 SF_CPU_GPU T ratio_or_one(T num, T den) {
-  return den > T(0) ? num / den : T(1);
+  return choose(den > T(0), num / den, T(1));
 }
 
 template <typename T>

@@ -25,10 +25,9 @@ namespace shaderfit::reference {
 // Normalized so that the projected microfacet area is one: integral of D(h) (n.h) dw_h = 1.
 template <typename T>
 SF_CPU_GPU T ggx_distribution(T n_dot_h, T alpha) {
-  if (!(n_dot_h > T(0))) return T(0);
   T a2 = alpha * alpha;
   T d = n_dot_h * n_dot_h * (a2 - T(1)) + T(1);
-  return a2 / (T(3.14159265358979323846) * d * d);
+  return choose(n_dot_h > T(0), a2 / (T(3.14159265358979323846) * d * d), T(0));
 }
 
 namespace detail {
@@ -66,9 +65,8 @@ SF_CPU_GPU T smith_ggx_g2_separable(T n_dot_l, T n_dot_v, T alpha) {
 // removes some of the double-counted shadowing.
 template <typename T>
 SF_CPU_GPU T smith_ggx_g2_height_correlated(T n_dot_l, T n_dot_v, T alpha) {
-  if (!(n_dot_l > T(0)) || !(n_dot_v > T(0))) return T(0);
   T den = n_dot_v * detail::ggx_root(n_dot_l, alpha) + n_dot_l * detail::ggx_root(n_dot_v, alpha);
-  return T(2) * n_dot_l * n_dot_v / den;
+  return choose(n_dot_l > T(0), choose(n_dot_v > T(0), T(2) * n_dot_l * n_dot_v / den, T(0)), T(0));
 }
 
 // Schlick's approximation of Smith masking: G1(v) ~ (n.v) / ((n.v)(1 - k) + k).
