@@ -210,7 +210,7 @@ void BM_TimeToTarget(benchmark::State& state) {
   static const SearchProblem p = bench::seed_problem(1);
   static std::map<bool, int> repetition;
   for (auto _ : state) {
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.seed = static_cast<std::uint64_t>(repetition[gpu]++ % 10) + 1;
     o.device = gpu ? ComputeDevice::Cuda : ComputeDevice::Cpu;
     o.time_limit_s = 30;

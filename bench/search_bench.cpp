@@ -19,12 +19,12 @@
 #include <map>
 #include <string>
 
+#include "seed_task.hpp"
 #include "shaderfit/data/csv.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/search/search.hpp"
-#include "seed_task.hpp"
 
 namespace {
 
@@ -49,7 +49,7 @@ void BM_TimeToTarget(benchmark::State& state) {
     const int rep = repetition[{vary_data, threads}]++;
     const std::uint64_t seed = static_cast<std::uint64_t>(rep % 10) + 1;
     const SearchProblem& p = cached_problem(vary_data ? seed : 1);
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.seed = seed;
     o.threads = threads;
     SearchSummary s;
@@ -69,7 +69,7 @@ void BM_Throughput(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(1));
   const SearchProblem& p = cached_problem(1);
   for (auto _ : state) {
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.threads = threads;
     o.enumerate = enumerate;
     o.evolve = !enumerate;

@@ -20,6 +20,8 @@
 #include "shaderfit/rational/condition.hpp"
 #include "shaderfit/rational/rational_function.hpp"
 #include "shaderfit/rational/target.hpp"
+#include "shaderfit/reference/domain.hpp"
+#include "shaderfit/reference/language.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit::fuzz {
@@ -42,9 +44,9 @@ void operators(std::string_view text) {
 }
 
 void sample_axis(std::string_view text) {
-  const SampleAxis a = parse_sample_axis(text, "--domain");
+  const reference::DomainAxis a = reference::parse_domain_axis(text, "--domain");
   for (std::size_t i = 0; i < std::min<std::size_t>(a.count, 4); ++i) (void)a.at(i);
-  (void)a.at(a.count - 1);
+  if (a.count > 0) (void)a.at(a.count - 1);
 }
 
 void grid_axis(std::string_view text) {
@@ -58,15 +60,19 @@ void grid_axis(std::string_view text) {
 void definition(std::string_view text) {
   // As `fit --domain theta=... --grid roughness=... --define "dot = cos(theta)"` uses it: a
   // derived column evaluated over a small sampled grid.
-  const Definition d = parse_definition(text, {"theta", "roughness"}, "--define");
+  reference::ReferenceText t;
+  t.formula = "0";
+  t.variables = {"roughness", "theta"};
+  t.definitions = {std::string(text)};
+  const reference::Program p = reference::compile_reference(t);
   const GridAxis grid{"roughness", 0.0, 1.0, 2, false};
-  const SampleAxis domain{"theta", 0.0, 1.5, 3, Spacing::midpoints};
+  reference::DomainAxis domain;
+  domain.name = "theta";
+  domain.lo = 0.0;
+  domain.hi = 1.5;
+  domain.count = 3;
   Rng rng(1);
-  try {
-    (void)sample_grid({grid}, {domain}, {d}, 0, rng);
-  } catch (const Error&) {
-    // a definition named like an existing column: documented (Dataset::add_numeric)
-  }
+  for (GridCell& c : sample_grid({grid}, {domain}, 0, 0, rng)) (void)add_program_columns(c.data, p);
 }
 
 void constraint(std::string_view text) {

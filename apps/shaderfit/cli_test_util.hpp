@@ -1,6 +1,7 @@
 // Helpers for tests of the command-line tool: run it in-process, write scratch files.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -45,6 +46,15 @@ inline int line_count(const std::string& s) {
   int n = 0;
   for (char c : s) n += c == '\n';
   return n;
+}
+
+// The command with `args` fails as bad input: exit status 2 and one line on stderr holding
+// `text`.
+inline void expect_bad_input(const std::vector<std::string>& args, const std::string& text) {
+  const CliResult r = run(args);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
 }
 
 }  // namespace shaderfit::cli::testing

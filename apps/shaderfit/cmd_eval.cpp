@@ -2,6 +2,8 @@
 // baseline. The JSON schema is documented in docs/eval-json.md.
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <ostream>
 
@@ -12,6 +14,8 @@
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/report/command_json.hpp"
+#include "shaderfit/verify/certify.hpp"
+#include "shaderfit/verify/worst_case.hpp"
 
 namespace shaderfit::cli {
 
@@ -19,20 +23,36 @@ namespace {
 
 struct EvalArgs {
   DataSource data;
-  std::string target;
   std::vector<std::string> groups;
   bool groups_given = false;
   std::string baseline;
   std::vector<std::string> formulas;
   std::string json_path;
   bool float32 = false;
+  bool certify = false;
+  double certify_time_s = CertifyOptions{}.time_limit_s;
   int digits = 0;
 };
 
+// "x = 0.5" or "(x, y) = (0.5, 1)": a point of the reference's domain.
+std::string point_text(const Problem& p, const std::vector<double>& point) {
+  if (!p.reference || point.size() != p.reference->domain.size()) return "?";
+  std::string names, values;
+  for (std::size_t i = 0; i < point.size(); ++i) {
+    names += (i ? ", " : "") + p.reference->domain[i].name;
+    values += (i ? ", " : "") + format_number(point[i], PrintOptions::for_people());
+  }
+  return point.size() == 1 ? names + " = " + values : "(" + names + ") = (" + values + ")";
+}
+
 void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& results,
-                 const EvalArgs& a, const Dataset& d) {
-  out << fmt::format("shaderfit eval: {}, {} rows, target {}{}\n", a.data.describe(), d.rows(),
-                     a.target, a.float32 ? ", float32" : "");
+                 const EvalArgs& a, const Problem& p) {
+  const Dataset& d = p.data;
+  out << fmt::format(
+      "shaderfit eval: {}, target {}{}\n",
+      p.reference ? p.description : fmt::format("{}, {} rows", p.description, d.rows()), p.target,
+      a.float32 ? ", float32" : "");
+  out << problem_notes(p, "");
   const PrintOptions print = PrintOptions::for_people(a.digits);
   const EvalFormulaResult* base = results.front().baseline ? &results.front() : nullptr;
   int number = 0;
@@ -53,6 +73,18 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
     };
     const bool compare = base && !r.baseline;
     row("all", r.all, compare ? &base->all : nullptr);
+    if (r.checked_between_samples)
+      out << fmt::format("  {:<28} max abs {:.4e} at {}, searched for between the samples too\n",
+                         "", r.all.max_abs, point_text(p, r.worst_point));
+    if (r.certified_max_abs)
+      out << fmt::format("  {:<28} certified: |error| <= {:.4e} on the whole domain{} ({:.2g} s)\n",
+                         "", *r.certified_max_abs,
+                         r.certified_converged || std::isinf(*r.certified_max_abs)
+                             ? ""
+                             : " (the time ran out: a looser bound)",
+                         r.certify_time_s);
+    if (r.certified_max_abs && std::isinf(*r.certified_max_abs))
+      out << fmt::format("  {:<28} no finite bound: {}\n", "", r.certify_note);
     for (std::size_t g = 0; g < r.groups.size(); ++g) {
       const EvalGroupResult& gm = r.groups[g];
       row(gm.column + "=" + gm.label, gm.metrics, compare ? &base->groups[g].metrics : nullptr);
@@ -60,17 +92,52 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
   }
 }
 
-EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, const Dataset& d) {
-  return {a.data.describe(), d.rows(), a.target, a.float32, a.groups, std::move(results)};
+EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, const Problem& p) {
+  return {p.description, p.data.rows(), p.target, a.float32, a.groups, std::move(results)};
+}
+
+// With a reference: the errors between the samples too, and a certified bound when asked.
+void check_between_samples(EvalFormulaResult& r, const Problem& p, const EvalArgs& a) {
+  WorstCaseOptions wo;
+  wo.samples = a.data.problem.samples;
+  const WorstCaseSearch w(*p.reference, r.expression.variables, wo);
+  const WorstCase c = w.check(r.expression);
+  const double max_abs = a.float32 ? c.float32_max_abs : c.max_abs;
+  if (max_abs >= r.all.max_abs) r.worst_point = c.worst_abs.point;
+  r.all.max_abs = std::max(r.all.max_abs, max_abs);
+  r.all.max_rel = std::max(r.all.max_rel, a.float32 ? c.float32_max_rel : c.max_rel);
+  r.checked_between_samples = true;
+  if (a.certify) {
+    CertifyOptions co;
+    co.time_limit_s = a.certify_time_s;
+    const Certificate cert = certify(r.expression, r.expression.variables, *p.reference, co);
+    r.certified_max_abs = cert.bound;
+    r.certified_converged = cert.converged;
+    r.certify_time_s = cert.time_s;
+    r.certify_note = cert.note;
+    // What the certification met is attained too (a pole between the samples blows up near
+    // where it found no finite bound).
+    const ErrorPoint met = w.certified_worst(r.expression, cert);
+    if (!a.float32 && !(met.abs_error <= r.all.max_abs)) {
+      r.all.max_abs = met.abs_error;
+      r.worst_point = met.point;
+    }
+  }
 }
 
 void run_eval(EvalArgs& a, Context& ctx) {
   (void)PrintOptions::for_people(a.digits);  // a bad --digits stops here
-  Dataset d = load_data(a.data);
+  const Problem p = load_problem(a.data);
+  const Dataset& d = p.data;
   if (a.formulas.empty()) throw Error("no formula to evaluate", SourceLocation{"eval"});
-  const std::span<const double> target = d.numeric(a.target).values;
+  if (a.certify && !p.reference)
+    throw Error(
+        "a certified bound needs the function itself: give --reference or "
+        "--reference-file with --domain",
+        SourceLocation{"--certify"});
+  const std::span<const double> target = d.numeric(p.target).values;
   // A built-in data set comes with its natural groups unless the user chose others.
-  if (!a.groups_given && !a.data.dataset.empty()) {
+  if (!a.groups_given && !a.data.problem.dataset.empty()) {
     for (const char* g : {"kind", "material"})
       if (d.find(g)) a.groups.push_back(g);
   }
@@ -86,16 +153,18 @@ void run_eval(EvalArgs& a, Context& ctx) {
     results.push_back(evaluate_formula_on(a.formulas[i], "formula " + std::to_string(i + 1), d,
                                           target, a.groups, a.float32));
   }
+  if (p.reference)
+    for (EvalFormulaResult& r : results) check_between_samples(r, p, a);
 
   if (a.json_path == "-") {
-    ctx.out << eval_json(to_report(std::move(results), a, d)) << '\n';
+    ctx.out << eval_json(to_report(std::move(results), a, p)) << '\n';
     return;
   }
-  print_table(ctx.out, results, a, d);
+  print_table(ctx.out, results, a, p);
   if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
-    f << eval_json(to_report(std::move(results), a, d)) << '\n';
+    f << eval_json(to_report(std::move(results), a, p)) << '\n';
   }
 }
 
@@ -105,8 +174,7 @@ void register_eval_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<EvalArgs>();
   CLI::App* cmd = app.add_subcommand(
       "eval", "Error metrics of formulas on a data set, per group, against a baseline");
-  add_data_options(cmd, args->data, true);
-  cmd->add_option("--target", args->target, "column the formulas approximate")->required();
+  add_data_options(cmd, args->data, DataFiles | References | Target | SeedAlias);
   cmd->add_option("--group", args->groups,
                   "column(s) whose values split the rows into groups (repeat or comma-separate)")
       ->delimiter(',')
@@ -115,6 +183,10 @@ void register_eval_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--baseline", args->baseline, "formula the others are compared with");
   cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
   cmd->add_flag("--float32", args->float32, "evaluate in float32, as a shader would");
+  cmd->add_flag("--certify", args->certify,
+                "with a reference: a rigorous bound of each formula's error on the whole domain");
+  cmd->add_option("--certify-time", args->certify_time_s,
+                  "seconds per formula for the certified bound (default 10)");
   add_digits_option(cmd, args->digits);
   cmd->add_option("formulas", args->formulas,
                   "formulas over the data's column names, e.g. 'r0 + (x - r0)*x^4'");

@@ -125,7 +125,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"unknown_group", {"eval", "--dataset", "fresnel-seed", "--target", "R", "--group", "colour", "x"},
                  nullptr, "no column 'colour'"},
         BadInput{"text_target", {"eval", "--dataset", "fresnel-seed", "--target", "material", "x"}, nullptr,
-                 "column 'material' is not numeric"},
+                 "column 'material' of fresnel-seed is text, not numbers"},
         BadInput{"unknown_option", {"eval", "--dataset", "fresnel-seed", "--target", "R", "--bogus", "x"}, nullptr,
                  "--bogus"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });

@@ -27,11 +27,12 @@ struct FitArgs {
   std::vector<std::string> per_group;  // NAME:COLUMN
   std::vector<std::string> per_cell;   // NAME
   std::vector<std::string> grid;       // name=lo:hi:cells[:sqrt]
-  std::vector<std::string> domain;     // name=lo:hi:count[:midpoints|endpoints]
+  std::vector<std::string> domain;     // name=lo:hi[:count[:midpoints|endpoints]]
   std::vector<std::string> defines;    // name = formula
+  std::size_t samples = 0;
   std::size_t random_samples = 0;
   std::uint64_t rng_seed = 1;
-  std::string target, reference, weight, transform;
+  std::string target, reference, reference_file, function, weight, transform;
   std::string loss = "ls", solver = "auto";
   std::vector<std::string> constraints, baselines;
   std::string json_path, table_path;
@@ -49,17 +50,19 @@ struct FitArgs {
 // name.
 FitSetup to_setup(const FitArgs& a) {
   const bool generated = !a.domain.empty();
-  const bool has_data = !a.data.path.empty() || !a.data.dataset.empty();
+  const bool has_data = a.data.given();
   if (generated && has_data)
     fail("give either --domain (sampled data) or --data/--dataset, not both", "--domain");
   if (!generated && !has_data)
     fail("no data: give --data FILE.csv, --dataset NAME or --domain", "--data");
   FitSetup s;
   if (has_data) {
-    s.data = load_data(a.data);
-    s.data_name = a.data.describe();
+    Problem p = load_problem(a.data);
+    s.data = std::move(p.data);
+    s.data_name = p.description;
   }
   s.domain = a.domain;
+  s.samples = a.samples;
   s.random_samples = a.random_samples;
   s.rng_seed = a.rng_seed;
   s.grid = a.grid;
@@ -70,6 +73,15 @@ FitSetup to_setup(const FitArgs& a) {
   s.per_cell = a.per_cell;
   s.target = a.target;
   s.reference = a.reference;
+  if (!a.reference_file.empty()) {
+    s.reference_source = read_reference_file(a.reference_file);
+    s.reference_path = a.reference_file;
+    if (a.function.empty())
+      fail("name the function of the reference file to fit (--function NAME)", "--function");
+  } else if (!a.function.empty()) {
+    fail("--function names a function of --reference-file, which is not given", "--function");
+  }
+  s.function = a.function;
   s.weight = a.weight;
   s.transform = a.transform;
   s.constraints = a.constraints;
@@ -186,7 +198,7 @@ void register_fit_command(CLI::App& app, Context& ctx) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand(
       "fit", "Fit the free parameters of a formula, globally, per group or per grid cell");
-  add_data_options(cmd, a->data, true);
+  add_data_options(cmd, a->data, DataFiles | SeedAlias);
   cmd->add_option("formula", a->formula, "the formula, e.g. 'r0 + (1 - r0 - s*cos_theta)*x^4'")
       ->required();
   cmd->add_option("--param", a->params,
@@ -194,9 +206,14 @@ void register_fit_command(CLI::App& app, Context& ctx) {
       ->delimiter(',')
       ->allow_extra_args(false);
   cmd->add_option("--target", a->target, "data column the formula approximates");
-  cmd->add_option(
-      "--reference", a->reference,
-      "built-in reference function (see docs/fit.md) or a formula, instead of --target");
+  cmd->add_option("--reference", a->reference,
+                  "the function to fit to, instead of --target: a formula over the columns in the "
+                  "reference language (acos, erf, atan2, the built-ins: docs/reference.md), or a "
+                  "built-in's name (fv-exact; docs/fit.md)");
+  cmd->add_option("--reference-file", a->reference_file,
+                  "the function to fit to as a GLSL or HLSL function in this file (with "
+                  "--function); its parameters are columns");
+  cmd->add_option("--function", a->function, "the function of --reference-file");
   cmd->add_option("--per-group", a->per_group,
                   "PARAM:COLUMN: one value of PARAM per value of COLUMN")
       ->delimiter(',')
@@ -208,10 +225,15 @@ void register_fit_command(CLI::App& app, Context& ctx) {
                   "conditioning variable name=lo:hi:cells[:sqrt] (repeat per axis)")
       ->allow_extra_args(false);
   cmd->add_option("--domain", a->domain,
-                  "sampled variable name=lo:hi:count[:midpoints|endpoints] (repeat)")
+                  "sampled variable name=lo:hi (the default design) or "
+                  "name=lo:hi:count[:midpoints|endpoints] (a regular grid); repeat")
       ->allow_extra_args(false);
+  cmd->add_option("--samples", a->samples,
+                  "points of the domain's default design (default: 10,001 in one variable; "
+                  "docs/reference.md)");
   cmd->add_option("--define", a->defines,
-                  "derived column 'name = formula' over earlier names (repeat)")
+                  "derived column 'name = formula' (reference language) over earlier names "
+                  "(repeat)")
       ->allow_extra_args(false);
   cmd->add_option("--random-samples", a->random_samples,
                   "sample each cell at N uniform random points instead of a grid");

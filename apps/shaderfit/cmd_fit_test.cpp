@@ -162,6 +162,83 @@ INSTANTIATE_TEST_SUITE_P(
                  "not linear"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
 
+// The reference language: a formula of functions a built-in does not cover, on a domain sampled
+// by the default design (no count), with definitions in the same language.
+TEST(CliFit, ReferenceLanguageOnTheDefaultDesign) {
+  // Abramowitz and Stegun 4.4.45's form: acos(x) ~ sqrt(1 - x) (a + b x + c x^2 + d x^3).
+  CliResult r =
+      run({"fit", "--domain", "x=0:1", "--define", "s = sqrt(1 - x)", "--reference", "acos(x)",
+           "--param", "a,b,c,d", "--loss", "max", "s*(a + b*x + c*x^2 + d*x^3)", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["reference"], "acos(x)");
+  ASSERT_EQ(j["blocks"].size(), 1u);
+  EXPECT_EQ(j["blocks"][0]["rows"].get<int>(), 10001);
+  EXPECT_TRUE(j["linear"].get<bool>());
+  // A&S's own constants (a = 1.5707288, ...) err by 6.75e-5; the minimax fit is no worse.
+  EXPECT_LT(j["blocks"][0]["max_abs"].get<double>(), 6.75e-5);
+  EXPECT_NEAR(j["blocks"][0]["parameters"]["a"].get<double>(), 1.5707288, 1e-4);
+  // --samples sizes the design; erf and atan2 are references' functions.
+  r = run({"fit", "--domain", "x=0:3", "--samples", "257", "--reference", "erf(x) * atan2(1, x)",
+           "--param", "a,b", "a*x/(1 + b*x)", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["blocks"][0]["rows"].get<int>(), 257);
+  EXPECT_TRUE(j["blocks"][0]["ok"].get<bool>());
+}
+
+// A GLSL function as the reference: its parameters are the sampled variables.
+TEST(CliFit, ReferenceFileAndFunction) {
+  const std::string glsl =
+      testing::scratch_file("g1.glsl",
+                            "float G1(float NdotV, float roughness) {\n"
+                            "  float a = roughness * roughness;\n"
+                            "  float d = NdotV + sqrt(a * a + (1.0 - a * a) * NdotV * NdotV);\n"
+                            "  return d > 1e-4 ? 2.0 * NdotV / d : 0.0;\n"
+                            "}\n");
+  CliResult r = run({"fit", "--domain", "NdotV=0:1:64", "--grid", "roughness=0.1:1:3",
+                     "--reference-file", glsl, "--function", "G1", "--param", "k=0.5", "--per-cell",
+                     "k", "NdotV / (NdotV*(1 - k) + k)", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_NE(j["reference"].get<std::string>().find("g1.glsl: G1"), std::string::npos);
+  ASSERT_EQ(j["blocks"].size(), 3u);
+  double last = 0;
+  for (const auto& b : j["blocks"]) {
+    ASSERT_TRUE(b["ok"].get<bool>());
+    const double k = b["parameters"]["k"];
+    EXPECT_GT(k, last);  // rougher: more shadowing, a larger k
+    last = k;
+  }
+  const CliResult bad = run({"fit", "--domain", "x=0:1", "--reference-file", glsl, "--function",
+                             "G1", "--param", "k", "k*x"});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("--function: the parameter 'NdotV' of "), std::string::npos) << bad.err;
+}
+
+TEST(CliFit, ReferenceLanguageErrorsAreLocated) {
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+      {{"--domain", "x=0:1", "--reference", "acoss(x)"},
+       "--reference:1:1: unknown function 'acoss'"},
+      {{"--domain", "x=0:1", "--define", "c = cos(x)", "--define", "d = erf(q)", "--reference",
+        "d"},
+       "--define:2:"},
+      {{"--domain", "x=1:0", "--reference", "x"}, "--domain:1: the domain of 'x' is reversed"},
+      {{"--domain", "x=0:1:8", "--samples", "100", "--reference", "x"}, "--samples:"},
+      {{"--domain", "x=0:1", "--function", "f", "--reference", "x"},
+       "--function: --function names a function of --reference-file"},
+  };
+  for (const auto& [args, expected] : cases) {
+    std::vector<std::string> all = {"fit"};
+    all.insert(all.end(), args.begin(), args.end());
+    all.insert(all.end(), {"--param", "a", "a*x"});
+    CliResult r = run(all);
+    EXPECT_EQ(r.status, 2) << expected;
+    EXPECT_EQ(line_count(r.err), 1) << r.err;
+    EXPECT_NE(r.err.find(expected), std::string::npos) << r.err;
+  }
+}
+
 TEST(CliFit, UnknownReferenceAndHelp) {
   CliResult r =
       run({"fit", "--domain", "d=0:1:8", "--reference", "fv-exat", "--param", "a", "a*d"});

@@ -65,7 +65,7 @@ struct CommonArgs {
 };
 
 void add_common(CLI::App* cmd, CommonArgs& c) {
-  add_data_options(cmd, c.data, false);
+  add_data_options(cmd, c.data, DataFiles);
   cmd->add_option(
          "--material", c.materials,
          "sweep these materials over 0..90 degrees instead of --data: 1.5, 0.3+3i, aluminium, "
@@ -78,8 +78,8 @@ void add_common(CLI::App* cmd, CommonArgs& c) {
 }
 
 Dataset load(const CommonArgs& c) {
-  if (c.materials.empty()) return load_data(c.data);
-  if (!c.data.path.empty() || !c.data.dataset.empty()) {
+  if (c.materials.empty()) return load_problem(c.data).data;
+  if (c.data.given()) {
     throw Error("give either --material or --data/--dataset, not both",
                 SourceLocation{"--material"});
   }

@@ -6,6 +6,7 @@
 #include <memory>
 #include <ostream>
 
+#include "data_source.hpp"
 #include "progress_bar.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
@@ -21,7 +22,8 @@ namespace {
 using namespace shaderfit::rational;
 
 struct RationalArgs {
-  std::string target, var = "x", domain, fit = "none", rank = "rmse", json_path;
+  std::string target, var = "x", reference_file, function, domain, fit = "none", rank = "rmse",
+                      json_path;
   std::vector<std::string> conds, forms, transforms, params;
   int count = 0;
   int digits = 0;
@@ -32,6 +34,11 @@ RationalSetup to_setup(const RationalArgs& a) {
   RationalSetup s;
   s.target = a.target;
   s.variable = a.var;
+  if (!a.reference_file.empty()) {
+    s.reference_source = read_reference_file(a.reference_file);
+    s.reference_path = a.reference_file;
+  }
+  s.function = a.function;
   s.domain = a.domain;
   s.conditions = a.conds;
   s.forms = a.forms;
@@ -122,9 +129,16 @@ void register_rational_command(CLI::App& app, Context& ctx) {
       "rational",
       "Rational approximations from kernel conditions (Schlick 1994), and minimax fits");
   cmd->add_option("--target", args->target,
-                  "built-in function (--list-targets) or a formula in --var");
-  cmd->add_option("--var", args->var, "the variable of a formula target (default x)");
-  cmd->add_option("--domain", args->domain, "LO,HI (default: the target's natural domain, or 0,1)");
+                  "built-in function (--list-targets) or a formula in --var in the reference "
+                  "language: acos(x), erf(x), atan2(x, 1), ... (docs/reference.md)");
+  cmd->add_option("--var", args->var,
+                  "the variable of a formula target (default x), or of a shader function");
+  cmd->add_option("--reference-file", args->reference_file,
+                  "the target as a GLSL or HLSL function in this file (with --function): its one "
+                  "parameter, or the one without a --param value, is the variable");
+  cmd->add_option("--function", args->function, "the function of --reference-file");
+  cmd->add_option("--domain", args->domain,
+                  "LO,HI or x=LO:HI (default: the target's natural domain, or 0,1)");
   cmd->add_option("--cond", args->conds,
                   "condition: f(a)=v, f'(a)=v, f^(k)(a)=v, int(a,b)=v; v a formula in the "
                   "parameters or 'ref'")
@@ -151,7 +165,8 @@ void register_rational_command(CLI::App& app, Context& ctx) {
       "--transform '1 - cos' \\\n"
       "    --cond 'f(0)=1' --cond 'f(1)=F0' --cond \"f'(1)=0\" --cond \"f''(1)=0\" --cond "
       "\"f'''(1)=0\" --cond 'f^(4)(1)=0'\n"
-      "  shaderfit rational --target exp --domain -1,1 --form 2/2 --minimax");
+      "  shaderfit rational --target exp --domain -1,1 --form 2/2 --minimax\n"
+      "  shaderfit rational --target 'erf(x)' --domain x=0:3 --form 3/3 --minimax");
   cmd->callback([args, &ctx] { run_rational(*args, ctx); });
 }
 

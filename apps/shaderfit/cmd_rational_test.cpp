@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "cli_test_util.hpp"
@@ -77,6 +78,59 @@ TEST(CliRational, MinimaxKeepsConditionsAndListsTargets) {
   EXPECT_NE(l.out.find("smith-ggx-g1"), std::string::npos);
 }
 
+// Targets in the reference language: functions a built-in does not cover, minimax forms of them.
+TEST(CliRational, ReferenceLanguageTargetsGetMinimaxForms) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--target", "erf(x)", "--domain", "0,3", "--form", "3/3"},
+        std::vector<std::string>{"--target", "acos(x)", "--domain", "x=0:0.9", "--form", "2/2"}}) {
+    CliResult r = run(with(with({"rational"}, args), {"--minimax", "--json", "-"}));
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["target"], args[1]);
+    const auto& m = j["runs"][0]["results"][0]["minimax"];
+    EXPECT_TRUE(m["converged"].get<bool>()) << args[1];
+    EXPECT_EQ(m["points"].size(), 6u + (args[5] == "3/3" ? 2u : 0u)) << args[1];
+    EXPECT_LT(m["spread"].get<double>(), 1e-6) << args[1];
+  }
+}
+
+// Kernel conditions on a reference-language target use its exact derivatives: f, f', f'' of
+// acos at 0 are pi/2, -1, 0 (its Taylor polynomial), and of erf(x / sqrt(2)) at 0 are 0,
+// sqrt(2 / pi), 0.
+TEST(CliRational, DerivativeConditionsOnAReferenceFormulaAreAnalytic) {
+  CliResult r =
+      run({"rational", "--target", "acos(t)", "--var", "t", "--domain", "-0.5,0.5", "--form", "2/0",
+           "--cond", "f(0)=ref", "--cond", "f'(0)=ref", "--cond", "f''(0)=ref", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto p = nlohmann::json::parse(r.out)["runs"][0]["results"][0]["numerator"];
+  EXPECT_NEAR(p[0].get<double>(), std::acos(0.0), 1e-15);
+  EXPECT_NEAR(p[1].get<double>(), -1.0, 1e-15);
+  EXPECT_NEAR(p[2].get<double>(), 0.0, 1e-15);
+  r = run({"rational", "--target", "erf(x / sqrt(2))", "--domain", "x=-1:1", "--form", "1/0",
+           "--cond", "f(0)=ref", "--cond", "f'(0)=ref", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  p = nlohmann::json::parse(r.out)["runs"][0]["results"][0]["numerator"];
+  EXPECT_NEAR(p[1].get<double>(), std::sqrt(2 / std::acos(-1.0)), 1e-15);
+}
+
+// A shader function as the target: its parameter without a --param value is the variable.
+TEST(CliRational, ShaderFunctionTarget) {
+  const std::string file = testing::scratch_file("schlick.glsl",
+                                                 "float F(float f0, float VdotH) {\n"
+                                                 "  float m = clamp(1.0 - VdotH, 0.0, 1.0);\n"
+                                                 "  return f0 + (1.0 - f0) * pow(m, 5.0);\n"
+                                                 "}\n");
+  CliResult r = run({"rational",  "--reference-file", file,         "--function", "F",
+                     "--param",   "f0=0.04",          "--form",     "5/0",        "--transform",
+                     "1 - VdotH", "--cond",           "f(0)=ref",   "--cond",     "f(1)=ref",
+                     "--cond",    "f'(1)=0",          "--cond",     "f''(1)=0",   "--cond",
+                     "f'''(1)=0", "--cond",           "f^(4)(1)=0", "--json",     "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["variable"], "VdotH");
+  EXPECT_EQ(j["runs"][0]["results"][0]["formula"], "0.04 + 0.96 * (1 - VdotH)^5");
+}
+
 // Bad input: one line naming the problem and where it is, exit status 2.
 struct BadInput {
   const char* name;
@@ -112,6 +166,25 @@ TEST(CliRational, BadInputIsOneLineAndStatusTwo) {
        {"rational", "--target", "fresnell", "--form", "1/0"},
        "--target: unknown target 'fresnell'"},
       {"formula syntax", {"rational", "--target", "x +* 2", "--form", "1/0"}, "--target:1:4"},
+      {"unknown function",
+       {"rational", "--target", "acoss(x)", "--form", "1/0"},
+       "--target:1:1: unknown function 'acoss'"},
+      {"domain of another variable",
+       {"rational", "--target", "erf(x)", "--domain", "t=0:1", "--form", "1/0"},
+       "--domain:1:1: the domain is of 't', but the variable is 'x'"},
+      {"reversed domain",
+       {"rational", "--target", "erf(x)", "--domain", "x=1:0", "--form", "1/0"},
+       "--domain: the domain of 'x' is reversed"},
+      {"function without a file",
+       {"rational", "--function", "f", "--form", "1/0"},
+       "--function: --function names a function of a shader source"},
+      {"shader variable not determined",
+       {"rational", "--reference-file",
+        testing::scratch_file("two.hlsl",
+                              "float f(float a, float b) {\n"
+                              "  return a * b;\n}\n"),
+        "--function", "f", "--form", "1/0"},
+       "two.hlsl: f has the parameters a, b"},
       {"bad parameter",
        {"rational", "--target", "exp", "--param", "F0=0.1,y", "--form", "1/0"},
        "--param:1:8"},

@@ -12,6 +12,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/report/html.hpp"
+#include "shaderfit/report/search_json.hpp"
 #include "shaderfit/report/search_report.hpp"
 #include "shaderfit/search/choice.hpp"
 
@@ -35,10 +36,20 @@ ReportChoice search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
   else
     o.formula = a.choose;
   o.figure_directory = a.figures;
-  Dataset d;
-  if (!a.data.path.empty() || !a.data.dataset.empty()) {
-    d = load_data(a.data);
+  // The data: as the options say, else as the run recorded it (a reference is sampled again).
+  std::optional<Problem> problem;
+  if (a.data.given())
+    problem = load_problem(a.data);
+  else if (j.contains("problem") && !j["problem"].is_null()) {
+    // A CSV file that is no longer where the run read it leaves the page without curves.
+    const ProblemSource recorded = problem_source_from_json(j["problem"], a.run_path);
+    if (recorded.csv_path.empty() || std::filesystem::exists(recorded.csv_path))
+      problem = shaderfit::load_problem(recorded);
+  }
+  if (problem) {
+    const Dataset& d = problem->data;
     o.data = &d;
+    o.reference = problem->reference.get();
     for (std::size_t i = 0; i < a.baselines.size(); ++i) {
       const auto eq = a.baselines[i].find('=');
       ReportFormula b;
@@ -97,7 +108,7 @@ void register_report_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--baseline", a->baselines,
                   "formulas to compare with, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
       ->allow_extra_args(false);
-  add_data_options(cmd, a->data, false);
+  add_data_options(cmd, a->data, DataFiles | References);
   cmd->footer(
       "Example:\n  shaderfit search --dataset fresnel-seed --inputs r0,x --target R --json "
       "run.json\n"

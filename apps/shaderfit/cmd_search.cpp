@@ -36,8 +36,6 @@ namespace {
 // --stop-cost (stop_at).
 struct SearchArgs {
   DataSource data;
-  std::string inputs = "r0,x";
-  std::string target = "R";
   std::string weights;
   SearchOptions options;  // plain fields are bound to their flags directly
   // The other fields' flags, read after parsing: optional integers, and the text of lists,
@@ -57,18 +55,6 @@ struct SearchArgs {
 std::atomic<bool> g_interrupted{false};
 extern "C" void on_stop_signal(int) { g_interrupted.store(true); }
 
-std::vector<std::string> split_names(const std::string& list) {
-  std::vector<std::string> out;
-  std::stringstream ss(list);
-  std::string item;
-  while (std::getline(ss, item, ',')) {
-    while (!item.empty() && item.front() == ' ') item.erase(item.begin());
-    while (!item.empty() && item.back() == ' ') item.pop_back();
-    if (!item.empty()) out.push_back(item);
-  }
-  return out;
-}
-
 const std::vector<double>& numeric_column(const Dataset& d, const std::string& name,
                                           const char* option) {
   const Column* c = d.find(name);
@@ -82,8 +68,12 @@ const std::vector<double>& numeric_column(const Dataset& d, const std::string& n
   return d.numeric(name).values;
 }
 
-SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
+// `problem`: a built-in data set's own operators apply unless the user names others.
+SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd, const Problem& problem) {
   SearchOptions o = a.options;
+  if (!problem.operators.empty()) set_search_option(o, "operators", problem.operators);
+  if (!problem.evolution_operators.empty())
+    set_search_option(o, "evolution_operators", problem.evolution_operators);
   for (const SearchOptionField& f : search_option_fields()) {
     if (cmd.count(search_option_flag(f.name)) == 0) continue;
     if (const auto i = a.integers.find(f.name); i != a.integers.end())
@@ -110,20 +100,23 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd) {
 }
 
 void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
-  SearchOptions options = make_options(a, cmd);
-  options.communicator = ctx.communicator;
-  const bool leader = ctx.communicator == nullptr || ctx.communicator->rank() == 0;
   const ChoiceRule choice = parse_choice_rule(a.choose, {"ChoiceRule"});
   const PrintOptions print = PrintOptions::for_people(a.digits);
   const auto t0 = std::chrono::steady_clock::now();
-  const Dataset d = load_data(a.data);
+  ProblemSource recorded;
+  const Problem source = load_problem(a.data, &recorded);
+  SearchOptions options = make_options(a, cmd, source);
+  options.communicator = ctx.communicator;
+  const bool leader = ctx.communicator == nullptr || ctx.communicator->rank() == 0;
+  const Dataset& d = source.data;
   SearchProblem problem;
-  problem.input_names = split_names(a.inputs);
-  if (problem.input_names.empty()) throw Error("no inputs given", {"--inputs"});
+  problem.input_names = source.inputs;
   for (const std::string& n : problem.input_names)
     problem.inputs.push_back(numeric_column(d, n, "--inputs"));
-  problem.target = numeric_column(d, a.target, "--target");
+  problem.target = numeric_column(d, source.target, "--target");
   if (!a.weights.empty()) problem.weights = numeric_column(d, a.weights, "--weights");
+  problem.reference = source.reference;
+  problem.reference_samples = a.data.problem.samples;
   problem.validate();
   const double load_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -135,13 +128,18 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   // With the JSON on stdout, everything for people goes to stderr.
   const bool json_stdout = a.json_path == "-";
   std::ostream& human = json_stdout ? ctx.err : ctx.out;
+  std::string inputs;
+  for (const std::string& n : problem.input_names) inputs += (inputs.empty() ? "" : ",") + n;
   human << fmt::format(
-      "shaderfit search: {}, {} rows, inputs {}, target {}, loss {}, cost {}, device {} "
+      "shaderfit search: {}, inputs {}, target {}, loss {}, cost {}, device {} "
       "(data ready in {:.1f} ms)\n",
-      a.data.describe(), d.rows(), a.inputs, a.target, loss_name(options.loss),
-      cost_target_name(options.cost),
+      // A reference's description counts its samples already.
+      source.reference ? source.description
+                       : fmt::format("{}, {} rows", source.description, d.rows()),
+      inputs, source.target, loss_name(options.loss), cost_target_name(options.cost),
       options.device == ComputeDevice::Cuda ? "cuda (" + cuda_device_name() + ")" : "cpu",
       load_s * 1e3);
+  human << problem_notes(source, "");
   if (auto_ops)
     human << fmt::format(
         "operators (auto): {}; the evolution also {}\n", operator_list_name(options.operators),
@@ -210,7 +208,8 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
                     : "; resume with --resume " + options.checkpoint_path)
             << '\n';
   if (!a.json_path.empty()) {
-    SearchDataInfo info{a.data.describe(), a.target, load_s, d.rows(), problem.input_names};
+    SearchDataInfo info{source.description, source.target, load_s, d.rows(), problem.input_names};
+    info.problem = recorded;
     const std::string text = search_json(summary, options, info);
     if (json_stdout) {
       ctx.out << text;
@@ -265,11 +264,9 @@ void register_search_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<SearchArgs>();
   CLI::App* cmd = app.add_subcommand(
       "search", "Find the Pareto front of error against GPU cost (symbolic regression)");
-  add_data_options(cmd, args->data, false);
-  cmd->add_option("--seed-data", args->data.seed,
+  add_data_options(cmd, args->data, DataFiles | References | InputsTarget);
+  cmd->add_option("--seed-data", args->data.problem.dataset_seed,
                   "seed of the built-in data set (same as --data-seed)");
-  cmd->add_option("--inputs", args->inputs, "input columns, comma-separated (default r0,x)");
-  cmd->add_option("--target", args->target, "target column (default R)");
   cmd->add_option("--weights", args->weights, "column of sample weights (default: all 1)");
   for (const SearchOptionField& f : search_option_fields()) {
     if (f.name == "enumerate") {

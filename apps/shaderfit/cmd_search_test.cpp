@@ -23,15 +23,10 @@ extern char** environ;
 namespace shaderfit::cli {
 namespace {
 
+using testing::expect_bad_input;
 using testing::run;
 using testing::scratch_file;
 
-void expect_bad_input(const std::vector<std::string>& args, const std::string& text) {
-  const auto r = run(args);
-  EXPECT_EQ(r.status, 2) << r.err;
-  EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
-  EXPECT_EQ(testing::line_count(r.err), 1) << r.err;
-}
 
 TEST(CmdSearch, SeedTaskFindsTheSeedFormulaAndWritesJson) {
   const auto r = run({"search", "--dataset", "fresnel-seed", "--inputs", "r0,x", "--target", "R",

@@ -1,43 +1,117 @@
 #include "data_source.hpp"
 
+#include <fstream>
+#include <sstream>
+
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/core/random.hpp"
-#include "shaderfit/data/csv.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 
 namespace shaderfit::cli {
 
-std::string DataSource::describe() const {
-  if (!path.empty()) return path;
-  return dataset + " (seed " + std::to_string(seed) + ")";
-}
+namespace {
 
-void add_data_options(CLI::App* cmd, DataSource& src, bool seed_alias) {
-  cmd->add_option("--data", src.path, "CSV file with a header row of column names");
-  std::string names;
-  for (const auto& n : builtin_dataset_names()) names += (names.empty() ? "" : ", ") + n;
-  cmd->add_option("--dataset", src.dataset, "built-in data set instead of --data (" + names + ")");
-  auto* seed = cmd->add_option(seed_alias ? "--data-seed,--seed" : "--data-seed", src.seed,
-                               "seed of the built-in data set's generator (default 1)");
-  seed->each([&src](const std::string&) { src.seed_given = true; });
-}
-
-Dataset load_data(const DataSource& src) {
-  if (src.path.empty() == src.dataset.empty()) {
-    throw Error(src.path.empty() ? "no data: give --data FILE.csv or --dataset NAME"
-                                 : "give either --data or --dataset, not both",
-                SourceLocation{src.path.empty() ? "--data" : "--dataset"});
+std::vector<std::string> split_names(const std::string& list) {
+  std::vector<std::string> out;
+  std::stringstream ss(list);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    while (!item.empty() && item.front() == ' ') item.erase(item.begin());
+    while (!item.empty() && item.back() == ' ') item.pop_back();
+    if (!item.empty()) out.push_back(item);
   }
-  if (!src.path.empty()) return read_csv(src.path);
-  Rng rng(src.seed);
-  std::optional<Dataset> d = make_builtin_dataset(src.dataset, rng);
-  if (!d) {
+  return out;
+}
+
+}  // namespace
+
+bool DataSource::given() const {
+  return !problem.csv_path.empty() || !problem.dataset.empty() ||
+         !problem.reference.formula.empty() || !reference_file.empty();
+}
+
+void add_data_options(CLI::App* cmd, DataSource& src, unsigned options) {
+  if (options & DataFiles) {
+    cmd->add_option("--data", src.problem.csv_path, "CSV file with a header row of column names");
     std::string names;
     for (const auto& n : builtin_dataset_names()) names += (names.empty() ? "" : ", ") + n;
-    throw Error("unknown data set '" + src.dataset + "' (built-in: " + names + ")",
-                SourceLocation{"--dataset"});
+    cmd->add_option("--dataset", src.problem.dataset,
+                    "built-in data set instead of --data (" + names + ")");
+    auto* seed = cmd->add_option((options & SeedAlias) ? "--data-seed,--seed" : "--data-seed",
+                                 src.problem.dataset_seed,
+                                 "seed of the built-in data set's generator (default 1)");
+    seed->each([&src](const std::string&) { src.seed_given = true; });
   }
-  return std::move(*d);
+  if (options & References) {
+    cmd->add_option("--reference", src.problem.reference.formula,
+                    "the function to approximate, a formula: acos(x), erf(x / sqrt(2)), "
+                    "fresnel_exact(cos_theta, 1.5, 0), ... (docs/reference.md); with --domain");
+    cmd->add_option("--reference-file", src.reference_file,
+                    "the function to approximate as a GLSL or HLSL function in this file "
+                    "(with --function and --domain)");
+    cmd->add_option("--function", src.problem.reference.function,
+                    "the function of --reference-file to approximate");
+    cmd->add_option("--domain", src.problem.domain,
+                    "a variable's domain name=lo:hi (repeat per variable; :count[:endpoints] "
+                    "for a regular grid)")
+        ->allow_extra_args(false);
+    cmd->add_option("--define", src.problem.reference.definitions,
+                    "an intermediate quantity 'name = formula' the reference may use (repeat)")
+        ->allow_extra_args(false);
+    cmd->add_option("--samples", src.problem.samples,
+                    "points sampled on the domain (default: 10,001 in one variable, about 4,400 "
+                    "in two, 9,000 in three or more; docs/reference.md)");
+    cmd->add_flag("--drop-nonfinite", src.problem.drop_nonfinite,
+                  "drop the points where the reference is NaN or infinite (default: an error)");
+  }
+  if (options & Inputs)
+    cmd->add_option("--inputs", src.inputs,
+                    "input columns, comma-separated (default: the data set's own, a reference's "
+                    "variables, or every CSV column but the target)");
+  if (options & Target) {
+    cmd->add_option("--target", src.problem.target,
+                    "target column (default: the data set's own, the reference, or a CSV's column "
+                    "named y or target, else its last)");
+  }
+}
+
+Problem load_problem(const DataSource& src, ProblemSource* used) {
+  ProblemSource s = src.problem;
+  // Errors in the formulas point at the flags that gave them.
+  s.reference.formula_source = "--reference";
+  s.reference.definitions_source = "--define";
+  s.inputs = split_names(src.inputs);
+  if (!src.reference_file.empty()) {
+    s.reference.shader_source = read_reference_file(src.reference_file);
+    s.reference.shader_path = src.reference_file;
+    if (s.reference.function.empty())
+      throw Error("name the function of the reference file to approximate",
+                  SourceLocation{"--function"});
+  } else if (!s.reference.function.empty()) {
+    throw Error("--function names a function of --reference-file, which is not given",
+                SourceLocation{"--function"});
+  }
+  Problem p = shaderfit::load_problem(s);
+  if (used != nullptr) {
+    *used = std::move(s);
+    used->inputs = p.inputs;
+    used->target = p.target;
+  }
+  return p;
+}
+
+std::string read_reference_file(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw Error("cannot open the reference file", SourceLocation{path});
+  std::ostringstream text;
+  text << f.rdbuf();
+  if (f.bad()) throw Error("cannot read the reference file", SourceLocation{path});
+  return text.str();
+}
+
+std::string problem_notes(const Problem& problem, const std::string& prefix) {
+  std::string out;
+  for (const std::string& n : problem.notes) out += prefix + n + '\n';
+  return out;
 }
 
 }  // namespace shaderfit::cli

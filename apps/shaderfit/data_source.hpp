@@ -1,30 +1,51 @@
-// The data options every command shares: a CSV file (--data) or a built-in generator
-// (--dataset NAME with --data-seed N), and loading them into a Dataset.
+// The problem options the commands share (data/problem.hpp): what to approximate, as a CSV file
+// (--data), a built-in data set (--dataset, --data-seed) or a reference sampled on a domain
+// (--reference FORMULA or --reference-file FILE --function NAME, --domain, --define,
+// --samples, --drop-nonfinite); and the columns a formula reads and approximates (--inputs,
+// --target), inferred when not given.
 #pragma once
 
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
 
-#include "shaderfit/data/dataset.hpp"
+#include "shaderfit/data/problem.hpp"
 
 namespace shaderfit::cli {
 
-struct DataSource {
-  std::string path;         // --data
-  std::string dataset;      // --dataset
-  std::uint64_t seed = 1;   // --data-seed (for generators)
-  bool seed_given = false;  // set when the user named a seed
-
-  // "data.csv" or "fresnel-seed (seed 1)": for headers of reports.
-  [[nodiscard]] std::string describe() const;
+// Which of the options a command offers.
+enum DataOptions : unsigned {
+  DataFiles = 1u,   // --data, --dataset, --data-seed
+  References = 2u,  // --reference, --reference-file, --function, --domain, --define, ...
+  Inputs = 4u,      // --inputs
+  Target = 8u,      // --target
+  SeedAlias = 16u,  // --seed as another name of --data-seed
+  InputsTarget = Inputs | Target,
 };
 
-// Adds --data, --dataset and --data-seed (alias --seed when `seed_alias`) to `cmd`.
-void add_data_options(CLI::App* cmd, DataSource& src, bool seed_alias);
+struct DataSource {
+  ProblemSource problem;       // the flags write here, except:
+  std::string reference_file;  // --reference-file: read when the problem is loaded
+  std::string inputs;          // --inputs, comma-separated
+  bool seed_given = false;     // --data-seed was given
 
-// Loads the CSV or runs the generator. Throws shaderfit::Error for a missing or bad file, an
-// unknown generator name, or when neither or both of --data and --dataset are given.
-Dataset load_data(const DataSource& src);
+  // Whether any source was given (--data, --dataset or a reference).
+  [[nodiscard]] bool given() const;
+};
+
+void add_data_options(CLI::App* cmd, DataSource& src, unsigned options);
+
+// The problem (data/problem.hpp's load_problem) after reading --reference-file; *used, when
+// given, receives the source as loaded (the file's text in it, the inputs and target chosen),
+// which a run's JSON records. Throws shaderfit::Error for a file that cannot be read, and as
+// load_problem does.
+Problem load_problem(const DataSource& src, ProblemSource* used = nullptr);
+
+// The text of a reference file (--reference-file). Throws shaderfit::Error located at the file
+// when it cannot be read.
+std::string read_reference_file(const std::string& path);
+
+// "inputs x, target y, ..." lines of Problem::notes, each prefixed for the command's output.
+std::string problem_notes(const Problem& problem, const std::string& prefix);
 
 }  // namespace shaderfit::cli

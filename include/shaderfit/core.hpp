@@ -37,5 +37,7 @@ struct ParseOptions;
 
 // data/
 struct Dataset;
+struct ProblemSource;
+struct Problem;
 
 }  // namespace shaderfit

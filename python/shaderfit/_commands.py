@@ -9,7 +9,9 @@ import numpy as np
 
 from . import _shaderfit
 from ._arrays import columns_of, name_of, vector_of, _is_dataframe
+from ._errors import Error
 from ._front import _columns_for
+from ._search import _domain_texts
 
 
 def _parameters(params) -> tuple[list[str], list[float]]:
@@ -88,21 +90,86 @@ class FitResult:
         return f"<FitResult parameters={self.parameters}>"
 
 
-def fit(text: str, X, y, *, params=None, groups=None, per_group: Sequence[str] | None = None,
-        inputs: Sequence[str] | None = None, weights=None, loss: str = "mse",
-        solver: str = "auto", constraints: Sequence[str] = (), transform: str = "",
-        baselines: Sequence[str] = (), max_iterations: int = 100, threads: int = 0) -> FitResult:
+# The library's names for what fit's and rational's keywords set, and the keywords.
+_FIELD_KEYWORDS = {
+    "FitSetup::reference_source": "reference_file", "FitSetup::reference_path": "reference_file",
+    "FitSetup::definitions": "define", "FitSetup::parameters": "params",
+    "FitSetup::formula": "text", "FitSetup::target": "y",
+    "RationalSetup::reference_source": "reference_file",
+    "RationalSetup::reference_path": "reference_file",
+}
+
+
+def _keyword_error(e: Error) -> Error:
+    """The error with FitSetup's and RationalSetup's fields written as the keywords that set
+    them (``FitSetup::reference`` as ``reference``)."""
+    def keyword(field: str) -> str:
+        if field in _FIELD_KEYWORDS:
+            return _FIELD_KEYWORDS[field]
+        for prefix in ("FitSetup::", "RationalSetup::"):
+            if field.startswith(prefix):
+                return field[len(prefix):]
+        return field
+    message = e.message
+    for field in sorted(_FIELD_KEYWORDS, key=len, reverse=True):
+        message = message.replace(field, _FIELD_KEYWORDS[field])
+    for prefix in ("FitSetup::", "RationalSetup::"):
+        message = message.replace(prefix, "")
+    return Error(message, keyword(e.source), e.line, e.column)
+
+
+def _shader(reference_file, function: str | None) -> tuple[str, str, str]:
+    """The source text, path and function of ``reference_file`` (empty strings without one)."""
+    if reference_file is None:
+        return "", "", function or ""
+    import os
+    path = os.fspath(reference_file)
+    try:
+        with open(path, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as e:
+        raise Error(f"cannot read the reference file: {e.strerror}", path) from None
+    return text, path, function or ""
+
+
+def fit(text: str, X=None, y=None, *, params=None, groups=None,
+        per_group: Sequence[str] | None = None, inputs: Sequence[str] | None = None,
+        weights=None, loss: str = "mse", solver: str = "auto", constraints: Sequence[str] = (),
+        transform: str = "", baselines: Sequence[str] = (), max_iterations: int = 100,
+        threads: int = 0, reference: str | None = None, domain=None,
+        define: Sequence[str] | str = (), samples: int = 0, reference_file=None,
+        function: str | None = None) -> FitResult:
     """The free parameters of a fixed formula, fitted to y: globally, or per group.
 
     params: the parameters' names, or {name: start}. groups: one label per row; the parameters
     in ``per_group`` (all of them when it is None) then take one value per group. loss: mse,
     log or max_abs (minimax). constraints, transform, baselines: as ``shaderfit fit`` reads them
     (docs/fit.md).
+    Instead of y, a ``reference`` in the reference language (docs/reference.md: ``"acos(x)"``,
+    ``"erf(x / sqrt(2))"``, a built-in's name) over X's columns, or a GLSL or HLSL function
+    (``reference_file=PATH, function=NAME``) whose parameters are columns; instead of X, a
+    ``domain`` sampled by shaderfit (``{"x": (0, 1)}`` for the default design, ``(0, 1, 64)``
+    for 64 midpoints; ``samples`` sizes the design). ``define``: derived columns
+    ``"name = formula"`` in the reference language.
     """
-    columns, names = columns_of(X, inputs)
-    rows = columns[0].shape[0] if columns else 0
-    target = vector_of(y, rows, "y")
-    target_name = name_of(y, "y")
+    source, path, function = _shader(reference_file, function)
+    defines = [define] if isinstance(define, str) else list(define)
+    domain_texts = _domain_texts(domain)
+    if y is None and not reference and not source:
+        raise TypeError("no reference: give y, reference=FORMULA or reference_file=PATH")
+    if y is not None and (reference or source):
+        raise TypeError("give either y or a reference (reference=..., reference_file=...), "
+                        "not both")
+    if domain_texts and X is not None:
+        raise TypeError("give either X or a domain to sample, not both")
+    if X is None and not domain_texts:
+        raise TypeError("no data: give X, or a domain to sample")
+    columns, names, rows = [], [], 0
+    if X is not None:
+        columns, names = columns_of(X, inputs)
+        rows = columns[0].shape[0] if columns else 0
+    target = None if y is None else vector_of(y, rows, "y")
+    target_name = "y" if y is None else name_of(y, "y")
     if target_name in names:
         target_name = "__target"
     param_names, starts = _parameters(params)
@@ -118,22 +185,38 @@ def fit(text: str, X, y, *, params=None, groups=None, per_group: Sequence[str] |
             raise ValueError(f"groups has {len(labels)} labels for {rows} rows of X")
         spec = [f"{p}:{group_name}" for p in (param_names if per_group is None else per_group)]
     w = None if weights is None else vector_of(weights, rows, "weights")
-    text_doc = _shaderfit.fit(text, columns, names, target, target_name, w, labels, group_name,
-                              texts, spec, loss, solver, list(constraints), transform,
-                              list(baselines), max_iterations, threads)
+    try:
+        text_doc = _shaderfit.fit(text, columns, names, target, target_name, w, labels,
+                                  group_name, texts, spec, loss, solver, list(constraints),
+                                  transform, list(baselines), max_iterations, threads,
+                                  reference or "", defines, domain_texts, int(samples), source,
+                                  path, function)
+    except Error as e:
+        raise _keyword_error(e) from None
     return FitResult(json.loads(text_doc), group_name if labels is not None else "")
 
 
-def rational(target: str, *, variable: str = "x", domain: str | Sequence[float] = "",
+def rational(target: str = "", *, variable: str = "x", domain="",
              conditions: Sequence[str] = (), forms: Sequence[str] = (),
              transforms: Sequence[str] = (), parameters: Sequence[str] = (), count: int = 0,
-             fit: str = "none", relative_minimax: bool = False, rank_by: str = "rmse") -> dict:
+             fit: str = "none", relative_minimax: bool = False, rank_by: str = "rmse",
+             reference_file=None, function: str | None = None) -> dict:
     """Rational approximations from Schlick's kernel conditions, optionally minimax-tuned:
     the shaderfit.rational/1 document of ``shaderfit rational --json`` (docs/rational.md).
-    target: a built-in name or a formula in ``variable``; domain: (lo, hi) or "lo,hi"."""
-    if not isinstance(domain, str):
+    target: a built-in name or a formula in ``variable`` in the reference language
+    (docs/reference.md: ``"acos(x)"``, ``"erf(x)"``); or ``reference_file=PATH, function=NAME``,
+    a GLSL or HLSL function whose parameter without a value in ``parameters`` is the variable.
+    domain: (lo, hi), "lo,hi", "x=lo:hi" or {"x": (lo, hi)}."""
+    if isinstance(domain, dict):
+        domain = ",".join(_domain_texts(domain))
+    elif not isinstance(domain, str):
         lo, hi = domain
         domain = f"{float(lo)!r},{float(hi)!r}"
-    return json.loads(_shaderfit.rational(target, variable, domain, list(conditions),
-                                          list(forms), list(transforms), list(parameters),
-                                          count, fit, relative_minimax, rank_by))
+    source, path, function = _shader(reference_file, function)
+    try:
+        return json.loads(_shaderfit.rational(target, variable, domain, list(conditions),
+                                              list(forms), list(transforms), list(parameters),
+                                              count, fit, relative_minimax, rank_by, source, path,
+                                              function))
+    except Error as e:
+        raise _keyword_error(e) from None

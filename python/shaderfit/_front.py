@@ -60,9 +60,14 @@ class Member:
     Attributes: ``formula`` (full precision; ``str(member)`` shows constants as float32 needs
     them), ``cost`` (see Cost), ``loss`` (the search's loss), each metric (``mse``, ``rmse``,
     ``max_abs``, ``max_rel``, ``rel``, ``log``), ``nodes``, ``time_s`` (when it was found),
-    ``origin`` ("enumeration", "evolution" or "start"), ``float32_stable`` and
-    ``float32_max_abs_diff``, ``parameters`` (fitted constants by name), ``inputs``, and
-    ``json`` (the member as the CLI's JSON writes it).
+    ``origin`` ("enumeration", "evolution" or "start"), ``float32_stable``,
+    ``float32_max_abs_diff``, ``float32_max_abs`` and ``float32_max_rel`` (the error computed in
+    float32 as a shader does), ``parameters`` (fitted constants by name), ``inputs``, and
+    ``json`` (the member as the CLI's JSON writes it). With a reference: ``max_abs`` includes
+    the errors found between the samples (``checked_between_samples``, ``worst_point``), and
+    with ``certify=True`` ``certified_max_abs`` bounds the error on the whole domain (None when
+    not certified, inf when no finite bound was found) and ``certified_converged`` says whether
+    the bound met its tolerance.
     """
 
     def __init__(self, document: dict, formula: _shaderfit.Formula):
@@ -79,6 +84,17 @@ class Member:
         self.origin: str = document.get("origin", "")
         self.float32_stable = bool(document.get("float32_stable", True))
         self.float32_max_abs_diff = _number(document.get("float32_max_abs_diff"))
+        self.float32_max_abs = _number(document.get("float32_max_abs"))
+        self.float32_max_rel = _number(document.get("float32_max_rel"))
+        self.checked_between_samples = "max_abs_checked" in document
+        self.worst_point = list(document.get("worst_point") or [])
+        # None: not certified; inf: no finite bound was found (the JSON's null).
+        self.certified_max_abs = None
+        if "certified_max_abs" in document:
+            bound = document["certified_max_abs"]
+            self.certified_max_abs = float("inf") if bound is None else float(bound)
+        self.certified_converged = bool(document.get("certified_converged", False))
+        self.certify_note: str = document.get("certify_note", "")
         self.parameters: dict = dict(document.get("fitted_parameters") or {})
         self.inputs: list = list(formula.variables)
 

@@ -18,8 +18,10 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
+#include <fstream>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <thread>
 
 #include "arrays.hpp"
@@ -27,6 +29,7 @@
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/data/problem.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/parse.hpp"
@@ -148,6 +151,67 @@ SearchOptions make_options(const std::vector<std::pair<std::string, std::string>
   return o;
 }
 
+// ---- problems ---------------------------------------------------------------------------------
+
+// What to approximate, stated as the command line states it (data/problem.hpp): a CSV file, a
+// built-in data set or a reference sampled on a domain. The Python layer passes its keywords as
+// text; a reference file is read here.
+struct LoadedProblem {
+  Problem problem;
+  ProblemSource source;  // as loaded: inputs and target chosen, a file's text in it
+
+  std::vector<std::string> inputs() const { return problem.inputs; }
+  std::string target() const { return problem.target; }
+  std::string description() const { return problem.description; }
+  std::vector<std::string> notes() const { return problem.notes; }
+  std::string operators() const { return problem.operators; }
+  std::string evolution_operators() const { return problem.evolution_operators; }
+  std::string source_json() const { return problem_source_json(source).dump(); }
+  // Each numeric column by name, as float64 arrays.
+  nb::dict columns() const {
+    nb::dict out;
+    for (const shaderfit::Column& c : problem.data.columns)
+      if (c.numeric()) out[c.name.c_str()] = to_numpy(c.values);
+    return out;
+  }
+};
+
+LoadedProblem load(const std::string& csv_path, const std::string& dataset,
+                   std::uint64_t dataset_seed, const std::string& reference,
+                   const std::string& reference_file, const std::string& function,
+                   const std::vector<std::string>& domain, const std::vector<std::string>& define,
+                   std::size_t samples, bool drop_nonfinite, const std::vector<std::string>& inputs,
+                   const std::string& target) {
+  ProblemSource s;
+  s.csv_path = csv_path;
+  s.dataset = dataset;
+  s.dataset_seed = dataset_seed;
+  s.reference.formula = reference;
+  s.reference.function = function;
+  s.reference.definitions = define;
+  s.reference.formula_source = "reference";
+  s.reference.definitions_source = "define";
+  s.domain = domain;
+  s.samples = samples;
+  s.drop_nonfinite = drop_nonfinite;
+  s.inputs = inputs;
+  s.target = target;
+  if (!reference_file.empty()) {
+    std::ifstream f(reference_file, std::ios::binary);
+    if (!f) throw Error("cannot open the reference file", SourceLocation{reference_file});
+    std::ostringstream text;
+    text << f.rdbuf();
+    s.reference.shader_source = text.str();
+    s.reference.shader_path = reference_file;
+    if (function.empty())
+      throw Error("name the function of the reference file to approximate", {"function"});
+  }
+  LoadedProblem out{load_problem(s), s};
+  out.source.inputs = out.problem.inputs;
+  out.source.target = out.problem.target;
+  return out;
+}
+
 // What the search thread hands to the Python thread.
 struct Event {
   enum class Kind { Member, Progress } kind;
@@ -198,29 +262,43 @@ nb::dict progress_event(const SearchProgress& p) {
 // events to the callbacks and checks for signals: Ctrl-C (KeyboardInterrupt) stops the search,
 // which returns the front found so far (SearchRun::interrupted). An exception from a callback
 // stops it too, and is raised once the search has returned.
+// `from`: the problem when the data was stated as one (load_problem); columns, names and
+// target are then ignored, and the problem's reference checks the front between the samples.
 SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>& names,
               const Column& target, std::optional<Column> weights,
               const std::vector<std::pair<std::string, std::string>>& option_texts,
               std::optional<nb::callable> on_member, std::optional<nb::callable> on_progress,
-              const std::string& source, const std::string& target_name) {
+              const std::string& source, const std::string& target_name,
+              const LoadedProblem* from) {
   const auto t0 = std::chrono::steady_clock::now();
   SearchRun result;
   SearchOptions options = make_options(option_texts);
   SearchProblem problem;
-  problem.input_names = names;
-  if (columns.size() != names.size())
-    throw Error("expected one name per column: " + std::to_string(columns.size()) + " columns, " +
-                    std::to_string(names.size()) + " names",
-                {"inputs"});
-  problem.inputs = to_columns(columns, names);
-  problem.target = to_doubles(target, "y");
+  if (from != nullptr) {
+    const Problem& p = from->problem;
+    problem.input_names = p.inputs;
+    for (const std::string& n : p.inputs) problem.inputs.push_back(p.data.numeric(n).values);
+    problem.target = p.data.numeric(p.target).values;
+    problem.reference = p.reference;
+    problem.reference_samples = from->source.samples;
+  } else {
+    problem.input_names = names;
+    if (columns.size() != names.size())
+      throw Error("expected one name per column: " + std::to_string(columns.size()) + " columns, " +
+                      std::to_string(names.size()) + " names",
+                  {"inputs"});
+    problem.inputs = to_columns(columns, names);
+    problem.target = to_doubles(target, "y");
+  }
   if (weights) problem.weights = to_doubles(*weights, "weights");
   problem.validate();
   options = resolve_auto_operators(options, problem);
   result.data =
-      SearchDataInfo{source, target_name,
+      SearchDataInfo{from != nullptr ? from->problem.description : source,
+                     from != nullptr ? from->problem.target : target_name,
                      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
-                     problem.target.size(), names};
+                     problem.target.size(), problem.input_names};
+  if (from != nullptr) result.data.problem = from->source;
 
   std::mutex mutex;
   std::condition_variable wake;
@@ -336,34 +414,54 @@ std::vector<nb::dict> option_fields() {
 
 // ---- fit, rational, data sets -----------------------------------------------------------------
 
-// `shaderfit fit` on arrays: shaderfit.fit/1 (docs/fit.md).
+// `shaderfit fit` on arrays, or on a domain the library samples: shaderfit.fit/1 (docs/fit.md).
+// The reference is the target array, or a reference-language formula over the columns (or the
+// domain's variables and the definitions), or the function `function` of a GLSL or HLSL source.
 std::string fit_document(const std::string& formula, const std::vector<Column>& columns,
-                         const std::vector<std::string>& names, const Column& target,
+                         const std::vector<std::string>& names, std::optional<Column> target,
                          const std::string& target_name, std::optional<Column> weights,
                          std::optional<std::vector<std::string>> groups,
                          const std::string& group_name, const std::vector<std::string>& parameters,
                          const std::vector<std::string>& per_group, const std::string& loss,
                          const std::string& solver, const std::vector<std::string>& constraints,
                          const std::string& transform, const std::vector<std::string>& baselines,
-                         int max_iterations, int threads) {
+                         int max_iterations, int threads, const std::string& reference,
+                         const std::vector<std::string>& definitions,
+                         const std::vector<std::string>& domain, std::size_t samples,
+                         const std::string& reference_source, const std::string& reference_path,
+                         const std::string& function) {
   FitSetup s;
-  Dataset d;
-  d.source = "arrays";
-  if (columns.size() != names.size()) throw Error("expected one name per column", {"inputs"});
-  for (std::size_t i = 0; i < columns.size(); ++i)
-    d.add_numeric(names[i], to_doubles(columns[i], names[i]));
-  d.add_numeric(target_name, to_doubles(target, "y"));
-  if (weights) {
-    d.add_numeric("__weights", to_doubles(*weights, "weights"));
-    s.weight = "__weights";
+  if (domain.empty()) {
+    Dataset d;
+    d.source = "arrays";
+    if (columns.size() != names.size()) throw Error("expected one name per column", {"inputs"});
+    for (std::size_t i = 0; i < columns.size(); ++i)
+      d.add_numeric(names[i], to_doubles(columns[i], names[i]));
+    if (target) {
+      d.add_numeric(target_name, to_doubles(*target, "y"));
+      s.target = target_name;
+    }
+    if (weights) {
+      d.add_numeric("__weights", to_doubles(*weights, "weights"));
+      s.weight = "__weights";
+    }
+    if (groups) d.add_text(group_name, *groups);
+    s.data = std::move(d);
+    s.data_name = "arrays";
+  } else if (weights || groups || target) {
+    throw Error("a sampled domain has its own rows: no X, y, weights or groups with it",
+                {"domain"});
   }
-  if (groups) d.add_text(group_name, *groups);
-  s.data = std::move(d);
-  s.data_name = "arrays";
+  s.domain = domain;
+  s.samples = samples;
+  s.reference = reference;
+  s.definitions = definitions;
+  s.reference_source = reference_source;
+  s.reference_path = reference_path;
+  s.function = function;
   s.formula = formula;
   s.parameters = parameters;
   s.per_group = per_group;
-  s.target = target_name;
   s.constraints = constraints;
   s.transform = transform;
   s.baselines = baselines;
@@ -384,17 +482,22 @@ std::string fit_document(const std::string& formula, const std::vector<Column>& 
   return fit_json(p, summary, compare_blocks(p, summary));
 }
 
-// `shaderfit rational`: shaderfit.rational/1 (docs/rational.md).
+// `shaderfit rational`: shaderfit.rational/1 (docs/rational.md). The target is a built-in, a
+// reference-language formula in `variable`, or the function `function` of a GLSL or HLSL source.
 std::string rational_document(const std::string& target, const std::string& variable,
                               const std::string& domain, const std::vector<std::string>& conditions,
                               const std::vector<std::string>& forms,
                               const std::vector<std::string>& transforms,
                               const std::vector<std::string>& parameters, int count,
                               const std::string& fit, bool relative_minimax,
-                              const std::string& rank_by) {
+                              const std::string& rank_by, const std::string& reference_source,
+                              const std::string& reference_path, const std::string& function) {
   rational::RationalSetup s;
   s.target = target;
   s.variable = variable;
+  s.reference_source = reference_source;
+  s.reference_path = reference_path;
+  s.function = function;
   s.domain = domain;
   s.conditions = conditions;
   s.forms = forms;
@@ -496,17 +599,34 @@ NB_MODULE(_shaderfit, m) {
   m.def("check_options", [](const std::vector<std::pair<std::string, std::string>>& texts) {
     (void)make_options(texts);
   });
+  nb::class_<LoadedProblem>(m, "Problem")
+      .def_prop_ro("inputs", &LoadedProblem::inputs)
+      .def_prop_ro("target", &LoadedProblem::target)
+      .def_prop_ro("description", &LoadedProblem::description)
+      .def_prop_ro("notes", &LoadedProblem::notes)
+      .def_prop_ro("operators", &LoadedProblem::operators)
+      .def_prop_ro("evolution_operators", &LoadedProblem::evolution_operators)
+      .def("source_json", &LoadedProblem::source_json)
+      .def("columns", &LoadedProblem::columns);
+  m.def("load_problem", &load, nb::arg("csv_path"), nb::arg("dataset"), nb::arg("dataset_seed"),
+        nb::arg("reference"), nb::arg("reference_file"), nb::arg("function"), nb::arg("domain"),
+        nb::arg("define"), nb::arg("samples"), nb::arg("drop_nonfinite"), nb::arg("inputs"),
+        nb::arg("target"));
   m.def("search", &run, nb::arg("columns"), nb::arg("names"), nb::arg("target"),
         nb::arg("weights").none(), nb::arg("options"), nb::arg("on_member").none(),
-        nb::arg("on_progress").none(), nb::arg("source"), nb::arg("target_name"));
+        nb::arg("on_progress").none(), nb::arg("source"), nb::arg("target_name"),
+        nb::arg("problem").none());
   m.def("fit", &fit_document, nb::arg("formula"), nb::arg("columns"), nb::arg("names"),
-        nb::arg("target"), nb::arg("target_name"), nb::arg("weights").none(),
+        nb::arg("target").none(), nb::arg("target_name"), nb::arg("weights").none(),
         nb::arg("groups").none(), nb::arg("group_name"), nb::arg("parameters"),
         nb::arg("per_group"), nb::arg("loss"), nb::arg("solver"), nb::arg("constraints"),
-        nb::arg("transform"), nb::arg("baselines"), nb::arg("max_iterations"), nb::arg("threads"));
+        nb::arg("transform"), nb::arg("baselines"), nb::arg("max_iterations"), nb::arg("threads"),
+        nb::arg("reference"), nb::arg("definitions"), nb::arg("domain"), nb::arg("samples"),
+        nb::arg("reference_source"), nb::arg("reference_path"), nb::arg("function"));
   m.def("rational", &rational_document, nb::arg("target"), nb::arg("variable"), nb::arg("domain"),
         nb::arg("conditions"), nb::arg("forms"), nb::arg("transforms"), nb::arg("parameters"),
-        nb::arg("count"), nb::arg("fit"), nb::arg("relative_minimax"), nb::arg("rank_by"));
+        nb::arg("count"), nb::arg("fit"), nb::arg("relative_minimax"), nb::arg("rank_by"),
+        nb::arg("reference_source"), nb::arg("reference_path"), nb::arg("function"));
   m.def("dataset", &dataset, nb::arg("name"), nb::arg("seed"), nb::arg("rows"));
   m.def("dataset_names", &builtin_dataset_names);
 }

@@ -66,3 +66,71 @@ def test_fit_per_group(seed_data):
 def test_rational():
     doc = shaderfit.rational("exp", domain=(0, 1), forms=["2/2"], fit="minimax")
     assert doc["schema"] == "shaderfit.rational/1"
+
+
+def test_fit_to_a_reference_formula_on_a_domain():
+    # Abramowitz and Stegun 4.4.45's form for acos on [0, 1]; the minimax fit is no worse than
+    # their constants (6.75e-5).
+    r = shaderfit.fit("s*(a + b*x + c*x^2 + d*x^3)", reference="acos(x)", domain={"x": (0, 1)},
+                      define=["s = sqrt(1 - x)"], params=["a", "b", "c", "d"], loss="max_abs")
+    assert r.json["reference"] == "acos(x)"
+    assert r.blocks[0]["rows"] == 10001
+    p = r.parameters
+    x = np.linspace(0, 1, 100_001)
+    approx = np.sqrt(1 - x) * (p["a"] + x * (p["b"] + x * (p["c"] + x * p["d"])))
+    assert np.max(np.abs(approx - np.arccos(x))) < 6.75e-5
+    # samples sizes the design; a domain with a count is a regular grid.
+    assert shaderfit.fit("a*x", reference="erf(x)", domain={"x": (0, 1)}, samples=65,
+                         params=["a"]).blocks[0]["rows"] == 65
+    assert shaderfit.fit("a*x", reference="erf(x)", domain={"x": (0, 1, 16)},
+                         params=["a"]).blocks[0]["rows"] == 16
+
+
+def test_fit_to_a_reference_over_the_columns_of_X(tmp_path):
+    u = np.linspace(0, 2, 101)
+    r = shaderfit.fit("a*u", u[:, None], inputs=["u"], reference="u * atan2(1, 2) + erf(0)",
+                      params=["a"])
+    assert r.parameters["a"] == pytest.approx(np.arctan2(1, 2), rel=1e-12)
+    path = tmp_path / "f.glsl"
+    path.write_text("float f(float u) { return u > 1.0 ? 2.0 * u - 1.0 : u * u; }\n")
+    g = shaderfit.fit("a*u^2", u[:, None], inputs=["u"], reference_file=path, function="f",
+                      params=["a"])
+    assert g.json["reference"].endswith("f.glsl: f")
+    with pytest.raises(TypeError):
+        shaderfit.fit("a*u", u[:, None], u, inputs=["u"], reference="u", params=["a"])
+
+
+def test_fit_reference_errors_name_the_keyword():
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.fit("a*x", reference="acoss(x)", domain={"x": (0, 1)}, params=["a"])
+    assert e.value.source == "reference"
+    assert e.value.column == 1
+    assert "unknown function 'acoss'" in str(e.value)
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.fit("a*x", reference="x", domain={"x": (0, 1)}, define=["c = cos(x)", "d = q"],
+                      params=["a"])
+    assert e.value.source == "define"
+    assert e.value.line == 2
+
+
+def test_rational_on_reference_language_targets(tmp_path):
+    doc = shaderfit.rational(target="acos(x)", domain="x=0:0.9", forms=["2/2"], fit="minimax")
+    result = doc["runs"][0]["results"][0]
+    assert result["minimax"]["converged"]
+    assert doc["target"] == "acos(x)"
+    # Taylor conditions use the exact derivatives: erf's cubic is 2/sqrt(pi) (x - x^3/3).
+    doc = shaderfit.rational(target="erf(x)", domain={"x": (-1, 1)}, forms=["3/0"],
+                             conditions=["f(0)=ref", "f'(0)=ref", "f''(0)=ref", "f'''(0)=ref"])
+    p = doc["runs"][0]["results"][0]["numerator"]
+    c = 2 / np.sqrt(np.pi)
+    assert p == pytest.approx([0, c, 0, -c / 3], abs=1e-15)
+    path = tmp_path / "g.hlsl"
+    path.write_text("float g(float k, float v) { return v / (v * (1 - k) + k); }\n")
+    doc = shaderfit.rational(reference_file=path, function="g", parameters=["k=0.25"],
+                             forms=["1/1"], conditions=["f(0)=ref", "f(1)=ref", "f'(0)=ref"])
+    assert doc["variable"] == "v"
+    assert doc["runs"][0]["results"][0]["max_abs"] < 1e-12
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.rational(target="acoss(x)", forms=["1/0"])
+    assert e.value.source == "target"
+    assert e.value.column == 1

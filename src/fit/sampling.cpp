@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/eval/dataset_eval.hpp"
-#include "shaderfit/expr/parse.hpp"
+#include "shaderfit/data/sampling.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/reference/language.hpp"
 
 namespace shaderfit {
 
@@ -44,21 +44,6 @@ Spec split_spec(std::string_view text, const std::string& source, const char* sh
   return s;
 }
 
-double number(const std::string& field, const std::string& source) {
-  // Constant expressions (pi/2, 85*pi/180) as well as plain numbers.
-  ParseOptions po;
-  po.variables = {"__none__"};
-  po.source = source;
-  double v = 0;
-  try {
-    v = evaluate_scalar(parse_formula(field, po), std::vector<double>{0.0});
-  } catch (const Error& e) {
-    fail("'" + field + "' is not a number: " + e.message(), source);
-  }
-  if (!std::isfinite(v)) fail("'" + field + "' is not a finite number", source);
-  return v;
-}
-
 // lo < hi, and hi - lo a finite double, so that positions along the axis are finite too.
 void check_range(const std::string& name, double lo, double hi, const std::string& source) {
   if (!(lo < hi)) fail("the range of '" + name + "' is empty: lo must be below hi", source);
@@ -75,13 +60,6 @@ std::size_t count(const std::string& field, const std::string& source, const cha
 }
 
 }  // namespace
-
-double SampleAxis::at(std::size_t i) const {
-  const double n = static_cast<double>(count);
-  if (spacing == Spacing::endpoints)
-    return count == 1 ? 0.5 * (lo + hi) : lo + (hi - lo) * static_cast<double>(i) / (n - 1);
-  return lo + (hi - lo) * (static_cast<double>(i) + 0.5) / n;
-}
 
 double GridAxis::centre(std::size_t i) const {
   const double t = (static_cast<double>(i) + 0.5) / static_cast<double>(cells);
@@ -104,23 +82,11 @@ long GridAxis::cell_of(double v) const {
   return static_cast<long>(c);
 }
 
-SampleAxis parse_sample_axis(std::string_view text, const std::string& source) {
-  const Spec s = split_spec(text, source, "name=lo:hi:count[:midpoints|endpoints]");
-  SampleAxis a{s.name, number(s.fields[0], source), number(s.fields[1], source),
-               count(s.fields[2], source, "sample count")};
-  check_range(a.name, a.lo, a.hi, source);
-  if (s.fields.size() == 4) {
-    if (s.fields[3] == "endpoints")
-      a.spacing = Spacing::endpoints;
-    else if (s.fields[3] != "midpoints")
-      fail("unknown spacing '" + s.fields[3] + "' (midpoints, endpoints)", source);
-  }
-  return a;
-}
-
 GridAxis parse_grid_axis(std::string_view text, const std::string& source) {
   const Spec s = split_spec(text, source, "name=lo:hi:cells[:sqrt]");
-  GridAxis g{s.name, number(s.fields[0], source), number(s.fields[1], source),
+  // Bounds are constants of the reference language (pi/2, 85*pi/180), as a domain's are.
+  GridAxis g{s.name, reference::evaluate_constant(s.fields[0], source),
+             reference::evaluate_constant(s.fields[1], source),
              count(s.fields[2], source, "grid size")};
   check_range(g.name, g.lo, g.hi, source);
   if (s.fields.size() == 4) {
@@ -131,29 +97,6 @@ GridAxis parse_grid_axis(std::string_view text, const std::string& source) {
   return g;
 }
 
-Definition parse_definition(std::string_view text, const std::vector<std::string>& known,
-                            const std::string& source) {
-  const std::size_t eq = text.find('=');
-  if (eq == std::string_view::npos)
-    fail("expected 'name = formula', got '" + std::string(text) + "'", source);
-  Definition d;
-  d.name = std::string(text.substr(0, eq));
-  while (!d.name.empty() && d.name.back() == ' ') d.name.pop_back();
-  while (!d.name.empty() && d.name.front() == ' ') d.name.erase(d.name.begin());
-  if (d.name.empty()) fail("a definition needs a name before '='", source);
-  ParseOptions po;
-  po.variables = known;
-  po.source = source;
-  d.formula = parse_formula(text.substr(eq + 1), po);
-  d.formula.drop_unused_variables();
-  return d;
-}
-
-void add_definitions(Dataset& data, const std::vector<Definition>& definitions) {
-  for (const Definition& d : definitions)
-    data.add_numeric(d.name, evaluate_on(d.formula, data, {.threads = 1}));
-}
-
 std::string GridCell::label() const {
   std::string s;
   for (const auto& [name, v] : centre) s += (s.empty() ? "" : " ") + name + "=" + format_number(v);
@@ -161,15 +104,16 @@ std::string GridCell::label() const {
 }
 
 std::vector<GridCell> sample_grid(const std::vector<GridAxis>& grid,
-                                  const std::vector<SampleAxis>& domain,
-                                  const std::vector<Definition>& definitions,
-                                  std::size_t random_samples, Rng& rng) {
-  std::size_t cells = 1, points = random_samples;
+                                  const std::vector<reference::DomainAxis>& domain,
+                                  std::size_t samples, std::size_t random_samples, Rng& rng,
+                                  const SourceLocation& where) {
+  std::size_t cells = 1;
   for (const GridAxis& g : grid) cells *= g.cells;
-  if (random_samples == 0) {
-    points = 1;
-    for (const SampleAxis& a : domain) points *= a.count;
-  }
+  // The design is the same in every cell: sampled once.
+  SampleColumns design;
+  if (random_samples == 0 && !domain.empty()) design = sample_domain(domain, samples, 1, where);
+  const std::size_t points =
+      random_samples > 0 ? random_samples : (design.empty() ? 1 : design.front().size());
   std::vector<GridCell> out(cells);
   for (std::size_t c = 0; c < cells; ++c) {
     GridCell& cell = out[c];
@@ -185,23 +129,42 @@ std::vector<GridCell> sample_grid(const std::vector<GridAxis>& grid,
       cell.centre.emplace_back(grid[k].name, v);
       cell.data.add_numeric(grid[k].name, std::vector<double>(points, v));
     }
-    std::vector<std::vector<double>> cols(domain.size(), std::vector<double>(points));
-    for (std::size_t i = 0; i < points; ++i) {
-      std::size_t r = i;
-      for (std::size_t k = domain.size(); k-- > 0;) {
-        if (random_samples > 0) continue;
-        cols[k][i] = domain[k].at(r % domain[k].count);
-        r /= domain[k].count;
-      }
-      if (random_samples > 0)
+    if (random_samples > 0) {
+      std::vector<std::vector<double>> cols(domain.size(), std::vector<double>(points));
+      for (std::size_t i = 0; i < points; ++i)
         for (std::size_t k = 0; k < domain.size(); ++k)
           cols[k][i] = uniform(rng, domain[k].lo, domain[k].hi);
+      for (std::size_t k = 0; k < domain.size(); ++k)
+        cell.data.add_numeric(domain[k].name, std::move(cols[k]));
+    } else {
+      for (std::size_t k = 0; k < domain.size(); ++k)
+        cell.data.add_numeric(domain[k].name, c + 1 == cells ? std::move(design[k]) : design[k]);
     }
-    for (std::size_t k = 0; k < domain.size(); ++k)
-      cell.data.add_numeric(domain[k].name, std::move(cols[k]));
-    add_definitions(cell.data, definitions);
   }
   return out;
+}
+
+std::vector<double> add_program_columns(Dataset& data, const reference::Program& program) {
+  std::vector<std::span<const double>> inputs;
+  for (const std::string& name : program.inputs) inputs.emplace_back(data.numeric(name).values);
+  // A program without inputs gives one row; the data may have any number.
+  const std::size_t rows = data.rows();
+  std::vector<std::vector<double>> outputs;
+  if (inputs.empty()) {
+    outputs = program.evaluate_columns({});
+    for (std::vector<double>& o : outputs) o.assign(rows, o.front());
+  } else {
+    outputs = program.evaluate_columns(inputs);
+  }
+  std::vector<double> reference;
+  for (std::size_t k = 0; k < outputs.size(); ++k) {
+    const std::string& name = program.output_names[k];
+    if (name == reference::kReferenceOutput)
+      reference = std::move(outputs[k]);
+    else if (program.find_input(name) < 0)
+      data.add_numeric(name, std::move(outputs[k]));
+  }
+  return reference;
 }
 
 FitBlock make_block(const Dataset& data, const Expression& formula, std::span<const double> target,

@@ -1,10 +1,12 @@
 #include "shaderfit/fit/setup.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cctype>
 #include <map>
+#include <optional>
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/random.hpp"
@@ -14,6 +16,8 @@
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/builtin_reference.hpp"
 #include "shaderfit/fit/sampling.hpp"
+#include "shaderfit/reference/domain.hpp"
+#include "shaderfit/reference/language.hpp"
 
 namespace shaderfit {
 
@@ -61,26 +65,77 @@ bool looks_like_builtin_name(const std::string& s) {
          });
 }
 
-// The reference at every row of `d`: a column (target), a built-in or a formula (reference).
-std::vector<double> reference_values(const FitSetup& a, const Dataset& d,
-                                     std::string* description) {
-  if (!a.target.empty()) {
-    *description = "column " + a.target;
-    return d.numeric(a.target).values;
+bool is_identifier(const std::string& s) {
+  if (s.empty() || !(std::isalpha(static_cast<unsigned char>(s[0])) || s[0] == '_')) return false;
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
+  });
+}
+
+// What computes the columns beyond the data's and the reference, compiled once for every block's
+// data: the definitions with the reference formula (or with "0", a placeholder, when the
+// reference is a column or a shader function), and the shader function.
+struct Programs {
+  std::optional<reference::Program> columns;
+  std::optional<reference::Program> shader;
+  std::string description;  // of the reference
+};
+
+// `known` and the definitions' names.
+std::vector<std::string> column_names(const std::vector<std::string>& known, const Programs& p) {
+  std::vector<std::string> out = known;
+  if (p.columns)
+    for (const std::string& n : p.columns->output_names)
+      if (n != reference::kReferenceOutput && p.columns->find_input(n) < 0) out.push_back(n);
+  return out;
+}
+
+Programs compile_programs(const FitSetup& a, const std::vector<std::string>& known) {
+  Programs p;
+  const bool formula = !a.reference.empty();
+  if (formula || !a.definitions.empty()) {
+    reference::ReferenceText t;
+    t.formula = formula ? a.reference : "0";
+    t.variables = known;
+    t.definitions = a.definitions;
+    t.formula_source = "FitSetup::reference";
+    t.definitions_source = "FitSetup::definitions";
+    try {
+      p.columns = reference::compile_reference(t);
+    } catch (const Error& e) {
+      // "fv-exat" reads as a difference of unknown names; say what the built-ins are instead.
+      if (!formula || e.where().source != t.formula_source || !looks_like_builtin_name(a.reference))
+        throw;
+      fail("unknown reference '" + a.reference + "' (built-in: " + builtin_names() + ")",
+           "FitSetup::reference");
+    }
+    if (formula) p.description = p.columns->description;
   }
-  if (const reference::BuiltinFunction* b = find_builtin_reference(a.reference)) {
-    *description = std::string(b->name);
-    return evaluate_reference(*b, d);
+  if (!a.reference_source.empty()) {
+    reference::ReferenceText t;
+    t.shader_source = a.reference_source;
+    t.shader_path = a.reference_path.empty() ? "shader" : a.reference_path;
+    t.function = a.function;
+    p.shader = reference::compile_reference(t);
+    const std::vector<std::string> names = column_names(known, p);
+    for (const std::string& in : p.shader->inputs)
+      if (std::find(names.begin(), names.end(), in) == names.end())
+        fail("the parameter '" + in + "' of " + p.shader->description +
+                 " is not a column (columns: " + fmt::format("{}", fmt::join(names, ", ")) + ")",
+             "FitSetup::function");
+    p.description = p.shader->description;
   }
-  *description = a.reference;
-  try {
-    return evaluate_on(parse_formula_on(a.reference, d, "FitSetup::reference"), d);
-  } catch (const Error&) {
-    // "fv-exat" reads as a formula with unknown names; say what the built-ins are instead.
-    if (!looks_like_builtin_name(a.reference)) throw;
-    fail("unknown reference '" + a.reference + "' (built-in: " + builtin_names() + ")",
-         "FitSetup::reference");
-  }
+  if (!a.target.empty()) p.description = "column " + a.target;
+  return p;
+}
+
+// Adds the definitions' columns to `d` and returns the reference at every row.
+std::vector<double> add_columns(const FitSetup& a, const Programs& p, Dataset& d) {
+  std::vector<double> formula;
+  if (p.columns) formula = add_program_columns(d, *p.columns);
+  if (!a.target.empty()) return d.numeric(a.target).values;
+  if (p.shader) return add_program_columns(d, *p.shader);
+  return formula;
 }
 
 std::vector<double> weight_values(const FitSetup& a, const Dataset& d) {
@@ -98,11 +153,19 @@ std::string label_of(const Column& c, std::size_t row) {
 PreparedFit prepare_fit(FitSetup a) {
   PreparedFit s;
   if (a.formula.empty()) fail("no formula to fit", "FitSetup::formula");
-  if (a.target.empty() == a.reference.empty())
-    fail(a.target.empty()
-             ? "no reference: give FitSetup::target COLUMN or FitSetup::reference NAME|FORMULA"
-             : "give either FitSetup::target or FitSetup::reference, not both",
+  const int references =
+      int(!a.target.empty()) + int(!a.reference.empty()) + int(!a.reference_source.empty());
+  if (references != 1)
+    fail(references == 0 ? "no reference: give FitSetup::target COLUMN, FitSetup::reference "
+                           "FORMULA or a shader function (FitSetup::reference_source)"
+                         : "give one of FitSetup::target, FitSetup::reference and a shader "
+                           "function (FitSetup::reference_source)",
          "FitSetup::target");
+  if (a.reference_source.empty() != a.function.empty())
+    fail(a.function.empty() ? "name the function of the shader source to fit"
+                            : "FitSetup::function names a function of a shader source, which "
+                              "is not given",
+         "FitSetup::function");
   const bool generated = !a.domain.empty();
   const bool has_data = a.data.has_value();
   if (generated && has_data)
@@ -110,6 +173,11 @@ PreparedFit prepare_fit(FitSetup a) {
          "FitSetup::domain");
   if (!generated && !has_data)
     fail("no data: give FitSetup::data or FitSetup::domain", "FitSetup::data");
+  if (a.samples > 0 && !generated)
+    fail("a design size is for a sampled domain (FitSetup::domain)", "FitSetup::samples");
+  if (a.samples > 0 && a.random_samples > 0)
+    fail("give either FitSetup::samples or FitSetup::random_samples, not both",
+         "FitSetup::samples");
   if (!a.per_cell.empty() && a.grid.empty())
     fail("FitSetup::per_cell needs a grid: give FitSetup::grid name=lo:hi:cells",
          "FitSetup::per_cell");
@@ -118,30 +186,44 @@ PreparedFit prepare_fit(FitSetup a) {
 
   std::vector<GridAxis> grid;
   for (const std::string& g : a.grid) grid.push_back(parse_grid_axis(g, "FitSetup::grid"));
+  // The names the reference language may use: the grid's and domain's variables, or the data's
+  // numeric columns named as identifiers ("reference" names the reference itself).
   std::vector<std::string> known;
   std::unique_ptr<Dataset> data;
   std::vector<GridCell> cells;
-  std::vector<Definition> defines;
+  Programs programs;
+  std::vector<double> data_reference;  // with data: the reference at every row
   if (generated) {
-    std::vector<SampleAxis> domain;
+    std::vector<reference::DomainAxis> domain;
     for (const GridAxis& g : grid) known.push_back(g.name);
-    for (const std::string& d : a.domain) {
-      domain.push_back(parse_sample_axis(d, "FitSetup::domain"));
+    for (std::size_t k = 0; k < a.domain.size(); ++k) {
+      const SourceLocation where{"FitSetup::domain", static_cast<int>(k + 1), 0};
+      try {
+        domain.push_back(reference::parse_domain_axis(a.domain[k], where.source));
+      } catch (const Error& e) {
+        throw Error(e.message(), where);
+      }
+      if (std::find(known.begin(), known.end(), domain.back().name) != known.end())
+        throw Error("'" + domain.back().name + "' is named twice among the grid and the domain",
+                    where);
       known.push_back(domain.back().name);
     }
-    for (const std::string& t : a.definitions) {
-      defines.push_back(parse_definition(t, known, "FitSetup::definitions"));
-      known.push_back(defines.back().name);
-    }
+    if (a.samples > 0 && domain.front().count > 0)
+      fail("a design size is not used with counts on the domain's axes", "FitSetup::samples");
+    programs = compile_programs(a, known);
     Rng rng(a.rng_seed);
-    cells = sample_grid(grid, domain, defines, a.random_samples, rng);
+    cells = sample_grid(grid, domain, a.samples, a.random_samples, rng, {"FitSetup::domain"});
+    known = column_names(known, programs);
   } else {
     data = std::make_unique<Dataset>(std::move(*a.data));
-    for (const std::string& t : a.definitions)
-      defines.push_back(parse_definition(t, data->names(), "FitSetup::definitions"));
-    add_definitions(*data, defines);
+    for (const Column& c : data->columns)
+      if (c.numeric() && is_identifier(c.name) && c.name != reference::kReferenceOutput)
+        known.push_back(c.name);
+    programs = compile_programs(a, known);
+    data_reference = add_columns(a, programs, *data);
     known = data->names();
   }
+  s.reference_description = programs.description;
 
   // The formula and its parameters.
   const std::vector<Param> params = parse_params(a.parameters);
@@ -213,8 +295,8 @@ PreparedFit prepare_fit(FitSetup a) {
     if (!grid.empty()) s.grouping = fmt::format("per cell of a {}-axis grid", grid.size());
     for (GridCell& c : cells) {
       auto d = std::make_unique<Dataset>(std::move(c.data));
-      BlockSource src{d.get(), std::vector<std::size_t>(d->rows()),
-                      reference_values(a, *d, &s.reference_description)};
+      std::vector<double> target = add_columns(a, programs, *d);
+      BlockSource src{d.get(), std::vector<std::size_t>(d->rows()), std::move(target)};
       for (std::size_t i = 0; i < src.rows.size(); ++i) src.rows[i] = i;
       FitBlock b = make_block(*d, f, src.target, weight_values(a, *d), {}, c.label());
       b.context = c.centre;
@@ -225,7 +307,7 @@ PreparedFit prepare_fit(FitSetup a) {
   } else {
     const Dataset& d = *data;
     s.data_description = fmt::format("{}, {} rows", a.data_name, d.rows());
-    const std::vector<double> target = reference_values(a, d, &s.reference_description);
+    const std::vector<double>& target = data_reference;
     const std::vector<double> weights = weight_values(a, d);
     std::vector<std::pair<std::string, std::vector<std::size_t>>> groups;
     std::vector<std::vector<std::pair<std::string, double>>> contexts;
@@ -241,7 +323,7 @@ PreparedFit prepare_fit(FitSetup a) {
       s.grouping = "per " + group_column;
     } else if (!grid.empty()) {
       Rng unused(0);
-      const std::vector<GridCell> shape = sample_grid(grid, {}, {}, 0, unused);
+      const std::vector<GridCell> shape = sample_grid(grid, {}, 0, 0, unused);
       std::vector<std::vector<std::size_t>> rows(shape.size());
       std::vector<const std::vector<double>*> cols;
       for (const GridAxis& g : grid) cols.push_back(&d.numeric(g.name).values);

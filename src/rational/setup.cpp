@@ -9,6 +9,8 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
+#include "shaderfit/reference/domain.hpp"
+#include "shaderfit/reference/language.hpp"
 
 namespace shaderfit::rational {
 
@@ -72,10 +74,21 @@ Param parse_param(const std::string& text, int index) {
   return p;
 }
 
-Interval parse_domain(std::string text) {
+// "LO,HI" or "x=LO:HI" (reference/domain.hpp, without a count), for the variable `variable`.
+Interval parse_domain(std::string text, const std::string& variable) {
+  if (text.find('=') != std::string::npos) {
+    const reference::DomainAxis axis = reference::parse_domain_axis(text, kDomain);
+    if (axis.name != variable)
+      throw Error("the domain is of '" + axis.name + "', but the variable is '" + variable + "'",
+                  {kDomain, 1, 1});
+    if (axis.count > 0)
+      throw Error("a sample count has no use here: give " + variable + "=LO:HI", {kDomain, 1, 1});
+    return {axis.lo, axis.hi};
+  }
   std::erase_if(text, [](char c) { return c == '[' || c == ']'; });
   const auto parts = split_commas(text);
-  if (parts.size() != 2) throw Error("expected LO,HI in '" + text + "'", {kDomain, 1, 1});
+  if (parts.size() != 2)
+    throw Error("expected LO,HI or " + variable + "=LO:HI in '" + text + "'", {kDomain, 1, 1});
   const Interval d{constant(parts[0], {kDomain, 1, 0}, 0),
                    constant(parts[1], {kDomain, 1, 0}, static_cast<int>(parts[0].size()) + 1)};
   if (!(d.lo < d.hi))
@@ -83,12 +96,49 @@ Interval parse_domain(std::string text) {
   return d;
 }
 
+// The target: a built-in by name, a formula, or a shader function.
+Target make_target(const RationalSetup& a, const std::vector<std::string>& names) {
+  constexpr const char* kTarget = "RationalSetup::target";
+  if (!a.reference_source.empty() || !a.function.empty()) {
+    if (!a.target.empty())
+      throw Error("give either RationalSetup::target or a shader function, not both", {kTarget});
+    if (a.function.empty())
+      throw Error("name the function of the shader source to approximate",
+                  {"RationalSetup::function"});
+    if (a.reference_source.empty())
+      throw Error(
+          "RationalSetup::function names a function of a shader source, which is not "
+          "given",
+          {"RationalSetup::function"});
+    return Target::shader(a.reference_source,
+                          a.reference_path.empty() ? "shader" : a.reference_path, a.function,
+                          a.variable, names, "RationalSetup::variable");
+  }
+  if (a.target.empty())
+    throw Error(
+        "RationalSetup::target is required (a built-in name, a formula or a shader function)",
+        {kTarget});
+  // A bare name that is neither the variable nor a parameter means a built-in: report it as an
+  // unknown target.
+  const bool bare = a.target != a.variable &&
+                    std::find(names.begin(), names.end(), a.target) == names.end() &&
+                    std::all_of(a.target.begin(), a.target.end(), [](char c) {
+                      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+                    });
+  if (!bare || Target::is_builtin(a.target))
+    return bare ? Target::builtin(a.target, kTarget)
+                : Target::formula(a.target, a.variable, names, kTarget);
+  const std::vector<std::string> functions = reference::reference_function_names();
+  if (std::find(functions.begin(), functions.end(), a.target) != functions.end())
+    throw Error("unknown target '" + a.target + "': as a formula, write " + a.target + "(" +
+                    a.variable + ")",
+                {kTarget});
+  return Target::builtin(a.target, kTarget);  // throws, listing the built-ins
+}
+
 }  // namespace
 
 PreparedRational prepare_rational(const RationalSetup& a) {
-  if (a.target.empty())
-    throw Error("RationalSetup::target is required (a built-in name or a formula)",
-                {"RationalSetup::target"});
   // Parameters: at most one may take several values (a sweep).
   std::vector<Param> params;
   for (std::size_t i = 0; i < a.parameters.size(); ++i)
@@ -108,16 +158,11 @@ PreparedRational prepare_rational(const RationalSetup& a) {
       out.sweep = static_cast<int>(i);
     }
   }
-  // A bare name that is not the variable means a built-in: report it as an unknown target.
-  const bool bare =
-      a.target != a.variable && std::all_of(a.target.begin(), a.target.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-      });
-  problem.target = bare ? Target::builtin(a.target, "RationalSetup::target")
-                        : Target::formula(a.target, a.variable, names, "RationalSetup::target");
+  problem.target = make_target(a, names);
   problem.parameter_names = names;
   for (const Param& p : params) problem.parameter_values.push_back(p.values.front());
-  problem.domain = a.domain.empty() ? problem.target.natural_domain() : parse_domain(a.domain);
+  problem.domain = a.domain.empty() ? problem.target.natural_domain()
+                                    : parse_domain(a.domain, problem.target.variable());
   for (std::size_t i = 0; i < a.conditions.size(); ++i)
     problem.conditions.push_back(parse_condition(
         a.conditions[i], names, {"RationalSetup::conditions", static_cast<int>(i) + 1, 0}));

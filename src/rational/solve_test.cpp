@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/rational/setup.hpp"
@@ -195,6 +196,57 @@ TEST(RationalSolve, LeastSquaresKeepsConditionsExact) {
     return solve_form({}, s, {5, 0, Transform::reflection(s.domain)});
   }();
   EXPECT_LT(r.rmse, schlick.rmse / 5);
+}
+
+// The setup takes targets in the reference language and a domain as x=lo:hi; Taylor conditions
+// at a point then give the analytic Taylor polynomial.
+TEST(RationalSolve, SetupTakesReferenceLanguageTargets) {
+  RationalSetup s;
+  s.target = "erf(x)";
+  s.domain = "x=0:1";
+  s.forms = {"3/0"};
+  s.conditions = {"f(0)=ref", "f'(0)=ref", "f''(0)=ref", "f'''(0)=ref"};
+  PreparedRational r = prepare_rational(s);
+  EXPECT_EQ(r.problem.domain.lo, 0.0);
+  EXPECT_EQ(r.problem.domain.hi, 1.0);
+  const RationalReport report = solve_prepared(r);
+  const FormResult& f = report.runs[0].summary.results[0];
+  ASSERT_TRUE(f.usable()) << f.message;
+  const double c = 2 / std::sqrt(std::numbers::pi);  // erf(x) = c (x - x^3 / 3 + ...)
+  EXPECT_NEAR(f.rational.p[0], 0.0, 1e-15);
+  EXPECT_NEAR(f.rational.p[1], c, 1e-15);
+  EXPECT_NEAR(f.rational.p[2], 0.0, 1e-15);
+  EXPECT_NEAR(f.rational.p[3], -c / 3, 1e-15);
+  // The domain's variable must be the target's; a count has no use.
+  s.domain = "t=0:1";
+  EXPECT_THROW((void)prepare_rational(s), Error);
+  s.domain = "x=0:1:10";
+  EXPECT_THROW((void)prepare_rational(s), Error);
+  // A bare name of a reference function is not a built-in target: the message says how.
+  s.domain = "0,1";
+  s.target = "erf";
+  try {
+    (void)prepare_rational(s);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "RationalSetup::target");
+    EXPECT_NE(e.message().find("erf(x)"), std::string::npos) << e.message();
+  }
+  // A shader function with a parameter given a value.
+  RationalSetup g;
+  g.reference_source =
+      "float schlick(float f0, float c) { float m = 1.0 - c; return mix(f0, 1.0, m*m*m*m*m); }";
+  g.reference_path = "schlick.hlsl";
+  g.function = "schlick";
+  g.parameters = {"f0=0.04"};
+  g.forms = {"5/0"};
+  g.transforms = {"1 - c"};
+  g.conditions = {"f(0)=1", "f(1)=f0", "f'(1)=ref", "f''(1)=ref", "f'''(1)=ref", "f^(4)(1)=ref"};
+  PreparedRational q = prepare_rational(g);
+  EXPECT_EQ(q.problem.target.variable(), "c");
+  EXPECT_EQ(solve_prepared(q).runs[0].summary.results[0].formula, "0.04 + 0.96 * (1 - c)^5");
+  g.target = "c";
+  EXPECT_THROW((void)prepare_rational(g), Error);
 }
 
 }  // namespace

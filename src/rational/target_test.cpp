@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/jet.hpp"
@@ -72,6 +73,75 @@ TEST(RationalTarget, IntegralsByGaussLegendre) {
               1e-12);
 }
 
+TEST(RationalTarget, ReferenceLanguageFormulasHaveExactDerivatives) {
+  const double rpi = 1 / std::sqrt(std::numbers::pi);
+  const Target a = Target::formula("acos(x)", "x", {});
+  const Target e = Target::formula("erf(x)", "x", {});
+  const Target t = Target::formula("atan2(x, 1)", "x", {});
+  for (double x : {-0.7, 0.0, 0.3, 0.9}) {
+    EXPECT_EQ(a.value(x, {}), std::acos(x));
+    const double s = 1 - x * x;
+    const std::vector<double> da = a.derivatives(x, 3, {});
+    EXPECT_NEAR(da[1], -1 / std::sqrt(s), 1e-14) << x;
+    EXPECT_NEAR(da[2], -x / std::pow(s, 1.5), 1e-13) << x;
+    EXPECT_NEAR(da[3], -(1 + 2 * x * x) / std::pow(s, 2.5), 1e-12) << x;
+    const std::vector<double> de = e.derivatives(x, 3, {});
+    EXPECT_EQ(de[0], std::erf(x));
+    const double g = 2 * rpi * std::exp(-x * x);
+    EXPECT_NEAR(de[1], g, 1e-15) << x;
+    EXPECT_NEAR(de[2], -2 * x * g, 1e-15) << x;
+    EXPECT_NEAR(de[3], (4 * x * x - 2) * g, 1e-14) << x;
+    const std::vector<double> dt = t.derivatives(x, 4, {});
+    const std::vector<double> datan = Target::builtin("atan").derivatives(x, 4, {});
+    for (int k = 0; k <= 4; ++k) EXPECT_NEAR(dt[k], datan[k], 1e-13) << x << " " << k;
+  }
+  // Parameters are the other names; the built-in references by call.
+  const Target f = Target::formula("fresnel_schlick(x, F0) - F0 * tanh(x)", "x", {"F0"});
+  const std::vector<double> p = {0.04};
+  const double x = 0.4;
+  EXPECT_NEAR(f.value(x, p), 0.04 + 0.96 * std::pow(0.6, 5) - 0.04 * std::tanh(x), 1e-15);
+  const double sech2 = 1 / (std::cosh(x) * std::cosh(x));
+  EXPECT_NEAR(f.derivatives(x, 1, p)[1], -5 * 0.96 * std::pow(0.6, 4) - 0.04 * sech2, 1e-14);
+  EXPECT_EQ(f.parameters(), (std::vector<std::string>{"F0"}));
+}
+
+TEST(RationalTarget, ShaderFunctions) {
+  const std::string g1 =
+      "float G1(float NdotV, float roughness) {\n"
+      "  float a2 = roughness * roughness;\n"
+      "  return 2.0 * NdotV / (NdotV + sqrt(a2 + (1.0 - a2) * NdotV * NdotV));\n"
+      "}\n";
+  // The variable: the parameter named so, or the one without a value.
+  const Target by_name = Target::shader(g1, "g1.glsl", "G1", "NdotV", {});
+  EXPECT_EQ(by_name.variable(), "NdotV");
+  EXPECT_EQ(by_name.parameters(), (std::vector<std::string>{"roughness"}));
+  EXPECT_EQ(by_name.name(), "g1.glsl: G1");
+  const Target by_value = Target::shader(g1, "g1.glsl", "G1", "x", {"roughness", "k"});
+  EXPECT_EQ(by_value.variable(), "NdotV");
+  const std::vector<double> alpha = {0.4};
+  const Target builtin = Target::builtin("smith-ggx-g1");
+  for (double v : {0.1, 0.5, 1.0}) {
+    EXPECT_NEAR(by_value.value(v, alpha), builtin.value(v, alpha), 1e-15) << v;
+    const auto ds = by_value.derivatives(v, 3, alpha), db = builtin.derivatives(v, 3, alpha);
+    for (int k = 0; k <= 3; ++k) EXPECT_NEAR(ds[k], db[k], 1e-11 * (1 + std::abs(db[k]))) << k;
+  }
+  try {
+    (void)Target::shader(g1, "g1.glsl", "G1", "x", {}, "RationalSetup::variable");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "RationalSetup::variable");
+    EXPECT_NE(e.message().find("NdotV, roughness"), std::string::npos) << e.message();
+  }
+  try {
+    (void)Target::shader("float f(float x) {\n  while (x > 1) x -= 1;\n  return x;\n}\n", "f.hlsl",
+                         "f", "x", {});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "f.hlsl");
+    EXPECT_EQ(e.where().line, 2);
+  }
+}
+
 TEST(RationalTarget, UnknownNamesAndBadFormulas) {
   EXPECT_THROW((void)Target::builtin("fresnel"), Error);
   try {
@@ -80,6 +150,20 @@ TEST(RationalTarget, UnknownNamesAndBadFormulas) {
   } catch (const Error& e) {
     EXPECT_EQ(e.where().source, "RationalProblem::target");
     EXPECT_GT(e.where().column, 0);
+  }
+  try {
+    (void)Target::formula("2 * acoss(x)", "x", {}, "RationalSetup::target");
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "RationalSetup::target");
+    EXPECT_EQ(e.where().column, 5);
+    EXPECT_NE(e.message().find("unknown function 'acoss'"), std::string::npos) << e.message();
+  }
+  try {
+    (void)Target::formula("x + y", "x", {"F0"});
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_NE(e.message().find("unknown variable 'y'"), std::string::npos) << e.message();
   }
 }
 

@@ -1,5 +1,6 @@
 #include "shaderfit/report/command_json.hpp"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "shaderfit/expr/print.hpp"
@@ -120,6 +121,17 @@ std::string eval_json(const EvalReport& report) {
       groups[gm.column][gm.label] = m;
     }
     f["groups"] = groups;
+    if (r.checked_between_samples) {
+      f["max_abs_checked"] = "between samples";
+      f["worst_point"] = r.worst_point;
+    }
+    if (r.certified_max_abs) {
+      f["certified_max_abs"] =
+          std::isfinite(*r.certified_max_abs) ? json(*r.certified_max_abs) : json(nullptr);
+      f["certified_converged"] = r.certified_converged;
+      f["certify_time_s"] = r.certify_time_s;
+      if (!r.certify_note.empty()) f["certify_note"] = r.certify_note;
+    }
     j["results"].push_back(f);
   }
   return j.dump(2);

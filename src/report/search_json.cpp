@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/overloaded.hpp"
+#include "shaderfit/core/error.hpp"
 
 namespace shaderfit {
 
@@ -40,6 +41,7 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"rows", d.rows},
                 {"target", d.target},
                 {"load_time_s", d.load_time_s}}},
+              {"problem", d.problem ? problem_source_json(*d.problem) : json(nullptr)},
               {"options", search_options_json(o)},
               {"summary",
                {{"termination", termination_name(s.termination)},
@@ -52,6 +54,8 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"distinct_candidates", s.distinct_candidates},
                 {"enumeration_cost_completed", s.enumeration_cost_completed},
                 {"generations", s.generations},
+                {"check_time_s", s.check_time_s},
+                {"dropped_not_finite", s.dropped_not_finite},
                 {"ranks", s.ranks},
                 {"bytes_sent", s.bytes_sent},
                 {"symmetry", s.symmetry ? json{{"input", s.symmetry->input_name},
@@ -61,6 +65,73 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                                         : json(nullptr)}}},
               {"front", front}};
   return out.dump(2) + "\n";
+}
+
+nlohmann::json problem_source_json(const ProblemSource& p) {
+  using nlohmann::json;
+  json j = json::object();
+  if (!p.csv_path.empty()) j["data"] = p.csv_path;
+  if (!p.dataset.empty()) {
+    j["dataset"] = p.dataset;
+    j["dataset_seed"] = p.dataset_seed;
+  }
+  const reference::ReferenceText& r = p.reference;
+  if (!r.formula.empty()) j["reference"] = r.formula;
+  if (!r.shader_source.empty()) {
+    j["reference_file"] = r.shader_path;
+    j["function"] = r.function;
+    j["shader_source"] = r.shader_source;
+  }
+  if (!r.definitions.empty()) j["define"] = r.definitions;
+  if (!p.domain.empty()) j["domain"] = p.domain;
+  if (p.samples != 0) j["samples"] = p.samples;
+  if (p.drop_nonfinite) j["drop_nonfinite"] = true;
+  j["inputs"] = p.inputs;
+  j["target"] = p.target;
+  return j;
+}
+
+ProblemSource problem_source_from_json(const nlohmann::json& j, const std::string& where) {
+  auto bad = [&](const std::string& why) -> Error {
+    return Error("\"problem\": " + why, SourceLocation{where});
+  };
+  if (!j.is_object()) throw bad("not an object");
+  ProblemSource p;
+  auto text = [&](const char* key, std::string* out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_string()) throw bad(std::string("\"") + key + "\" is not text");
+    *out = j[key].get<std::string>();
+  };
+  auto texts = [&](const char* key, std::vector<std::string>* out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_array()) throw bad(std::string("\"") + key + "\" is not a list");
+    for (const auto& v : j[key]) {
+      if (!v.is_string()) throw bad(std::string("\"") + key + "\" holds something not text");
+      out->push_back(v.get<std::string>());
+    }
+  };
+  auto count = [&](const char* key, auto* out) {
+    if (!j.contains(key)) return;
+    if (!j[key].is_number_unsigned()) throw bad(std::string("\"") + key + "\" is not a count");
+    *out = j[key].get<std::remove_pointer_t<decltype(out)>>();
+  };
+  text("data", &p.csv_path);
+  text("dataset", &p.dataset);
+  count("dataset_seed", &p.dataset_seed);
+  text("reference", &p.reference.formula);
+  text("reference_file", &p.reference.shader_path);
+  text("function", &p.reference.function);
+  text("shader_source", &p.reference.shader_source);
+  texts("define", &p.reference.definitions);
+  texts("domain", &p.domain);
+  count("samples", &p.samples);
+  if (j.contains("drop_nonfinite")) {
+    if (!j["drop_nonfinite"].is_boolean()) throw bad("\"drop_nonfinite\" is not true or false");
+    p.drop_nonfinite = j["drop_nonfinite"].get<bool>();
+  }
+  texts("inputs", &p.inputs);
+  text("target", &p.target);
+  return p;
 }
 
 }  // namespace shaderfit

@@ -15,6 +15,7 @@
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
+#include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -117,7 +118,8 @@ struct Figures {
   HtmlReport& report;
   std::string directory;
 
-  void add(const Chart& chart, const std::string& name, const std::string& caption) {
+  template <class Figure>
+  void add(const Figure& chart, const std::string& name, const std::string& caption) {
     if (directory.empty()) {
       const std::string png = temp_png(name);
       render(chart, png);
@@ -209,15 +211,52 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   }
 
   r.heading("Pareto front");
+  // Columns for what the run measured: float32 errors, certified bounds.
+  bool float32 = false, certified = false, checked = false;
+  for (const FrontMember& m : members) {
+    float32 = float32 || (std::isfinite(m.float32_max_abs) && m.float32_max_abs > 0);
+    certified = certified || m.certified_max_abs.has_value();
+    checked = checked || m.checked_between_samples;
+  }
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i = 0; i < members.size(); ++i) {
     const FrontMember& m = members[i];
-    rows.push_back({number_text(m.cost), number_text(m.metrics.mse), number_text(m.metrics.max_abs),
-                    std::isnan(m.time_s) ? "—" : fmt::format("{:.1f} ms", 1e3 * m.time_s),
-                    to_infix(m.expression, people(file.front[i])) +
-                        (pick && pick->index == i ? "  ← chosen" : "")});
+    std::vector<std::string> row = {number_text(m.cost), number_text(m.metrics.mse),
+                                    number_text(m.metrics.max_abs)};
+    if (float32) row.push_back(number_text(m.float32_max_abs));
+    if (certified)
+      row.push_back(!m.certified_max_abs ? "—"
+                    : std::isinf(*m.certified_max_abs)
+                        ? "none found"
+                        : "≤ " + number_text(*m.certified_max_abs) +
+                              (m.certified_converged ? "" : " (time ran out)"));
+    row.push_back(std::isnan(m.time_s) ? "—" : fmt::format("{:.1f} ms", 1e3 * m.time_s));
+    row.push_back(to_infix(m.expression, people(file.front[i])) +
+                  (pick && pick->index == i ? "  ← chosen" : ""));
+    rows.push_back(std::move(row));
   }
-  r.table({"cost", "MSE", "max abs", "found at", "formula"}, rows, {true, true, true, true, false});
+  std::vector<std::string> heads = {"cost", "MSE", "max abs"};
+  if (float32) heads.push_back("max abs in float32");
+  if (certified) heads.push_back("certified max abs");
+  heads.insert(heads.end(), {"found at", "formula"});
+  std::vector<bool> numeric(heads.size(), true);
+  numeric.back() = false;
+  if (certified) numeric[heads.size() - 3] = false;
+  r.table(heads, rows, numeric);
+  std::string notes;
+  if (checked)
+    notes +=
+        "Max abs is the largest error found at the samples and between them (a denser "
+        "check, then local maximisation around the worst points). ";
+  if (float32)
+    notes +=
+        "In float32: the formula computed operation by operation in float32, as a shader "
+        "computes it, against the reference. ";
+  if (certified)
+    notes +=
+        "Certified: a rigorous bound of the error on the whole domain by interval "
+        "arithmetic, for the formula's exact constants (docs/reference.md).";
+  if (!notes.empty()) r.paragraph(notes);
 
   Figures figures{r, a.figure_directory};
   // The data, when given, scores the baselines and draws curves.
@@ -287,10 +326,75 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     r.table({"", "formula", "cost", "MSE", "max abs", "MSE vs first baseline"}, cmp,
             {false, false, true, true, true, true});
 
+    // One input: the reference and the chosen formula over it, and the error.
+    if (ce.variables.size() == 1 && d.find(ce.variables[0]) != nullptr) {
+      const std::vector<double>& x = d.numeric(ce.variables[0]).values;
+      const std::vector<double>& y = d.numeric(target).values;
+      const std::vector<double> f = evaluate_on(ce, d);
+      std::vector<std::size_t> order(x.size());
+      for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+      std::sort(order.begin(), order.end(),
+                [&](std::size_t p, std::size_t q) { return x[p] < x[q]; });
+      Chart curves, error;
+      curves.title = "The reference and the chosen formula";
+      curves.x_label = error.x_label = ce.variables[0];
+      curves.y_label = target;
+      error.title = "Error of the chosen formula";
+      error.y_label = "formula - " + target;
+      Series ref{"reference", {}, {}, Series::Style::Lines, true};
+      Series fit{c.label, {}, {}, Series::Style::Lines, false};
+      Series err{c.label, {}, {}, Series::Style::Lines, true};
+      for (const std::size_t i : order) {
+        ref.x.push_back(x[i]);
+        ref.y.push_back(y[i]);
+        fit.x.push_back(x[i]);
+        fit.y.push_back(f[i]);
+        err.x.push_back(x[i]);
+        err.y.push_back(f[i] - y[i]);
+      }
+      curves.series = {ref, fit};
+      error.series = {err};
+      figures.add(curves, "curves", "The reference and " + c.label + " = " + chosen_text);
+      figures.add(error, "error",
+                  "The error of " + c.label + " at the samples (" + chosen_text + ")");
+    }
+
+    // Two domain variables: |error| over the whole domain, from the reference itself.
+    if (a.reference != nullptr && a.reference->domain.size() == 2) {
+      constexpr int kCells = 96;
+      const reference::ReferenceFunction& f = *a.reference;
+      const std::vector<int> inputs = f.output_indices(ce.variables);
+      const int t = f.program.find_output(f.target);
+      Heatmap map;
+      map.title = "|error| of the chosen formula";
+      map.x_label = f.domain[0].name;
+      map.y_label = f.domain[1].name;
+      map.value_label = "|formula - " + target + "|";
+      map.nx = map.ny = kCells;
+      map.x_range = {f.domain[0].lo, f.domain[0].hi};
+      map.y_range = {f.domain[1].lo, f.domain[1].hi};
+      map.log_values = true;
+      std::vector<double> out(f.program.outputs.size()), in(inputs.size());
+      for (int cell_row = 0; cell_row < kCells; ++cell_row)
+        for (int col = 0; col < kCells; ++col) {
+          const double point[2] = {f.domain[0].lo + (col + 0.5) * f.domain[0].width() / kCells,
+                                   f.domain[1].lo + (cell_row + 0.5) * f.domain[1].width() / kCells};
+          f.program.evaluate_all(point, out);
+          for (std::size_t k = 0; k < inputs.size(); ++k)
+            in[k] = out[static_cast<std::size_t>(inputs[k])];
+          const double e = std::abs(evaluate_scalar(ce, in) - out[static_cast<std::size_t>(t)]);
+          map.values.push_back(std::isfinite(e) ? e : 0.0);  // blank where undefined
+        }
+      figures.add(map, "error-map",
+                  "|error| of " + c.label + " over the domain, at the centres of 96 x 96 cells (" +
+                      chosen_text + ")");
+    }
+
     // Curves over the angle for two materials, when the inputs are those of a Fresnel sweep.
     // The key names each curve briefly; the caption gives the formulas.
     Dataset sweep = make_fresnel_sweep({parse_material("1.5"), parse_material("aluminium")}, 181);
-    bool sweepable = true;
+    // Only for Fresnel data (target R, the reflectance): other data may share a name (x).
+    bool sweepable = target == "R";
     for (const auto& v : ce.variables)
       sweepable = sweepable && sweep.find(v) && sweep.find(v)->numeric();
     if (sweepable) {

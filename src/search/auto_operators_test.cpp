@@ -75,6 +75,8 @@ TEST(AutoOperators, TheShadingSetAndPowForAHighDynamicRange) {
             "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,sign,copysign");
   // Lists that are not auto stay as given.
   SearchOptions given;
+  given.operators = parse_operator_list("+,-,*,/,^");
+  given.evolution_operators = parse_operator_list("pow,exp2");
   const SearchOptions same =
       resolve_auto_operators(given, one_input(0, 1, [](double x) { return std::pow(x, 40.0); }));
   EXPECT_EQ(same.operators, given.operators);

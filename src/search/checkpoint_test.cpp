@@ -14,6 +14,7 @@
 #include <limits>
 #include <sstream>
 
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/expr/parse.hpp"
 
@@ -48,7 +49,7 @@ std::string scratch(const std::string& name) {
 
 Checkpoint sample_checkpoint() {
   const SearchProblem p = seed_problem();
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   Checkpoint c;
   c.phase = SearchPhase::Evolution;
   c.shaderfit_version = std::string(checkpoint_writer_version());
@@ -195,7 +196,7 @@ TEST(Checkpoint, EditedBodiesWithAMatchingChecksumAreRefused) {
 TEST(Checkpoint, OtherDataOrOptionsAreRefused) {
   const Checkpoint c = sample_checkpoint();
   SearchProblem p = seed_problem();
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   EXPECT_NO_THROW(check_checkpoint_matches(c, o, p, "run.ckpt"));
   o.time_limit_s = 99;  // budgets and threads may change
   o.max_candidates = 5;
@@ -233,7 +234,7 @@ TEST(Checkpoint, WriteIsAtomicAndReadBack) {
 
 // Small enough for a unit test; every stop is a count.
 SearchOptions small_budget(std::int64_t candidates) {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.threads = 1;
   o.time_limit_s = 600;
   o.max_enumeration_cost = 1;

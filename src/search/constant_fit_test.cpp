@@ -24,7 +24,7 @@ ErrorMetrics metrics_of(const Expression& e, const SearchProblem& p) {
 }
 
 SearchOptions max_loss_search(Loss loss) {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.loss = loss;
   o.threads = 1;
   o.time_limit_s = 600;  // counts stop it, never the clock
@@ -73,7 +73,7 @@ TEST(SearchMinimax, PolishFreesLiteralsAndKeepsOnlyImprovements) {
   const SearchProblem p = fresnel_seed_problem();
   const Expression schlick = parse_formula("r0 + (1 - r0) * x^5", {.variables = {"r0", "x"}});
   for (Loss loss : {Loss::MaxAbs, Loss::Mse}) {
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.loss = loss;
     SearchContext ctx(o, p);
     ASSERT_TRUE(ctx.offer(schlick, loss_value(loss, ctx.score(schlick)), SearchPhase::Start));

@@ -117,7 +117,7 @@ std::vector<std::string> formulas(const SearchSummary& s) {
 }
 
 SearchOptions short_search() {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.threads = 1;
   o.seed = 3;
   o.time_limit_s = 120;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -30,7 +31,7 @@ SearchProblem powers(const std::vector<double>& exponents) {
 }
 
 SearchOptions enumeration_only(Loss loss) {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.evolve = false;
   o.loss = loss;
   o.threads = 1;

@@ -15,7 +15,7 @@ Float32Check::Float32Check(const SearchProblem& problem) : problem_(problem) {
   if (!(scale_ > 0)) scale_ = 1;
 }
 
-double Float32Check::max_abs_diff(const Expression& e) const {
+Float32Check::Errors Float32Check::errors(const Expression& e) const {
   const std::size_t rows = problem_.target.size();
   std::vector<const double*> cols64(e.variables.size(), nullptr);
   std::vector<const float*> cols32(e.variables.size(), nullptr);
@@ -31,14 +31,21 @@ double Float32Check::max_abs_diff(const Expression& e) const {
   std::vector<float> f32(rows);
   evaluate(e, cols64, f64, {.threads = 1});
   evaluate(e, cols32, f32, {.threads = 1});
-  double worst = 0;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  Errors out;
   for (std::size_t i = 0; i < rows; ++i) {
-    const double d = std::abs(static_cast<double>(f32[i]) - f64[i]);
-    if (!std::isfinite(d)) return std::numeric_limits<double>::infinity();
-    worst = std::max(worst, d);
+    const double y = f32[i];
+    const double d = std::abs(y - f64[i]);
+    out.max_abs_diff = std::isfinite(d) ? std::max(out.max_abs_diff, d) : kInf;
+    const double t = problem_.target[i];
+    const double err = std::isfinite(y) ? std::abs(y - t) : kInf;
+    out.max_abs = std::max(out.max_abs, err);
+    if (t != 0) out.max_rel = std::max(out.max_rel, err / std::abs(t));
   }
-  return worst;
+  return out;
 }
+
+double Float32Check::max_abs_diff(const Expression& e) const { return errors(e).max_abs_diff; }
 
 double Float32Check::bound(const FrontMember& m) const {
   const double own = std::isfinite(m.metrics.max_abs) ? m.metrics.max_abs : 0.0;
@@ -46,8 +53,11 @@ double Float32Check::bound(const FrontMember& m) const {
 }
 
 void Float32Check::apply(FrontMember& m) const {
-  m.float32_max_abs_diff = max_abs_diff(m.expression);
+  const Errors e = errors(m.expression);
+  m.float32_max_abs_diff = e.max_abs_diff;
   m.float32_stable = m.float32_max_abs_diff <= bound(m);
+  m.float32_max_abs = e.max_abs;
+  m.float32_max_rel = e.max_rel;
 }
 
 }  // namespace shaderfit::search_detail

@@ -2,7 +2,8 @@
 // float32? (internal; the bound is documented in docs/reliability.md.)
 //
 //   Float32Check check(problem);
-//   check.apply(member);   // sets member.float32_max_abs_diff and member.float32_stable
+//   check.apply(member);   // sets member.float32_max_abs_diff, float32_stable, float32_max_abs
+//                          // and float32_max_rel
 #pragma once
 
 #include <vector>
@@ -28,6 +29,14 @@ class Float32Check {
   // constants and computes every operation in float (as the generated code does); +infinity
   // when either is not finite on a row.
   [[nodiscard]] double max_abs_diff(const Expression& e) const;
+  // The largest |float32(e) - float64(e)| as above, and float32(e)'s error against the target:
+  // the largest absolute and relative (over rows where the target is not 0) error.
+  struct Errors {
+    double max_abs_diff = 0;
+    double max_abs = 0;
+    double max_rel = 0;
+  };
+  [[nodiscard]] Errors errors(const Expression& e) const;
   [[nodiscard]] double bound(const FrontMember& m) const;
   void apply(FrontMember& m) const;
 

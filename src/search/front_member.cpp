@@ -135,7 +135,21 @@ json front_member_json(const FrontMember& m, FrontJson style) {
             {"time_s", number(m.time_s)},
             {"origin", search_phase_name(m.origin)},
             {"float32_max_abs_diff", number(m.float32_max_abs_diff)},
-            {"float32_stable", m.float32_stable}};
+            {"float32_stable", m.float32_stable},
+            {"float32_max_abs", number(m.float32_max_abs)},
+            {"float32_max_rel", number(m.float32_max_rel)}};
+  if (m.checked_between_samples) {
+    j["max_abs_checked"] = "between samples";
+    j["worst_point"] = m.worst_point;
+  }
+  if (m.certified_max_abs) {
+    // Infinite (no finite bound) is written as null in both forms: a reader takes it as such.
+    j["certified_max_abs"] =
+        std::isfinite(*m.certified_max_abs) ? json(*m.certified_max_abs) : json();
+    j["certified_converged"] = m.certified_converged;
+    j["certify_time_s"] = number(m.certify_time_s);
+    if (!m.certify_note.empty()) j["certify_note"] = m.certify_note;
+  }
   if (exact) {
     j["expression"] = search_detail::exact_expression_json(m.expression);
     return j;
@@ -230,6 +244,19 @@ ReadFrontMember front_member_from_json(const json& m, const std::vector<std::str
   if (m.contains("max_rel")) f.metrics.max_rel = result_number(m, "max_rel", where);
   f.time_s = result_number(m, "time_s", where);
   f.float32_max_abs_diff = result_number(m, "float32_max_abs_diff", where);
+  f.float32_max_abs = result_number(m, "float32_max_abs", where);
+  f.float32_max_rel = result_number(m, "float32_max_rel", where);
+  f.checked_between_samples = m.contains("max_abs_checked");
+  if (m.contains("certified_max_abs")) {
+    // null: no finite bound was found.
+    const double b = result_number(m, "certified_max_abs", where);
+    f.certified_max_abs = std::isnan(b) ? std::numeric_limits<double>::infinity() : b;
+    if (m.contains("certified_converged") && m["certified_converged"].is_boolean())
+      f.certified_converged = m["certified_converged"].get<bool>();
+    f.certify_time_s = result_number(m, "certify_time_s", where);
+    if (m.contains("certify_note") && m["certify_note"].is_string())
+      f.certify_note = m["certify_note"].get<std::string>();
+  }
   if (m.contains("origin") && m["origin"].is_string())
     f.origin =
         search_phase_from_name(m["origin"].get<std::string>()).value_or(SearchPhase::Enumeration);

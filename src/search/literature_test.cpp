@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <functional>
 
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/search/search.hpp"
 
@@ -40,7 +41,7 @@ void expect_recovered(const Literature& l) {
   double sum_y2 = 0;
   for (double y : p.target) sum_y2 += y * y;
   const double exact = 1e-24 * sum_y2 / static_cast<double>(p.target.size());  // float64 round-off
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.evolve = false;
   o.time_limit_s = 300;  // a bound, not an expectation
   o.max_enumeration_cost = 6;

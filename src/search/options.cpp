@@ -252,6 +252,21 @@ const SearchOptionField kFields[] = {
                       ? std::string()
                       : std::string("the checkpoint interval must be a number of seconds >= 0");
          }},
+    {.name = "certify",
+     .member = &O::certify,
+     .role = Role::Run,
+     .help = "with a reference: a rigorous bound of each front member's error over the whole "
+             "domain (interval arithmetic)"},
+    {.name = "certify_time_limit_s",
+     .member = &O::certify_time_limit_s,
+     .role = Role::Run,
+     .help = "seconds per member for the certified bound (a looser bound when they run out)",
+     .check =
+         [](const O& o) {
+           return o.certify_time_limit_s > 0 && std::isfinite(o.certify_time_limit_s)
+                      ? std::string()
+                      : std::string("must be a positive number of seconds");
+         }},
     {.name = "resume_path",
      .member = &O::resume_path,
      .role = Role::Run,

@@ -149,7 +149,10 @@ TEST(SearchOptions, DescriptionReadsBackItsText) {
       EXPECT_EQ(search_option_text(back, f), search_option_text(o, f)) << f.name;
     }
   }
-  EXPECT_EQ(search_option_text(SearchOptions{}, *find_search_option("operators")), "+,-,*,/,^");
+  // The operators default to the set chosen from the data (a data set may bring its own).
+  EXPECT_EQ(search_option_text(SearchOptions{}, *find_search_option("operators")), "auto");
+  EXPECT_EQ(search_option_text(SearchOptions{}, *find_search_option("evolution_operators")),
+            "auto");
   EXPECT_EQ(search_option_kind(*find_search_option("max_nodes")), OptionKind::Integer);
   EXPECT_EQ(search_option_kind(*find_search_option("loss")), OptionKind::Choice);
   EXPECT_EQ(search_option_kind(*find_search_option("start")), OptionKind::Formulas);

@@ -27,6 +27,15 @@ std::string search_summary_lines(const SearchSummary& summary) {
       termination_name(summary.termination), summary.total_time_s, summary.enumeration_time_s,
       summary.enumeration_cost_completed, summary.distinct_candidates, summary.evolution_time_s,
       summary.generations, summary.candidates, static_cast<double>(summary.node_evaluations));
+  if (summary.check_time_s > 0) {
+    s += fmt::format(
+        "checked: each member's max error searched for between the samples as well ({:.3g} s)",
+        summary.check_time_s);
+    if (summary.dropped_not_finite > 0)
+      s += fmt::format("; {} member{} NaN or infinite between them dropped",
+                       summary.dropped_not_finite, summary.dropped_not_finite == 1 ? "" : "s");
+    s += "\n";
+  }
   if (summary.symmetry)
     s += "symmetry: the data is " + describe_symmetry(*summary.symmetry) +
          "; searched on the half where it is >= 0, formulas reflected\n";
@@ -40,22 +49,38 @@ std::string front_member_line(const FrontMember& m, Loss loss, const PrintOption
 
 std::string front_table(const SearchSummary& s, Loss loss, const PrintOptions& print) {
   const bool loss_column = loss != Loss::Mse && loss != Loss::MaxAbs;
+  bool certified = false;
+  for (const FrontMember& m : s.front) certified = certified || m.certified_max_abs.has_value();
   std::string out = fmt::format("{:>6} {:>5}", "cost", "nodes");
   if (loss_column) out += fmt::format(" {:>10}", loss_name(loss));
-  out += fmt::format(" {:>10} {:>10} {:>10}  {}\n", "mse", "max_abs", "found", "formula");
-  bool unstable = false;
+  out += fmt::format(" {:>10} {:>10} {:>11}", "mse", "max_abs", "f32 max_abs");
+  if (certified) out += fmt::format(" {:>11}", "certified");
+  out += fmt::format(" {:>10}  {}\n", "found", "formula");
+  bool unstable = false, loose = false;
   for (const FrontMember& m : s.front) {
     out += fmt::format("{:>6g} {:>5}", m.cost, m.nodes);
     if (loss_column) out += fmt::format(" {:>10.4g}", m.loss);
+    out += fmt::format(" {:>10.4g} {:>10.4g} {:>11.4g}", m.metrics.mse, m.metrics.max_abs,
+                       m.float32_max_abs);
+    if (certified) {
+      // "*": the budget ended first; the bound holds but is looser than the tolerance.
+      const bool done =
+          !m.certified_max_abs || m.certified_converged || std::isinf(*m.certified_max_abs);
+      out += m.certified_max_abs
+                 ? fmt::format(" {:>10.4g}{}", *m.certified_max_abs, done ? " " : "*")
+                 : fmt::format(" {:>11}", "-");
+      loose = loose || !done;
+    }
     // "!" before the formula: float32 evaluation departs from float64 beyond the bound.
-    out += fmt::format(" {:>10.4g} {:>10.4g} {:>10} {}{}\n", m.metrics.mse, m.metrics.max_abs,
-                       when(m.time_s), m.float32_stable ? " " : "!", to_infix(m.expression, print));
+    out += fmt::format(" {:>10} {}{}\n", when(m.time_s), m.float32_stable ? " " : "!",
+                       to_infix(m.expression, print));
     unstable = unstable || !m.float32_stable;
   }
   if (unstable)
     out +=
         "! not stable in float32: float32 and float64 differ by more than 1e-4 of the "
         "target's scale and 1% of the formula's max_abs error (docs/reliability.md)\n";
+  if (loose) out += "* the time for the bound ran out: it holds, but may be well above max_abs\n";
   return out;
 }
 

@@ -17,6 +17,7 @@
 #include "search/start.hpp"
 #include "search/symmetry_front.hpp"
 #include "search/tidy.hpp"
+#include "search/verify_front.hpp"
 
 namespace shaderfit {
 
@@ -311,6 +312,9 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
   // The one place where the front is tidied before it is shown (docs/search.md, "Tidy front").
   summary->front = search_detail::tidy_front(options, problem, std::move(summary->front),
                                              &summary->node_evaluations);
+  // Where the function behind the rows is known, the errors between them too (and bounds).
+  summary->front =
+      search_detail::verify_front(options, problem, std::move(summary->front), summary);
 }
 
 }  // namespace shaderfit

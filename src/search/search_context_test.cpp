@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 
@@ -39,7 +40,7 @@ ErrorMetrics weighted_metrics(const Expression& e, const SearchProblem& p) {
 TEST(SearchContext, NonFiniteOnAnyRowNeverEntersTheFront) {
   const SearchProblem p = grid_problem();
   for (Loss loss : {Loss::Mse, Loss::MaxAbs}) {
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.loss = loss;
     SearchContext ctx(o, p);
     // Infinite only on the weight-0 row: its weighted metrics are finite, yet it is refused.
@@ -65,7 +66,7 @@ TEST(SearchContext, NonFiniteOnAnyRowNeverEntersTheFront) {
 
 TEST(SearchContext, MembersCarryTheMetricsOfTheirOwnFormula) {
   const SearchProblem p = grid_problem();
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   SearchContext ctx(o, p);
   const Expression e = formula("x * 0.5");
   const double flattering = 0;  // better than the truth
@@ -81,7 +82,7 @@ TEST(SearchContext, SearchFrontsHoldOnlyFormulasFiniteOnEveryRow) {
   SearchProblem p = grid_problem();
   for (std::size_t i = 0; i < p.target.size(); ++i)
     p.target[i] = p.weights[i] == 0 ? 0.0 : 1.0 / (p.inputs[0][i] - 0.5);
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.threads = 1;
   o.evolve = false;
   o.max_enumeration_cost = 3;

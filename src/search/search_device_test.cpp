@@ -24,7 +24,7 @@ TEST(GpuSelection, WithoutAGpuTheSearchNeedsAuto) {
   p.input_names = {"x"};
   p.inputs = {x};
   p.target = y;
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.device = ComputeDevice::Cuda;
   o.time_limit_s = 0.1;
   SearchSummary s;
@@ -37,7 +37,7 @@ TEST(GpuDevice, SearchOnTheGpu) {
   SF_REQUIRE_GPU();
   const SearchProblem p = test::fresnel_seed_problem();
   // The evolution alone, with a candidate budget (a count): reproducible, GPU scoring included.
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.device = ComputeDevice::Cuda;
   o.enumerate = false;
   o.threads = 2;
@@ -53,7 +53,7 @@ TEST(GpuDevice, SearchOnTheGpu) {
   for (std::size_t i = 0; i < a.front.size(); ++i)
     EXPECT_EQ(a.front[i].formula, b.front[i].formula);
   // The whole search on the seed task reaches the seed formula's error at cost 4.
-  SearchOptions full;
+  SearchOptions full = test::seed_task_options();
   full.device = ComputeDevice::Cuda;
   full.time_limit_s = 60;
   full.stop_at = SearchTarget{0.00035236, 4};

@@ -38,7 +38,7 @@ const FrontMember* best_within(const SearchSummary& s, double max_cost) {
 TEST(Search, EnumerationReachesTheSeedFormula) {
   const SearchProblem p = fresnel_seed_problem();
   const double target_mse = mse_of("r0 + (x - r0) * x^4", p);
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.evolve = false;
   o.time_limit_s = 120;  // never the stop: the level cap is
   o.max_enumeration_cost = 4;
@@ -57,7 +57,7 @@ TEST(Search, EnumerationReachesTheSeedFormula) {
 }
 
 SearchOptions small_budget(int threads) {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.threads = threads;
   o.time_limit_s = 600;        // counts stop it, never the clock
   o.max_enumeration_cost = 2;  // the enumeration ends by its level cap
@@ -84,7 +84,7 @@ SearchProblem signed_problem(double (*f)(double, double)) {
 }
 
 TEST(Search, EnumerationUsesSignAndCopysignWhenAsked) {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.evolve = false;
   o.time_limit_s = 120;
   o.max_enumeration_cost = 4;
@@ -149,7 +149,7 @@ TEST(Search, SameSeedSameResultWithTwoThreads) {
 
 TEST(Search, NewMembersAreReportedAsFoundAndTheFrontIsSorted) {
   const SearchProblem p = fresnel_seed_problem();
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.evolve = false;
   o.max_enumeration_cost = 2;
   int calls = 0;
@@ -174,7 +174,7 @@ TEST(Search, NewMembersAreReportedAsFoundAndTheFrontIsSorted) {
 TEST(Search, InterruptReturnsTheFrontSoFar) {
   const SearchProblem p = fresnel_seed_problem();
   std::atomic<bool> stop{false};
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.interrupt = &stop;
   o.on_new_member = [&](const FrontMember& m) {
     if (m.cost >= 3) stop.store(true);
@@ -189,7 +189,7 @@ TEST(Search, InterruptReturnsTheFrontSoFar) {
 TEST(Search, EveryLossRuns) {
   const SearchProblem p = fresnel_seed_problem();
   for (Loss k : {Loss::Mse, Loss::Rmse, Loss::MaxAbs, Loss::Relative, Loss::Log}) {
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.loss = k;
     o.evolve = false;
     o.max_enumeration_cost = 2;
@@ -204,7 +204,7 @@ TEST(Search, WeightsAndNodeCost) {
   SearchProblem p = fresnel_seed_problem();
   p.weights.assign(p.target.size(), 1.0);
   for (std::size_t i = 0; i < p.weights.size(); i += 2) p.weights[i] = 3.0;
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.cost = CostTarget::Nodes;
   o.evolve = false;
   o.max_enumeration_cost = 5;

@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/search/options.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit::test {
@@ -18,6 +20,16 @@ inline SearchProblem fresnel_seed_problem(std::uint64_t data_seed = 1) {
   p.inputs = {d.numeric("r0").values, d.numeric("x").values};
   p.target = d.numeric("R").values;
   return p;
+}
+
+// The search's options for the seed task: the defaults with the data set's own operators (the
+// library's default is "auto"), as `shaderfit search --dataset fresnel-seed` runs it.
+inline SearchOptions seed_task_options() {
+  SearchOptions o;
+  const std::optional<BuiltinDatasetInfo> info = builtin_dataset_info("fresnel-seed");
+  set_search_option(o, "operators", info->operators);
+  set_search_option(o, "evolution_operators", info->evolution_operators);
+  return o;
 }
 
 }  // namespace shaderfit::test

@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 
@@ -33,7 +34,7 @@ ErrorMetrics metrics(const Expression& e, const SearchProblem& p) {
 }
 
 TEST(StartFormulas, ParseOverTheInputsWithLiteralsFree) {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.start = {"1 + 1*x + 0.5*x^2", "pi * x"};
   const auto s = parse_start_formulas(o, quadratic_problem());
   ASSERT_EQ(s.size(), 2U);
@@ -44,7 +45,7 @@ TEST(StartFormulas, ParseOverTheInputsWithLiteralsFree) {
 }
 
 TEST(StartFormulas, ErrorsAreLocatedAtTheFieldAndTheFormula) {
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.start = {"x + 1", "x * (r0 + 1)"};
   try {
     parse_start_formulas(o, quadratic_problem());
@@ -62,7 +63,7 @@ TEST(StartFormulas, ErrorsAreLocatedAtTheFieldAndTheFormula) {
 
 TEST(StartFormulas, RefitMinimisesTheRunsLoss) {
   const SearchProblem p = quadratic_problem();
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.start = {"1 + 1*x + 0.5*x^2"};
   const Expression free = parse_start_formulas(o, p)[0].free;
   o.loss = Loss::Mse;
@@ -78,7 +79,7 @@ TEST(StartFormulas, RefitMinimisesTheRunsLoss) {
 
 TEST(StartFormulas, TheFrontHoldsTheRefitWithNoOtherStrategy) {
   const SearchProblem p = quadratic_problem();
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.start = {"1 + 1*x + 0.5*x^2"};
   o.loss = Loss::MaxAbs;
   o.enumerate = false;

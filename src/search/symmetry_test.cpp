@@ -9,6 +9,7 @@
 #include <numbers>
 #include <tuple>
 
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
@@ -207,7 +208,7 @@ ErrorMetrics metrics_on(const Expression& e, const SearchProblem& p) {
 
 TEST(SymmetrySearch, OddDataGivesReflectedMembers) {
   const SearchProblem p = on_grid([](double x) { return std::atan(x); }, 257);
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.threads = 1;
   o.time_limit_s = 60;
   o.max_candidates = 20000;
@@ -246,7 +247,7 @@ TEST(SymmetrySearch, OddDataGivesReflectedMembers) {
 // docs/search.md; this short budget is for a unit test.)
 TEST(SymmetrySearch, AcosAboutHalfPi) {
   const SearchProblem p = on_grid([](double x) { return std::acos(x); }, 129);
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.threads = 1;
   o.time_limit_s = 60;
   o.max_candidates = 100000;
@@ -278,7 +279,7 @@ TEST(SymmetrySearch, EvenAndSignChangingOddData) {
        {std::tuple{+[](double x) { return std::cos(3 * x) + x * x; }, SymmetryKind::Even, 1},
         std::tuple{+[](double x) { return std::sin(6 * x); }, SymmetryKind::Odd, 0}}) {
     const SearchProblem p = on_grid(f, 129);
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.threads = 1;
     o.time_limit_s = 60;
     o.max_candidates = 5000;
@@ -301,7 +302,7 @@ TEST(SymmetrySearch, EvenAndSignChangingOddData) {
 
 TEST(SymmetrySearch, StartFormulasJoinTheWholeFront) {
   const SearchProblem p = on_grid([](double x) { return std::atan(x); }, 129);
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   o.threads = 1;
   o.time_limit_s = 60;
   o.max_candidates = 3000;

@@ -11,6 +11,7 @@
 #include <numbers>
 
 #include "search/search_context.hpp"
+#include "search/seed_problem_test_util.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/expr/parse.hpp"
@@ -56,11 +57,11 @@ FrontMember member(const SearchOptions& o, const SearchProblem& p, const char* f
 
 std::vector<FrontMember> tidied(const SearchProblem& p, std::vector<FrontMember> front) {
   std::uint64_t evaluations = 0;
-  return tidy_front(SearchOptions(), p, std::move(front), &evaluations);
+  return tidy_front(test::seed_task_options(), p, std::move(front), &evaluations);
 }
 
 std::string tidied_formula(const SearchProblem& p, const char* formula) {
-  const std::vector<FrontMember> t = tidied(p, {member(SearchOptions(), p, formula)});
+  const std::vector<FrontMember> t = tidied(p, {member(test::seed_task_options(), p, formula)});
   return t.size() == 1 ? t[0].formula : "(front of " + std::to_string(t.size()) + ")";
 }
 
@@ -100,7 +101,7 @@ TEST(Tidy, KeepsConstantsTheDataNeeds) {
   const SearchProblem p = exact_problem({"x"}, 0.0, 1.0, [](const auto& v) {
     return 0.3 * v[0] + 1e-3 + 0.01 * std::sin(40 * v[0]);
   });
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   const FrontMember m = member(o, p, "0.3000001 * x + 0.0010002");
   const std::vector<FrontMember> t = tidied(p, {m});
   ASSERT_EQ(t.size(), 1u);
@@ -112,7 +113,7 @@ TEST(Tidy, KeepsConstantsTheDataNeeds) {
 TEST(Tidy, RecomputesTheFront) {
   // The exact d and the noisy d / 1.0000000000000027: tidied, the second is the first again.
   const SearchProblem d = exact_problem({"d"}, 0.5, 4.0, [](const auto& v) { return v[0]; });
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   const std::vector<FrontMember> t =
       tidied(d, {member(o, d, "d"), member(o, d, "d / 1.0000000000000027")});
   ASSERT_EQ(t.size(), 1u);
@@ -123,7 +124,7 @@ TEST(Tidy, RecomputesTheFront) {
 TEST(Tidy, KeepsUnsnappedFittedConstantsAsParameters) {
   const SearchProblem p =
       exact_problem({"x"}, 0.5, 4.0, [](const auto& v) { return 0.123456789 * v[0]; });
-  SearchOptions o;
+  SearchOptions o = test::seed_task_options();
   const std::vector<FrontMember> t = tidied(p, {member(o, p, "0.123456789 * x + 1e-13")});
   ASSERT_EQ(t.size(), 1u);
   EXPECT_EQ(t[0].formula, "0.123456789 * x");
@@ -160,7 +161,7 @@ TEST(Tidy, ExactPhysicsFormulasPrintWithoutNoiseConstants) {
   };
   for (const Case& c : cases) {
     const SearchProblem p = exact_problem(c.inputs, 0.5, 2.0, c.f);
-    SearchOptions o;
+    SearchOptions o = test::seed_task_options();
     o.threads = 1;
     o.seed = 3;
     o.time_limit_s = 600;  // the candidate budget stops it

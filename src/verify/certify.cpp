@@ -117,7 +117,8 @@ class BranchAndBound {
   double attained_ = 0;
   double scale_ = 0;  // the largest |reference| met at a point
   std::vector<double> attained_point_;
-  bool failed_ = false;  // undefined or infinite at a point: no finite bound
+  std::vector<double> trouble_point_;  // Certificate::trouble_point
+  bool failed_ = false;                // undefined or infinite at a point: no finite bound
   std::string note_;
   std::size_t boxes_ = 0;
 };
@@ -129,6 +130,7 @@ bool BranchAndBound::attain(const Cell& e, int s, std::span<const double> point)
       const bool reference_bad = !finite_slot(e_.reference_value(), s);
       note_ = std::string(reference_bad && !formula_bad ? "the reference" : "the formula") +
               " may be undefined (NaN) or infinite at " + point_text(ref_, point);
+      trouble_point_.assign(point.begin(), point.end());
     }
     failed_ = true;
     return false;
@@ -323,6 +325,7 @@ Certificate BranchAndBound::run() {
       for (std::size_t i = 0; i < static_cast<std::size_t>(dims_); ++i) {
         centre[i] = box.lo[i] + 0.5 * (box.hi[i] - box.lo[i]);
       }
+      if (std::isinf(box.bound)) trouble_point_.assign(centre.begin(), centre.begin() + dims_);
       note_ = std::isinf(box.bound)
                   ? "no finite bound near " + point_text(ref_, span(centre)) +
                         ": the formula or the reference may be unbounded or undefined there"
@@ -350,6 +353,7 @@ Certificate BranchAndBound::run() {
   c.bound = std::max(bound, attained_);
   c.attained = attained_;
   c.attained_point = attained_point_;
+  if (std::isinf(c.bound)) c.trouble_point = trouble_point_;
   c.converged = !failed_ && c.bound <= target();
   c.boxes = boxes_;
   c.time_s = elapsed();

@@ -14,6 +14,7 @@
 #include "shaderfit/reference/domain.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "verify/interval.hpp"
+#include "verify/reference_test_util.hpp"
 
 namespace shaderfit {
 namespace {
@@ -21,21 +22,7 @@ namespace {
 using reference::DomainAxis;
 using reference::ReferenceFunction;
 
-// A reference in the reference language over `domain` ("x=-1:1", ...), with `definitions`.
-ReferenceFunction make_reference(const std::string& formula, const std::vector<std::string>& domain,
-                                 const std::vector<std::string>& definitions = {}) {
-  ReferenceFunction f;
-  reference::ReferenceText t;
-  t.formula = formula;
-  t.definitions = definitions;
-  for (const std::string& d : domain) {
-    f.domain.push_back(reference::parse_domain_axis(d, "domain"));
-    t.variables.push_back(f.domain.back().name);
-  }
-  f.program = reference::compile_reference(t);
-  f.target = std::string(reference::kReferenceOutput);
-  return f;
-}
+using test::make_reference;
 
 std::vector<std::string> variables_of(const ReferenceFunction& f) {
   std::vector<std::string> v;

@@ -6,6 +6,7 @@
 //   std::vector<double> r = evaluate_on(e, d);
 #pragma once
 
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -48,6 +49,16 @@ struct EvalFormulaResult {
   bool baseline = false;
   ErrorMetrics all;
   std::vector<EvalGroupResult> groups;  // per column of `groups`, its labels in sorted order
+  // Where the data has a reference (data/problem.hpp), set by the caller: the largest errors
+  // found between the samples as well as at them (all.max_abs and all.max_rel are raised to
+  // them; verify/worst_case.hpp), the domain point of the largest |error|, and a certified bound
+  // (verify/certify.hpp) when asked for.
+  bool checked_between_samples = false;
+  std::vector<double> worst_point;
+  std::optional<double> certified_max_abs;
+  bool certified_converged = false;
+  double certify_time_s = 0;
+  std::string certify_note;  // why not converged, or why no finite bound
 };
 
 // Parses `text` on `data` (parse_formula_on, errors located at `source`), evaluates it in

@@ -137,22 +137,28 @@ inline Jet log2(const Jet& a) {
   return r;
 }
 
-// sin and cos together: s' = c a', c' = -s a'.
-inline void sincos(const Jet& a, Jet& s, Jet& co) {
+// A pair s, c with s' = c a' and c' = sign s a', from their values at a's value: sin and cos
+// (sign -1), sinh and cosh (sign +1).
+inline void jet_pair_series(const Jet& a, double s0, double c0, double sign, Jet& s, Jet& co) {
   s = Jet();
   co = Jet();
   s.n = co.n = a.n;
-  s.c[0] = std::sin(a.c[0]);
-  co.c[0] = std::cos(a.c[0]);
+  s.c[0] = s0;
+  co.c[0] = c0;
   for (int k = 1; k < a.n; ++k) {
     double ss = 0, cc = 0;
     for (int i = 1; i <= k; ++i) {
       ss += i * a.c[i] * co.c[k - i];
-      cc -= i * a.c[i] * s.c[k - i];
+      cc += i * a.c[i] * s.c[k - i];
     }
     s.c[k] = ss / k;
-    co.c[k] = cc / k;
+    co.c[k] = sign * cc / k;
   }
+}
+
+// sin and cos together: s' = c a', c' = -s a'.
+inline void sincos(const Jet& a, Jet& s, Jet& co) {
+  jet_pair_series(a, std::sin(a.c[0]), std::cos(a.c[0]), -1.0, s, co);
 }
 inline Jet sin(const Jet& a) {
   Jet s, c;
@@ -248,20 +254,7 @@ inline Jet tanh(const Jet& a) { return jet_tan_series(a, std::tanh(a.c[0]), -1.0
 
 // sinh and cosh together: s' = c a', c' = s a'.
 inline void sinhcosh(const Jet& a, Jet& s, Jet& co) {
-  s = Jet();
-  co = Jet();
-  s.n = co.n = a.n;
-  s.c[0] = std::sinh(a.c[0]);
-  co.c[0] = std::cosh(a.c[0]);
-  for (int k = 1; k < a.n; ++k) {
-    double ss = 0, cc = 0;
-    for (int i = 1; i <= k; ++i) {
-      ss += i * a.c[i] * co.c[k - i];
-      cc += i * a.c[i] * s.c[k - i];
-    }
-    s.c[k] = ss / k;
-    co.c[k] = cc / k;
-  }
+  jet_pair_series(a, std::sinh(a.c[0]), std::cosh(a.c[0]), 1.0, s, co);
 }
 inline Jet sinh(const Jet& a) {
   Jet s, c;

@@ -97,12 +97,14 @@ constexpr bool is_leaf(Op op) { return arity(op) == 0; }
 // Accepts the names of functions with arguments (sqrt, pow, fma, ...) and the infix symbols.
 Op op_from_name(std::string_view name);
 
-// x^k by repeated squaring, as the generated shader code computes it; k < 0 gives 1 / x^-k.
+// x^k by repeated squaring, as the generated shader code computes it; k < 0 gives 1 / x^-k. The
+// approximations' k is in [-16, 16]; a reference program's any int (reference/program.hpp).
 // `one` is T's 1 (given explicitly by number types without a conversion from int: vectors).
 template <typename T>
 SF_OP_INLINE T apply_ipow(T x, int k, T one = T(1)) {
   const bool inverse = k < 0;
-  unsigned n = static_cast<unsigned>(inverse ? -k : k);
+  // 0u - k is |k| for every int, the most negative one included.
+  unsigned n = inverse ? 0u - static_cast<unsigned>(k) : static_cast<unsigned>(k);
   T result = one;
   T base = x;
   bool first = true;

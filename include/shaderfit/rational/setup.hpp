@@ -1,7 +1,7 @@
-// Building a rational-approximation problem from a description in text: the target (a built-in
-// or a formula), its parameters (one of which may take several values: a sweep), the domain,
-// the conditions, and the forms to solve. What `shaderfit rational` runs; docs/rational.md
-// describes each field's syntax.
+// Building a rational-approximation problem from a description in text: the target (a built-in,
+// or a formula or shader function in the reference language), its parameters (one of which may
+// take several values: a sweep), the domain, the conditions, and the forms to solve. What
+// `shaderfit rational` runs; docs/rational.md describes each field's syntax.
 //
 //   RationalSetup setup;
 //   setup.target = "fresnel-dielectric-f0";
@@ -14,7 +14,8 @@
 //                                               // each coefficient varies with F0
 //
 // Bad input throws shaderfit::Error located at the field ("RationalSetup::conditions", with the
-// 1-based position of a list entry as the line).
+// 1-based position of a list entry as the line); the reference language's errors at
+// "RationalSetup::target" with line and column, or at the shader file's line and column.
 #pragma once
 
 #include <string>
@@ -27,9 +28,17 @@
 namespace shaderfit::rational {
 
 struct RationalSetup {
-  std::string target;                   // a built-in name or a formula in `variable`
-  std::string variable = "x";           // of a formula target
-  std::string domain;                   // "LO,HI"; empty: the target's natural domain
+  // A built-in name, or a formula of the reference language (docs/reference.md: acos(x),
+  // erf(x), atan2(x, 1), ...) in `variable` whose other names are the parameters; or empty, and
+  // the function `function` of the GLSL or HLSL source `reference_source` (the text of the file
+  // `reference_path`): its parameter named `variable`, or else its one parameter without a value
+  // in `parameters`, is the variable.
+  std::string target;
+  std::string variable = "x";
+  std::string reference_source;
+  std::string reference_path;
+  std::string function;
+  std::string domain;                   // "LO,HI" or "x=LO:HI"; empty: the natural domain
   std::vector<std::string> conditions;  // f(a)=v, f'(a)=v, f^(k)(a)=v, int(a,b)=v
   std::vector<std::string> forms;       // "m/n", each in every transform
   std::vector<std::string> transforms;  // the forms' variable, affine in the target's variable

@@ -20,6 +20,7 @@
 #include <span>
 #include <vector>
 
+#include "shaderfit/expr/op.hpp"
 #include "shaderfit/reference/builtin_evaluate.hpp"
 #include "shaderfit/reference/program.hpp"
 
@@ -78,23 +79,7 @@ void evaluate_program(const Program& program, std::span<const T> inputs,
       case ProgramOp::Mul: r = a * b; break;
       case ProgramOp::Div: r = a / b; break;
       case ProgramOp::Neg: r = -a; break;
-      case ProgramOp::IPow: {
-        // Repeated squaring, 1 / a^-k for k < 0.
-        const bool inverse = in.index < 0;
-        unsigned n = static_cast<unsigned>(inverse ? -static_cast<long>(in.index) : in.index);
-        T result(1.0), base = a;
-        bool first = true;
-        while (n != 0) {
-          if (n & 1u) {
-            result = first ? base : result * base;
-            first = false;
-          }
-          n >>= 1u;
-          if (n != 0) base = base * base;
-        }
-        r = inverse ? T(1.0) / result : result;
-        break;
-      }
+      case ProgramOp::IPow: r = apply_ipow(a, in.index, T(1.0)); break;
       case ProgramOp::Less:
       case ProgramOp::LessEqual:
       case ProgramOp::Greater:

@@ -6,9 +6,11 @@
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "shaderfit/data/problem.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
@@ -20,6 +22,8 @@ struct SearchDataInfo {
   double load_time_s = 0;  // reading or generating the data, before the search's clock
   std::size_t rows = 0;
   std::vector<std::string> inputs;
+  // How the data was made (written as "problem"), so that `shaderfit report` can make it again.
+  std::optional<ProblemSource> problem;
 };
 
 // The whole result: {"data", "options", "summary", "inputs", "front": [...]}; the options are
@@ -31,5 +35,11 @@ std::string search_json(const SearchSummary& summary, const SearchOptions& optio
 // lists of numbers as JSON values, choices and operator lists as their text, an unset optional
 // as null, the stop target as {"max_loss", "max_cost"}.
 nlohmann::json search_options_json(const SearchOptions& options);
+
+// A problem's source as JSON (the "problem" object of a run's JSON; docs/reference.md): the
+// fields that are set, a shader function's source text whole. problem_source_from_json reads it
+// back; throws shaderfit::Error located at `where` for an object it cannot read.
+nlohmann::json problem_source_json(const ProblemSource& source);
+ProblemSource problem_source_from_json(const nlohmann::json& j, const std::string& where);
 
 }  // namespace shaderfit

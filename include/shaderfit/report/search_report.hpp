@@ -17,6 +17,7 @@
 
 #include "shaderfit/data/dataset.hpp"
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/reference/function.hpp"
 #include "shaderfit/report/html.hpp"
 #include "shaderfit/search/choice.hpp"
 
@@ -32,13 +33,17 @@ struct SearchReportOptions {
   // The data the search ran on: with it, the baselines and the chosen formula are scored, and
   // when the formula's inputs are those of a Fresnel sweep, curves over the angle are drawn.
   const Dataset* data = nullptr;
+  // The function behind the data, when it is a reference (data/problem.hpp): the chosen
+  // formula's error is then also drawn, in one variable as a curve at the samples, in two as a
+  // map over the whole domain.
+  const reference::ReferenceFunction* reference = nullptr;
   std::vector<ReportFormula> baselines;  // scored only with data; labels go in plot keys
   // The chosen formula, shown as code: the front member `choice` picks (search/choice.hpp; the
   // knee by default), or `formula` when not empty (any formula over the front's inputs).
   ChoiceRule choice;
   std::string formula;
-  // Not empty: each figure is also written there as NAME.png and NAME.svg (front,
-  // curves-ior1.5, curves-aluminium), the directory created if missing.
+  // Not empty: each figure is also written there as NAME.png and NAME.svg (front, curves,
+  // error, error-map, curves-ior1.5, curves-aluminium), the directory created if missing.
   std::string figure_directory;
 };
 

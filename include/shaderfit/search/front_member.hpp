@@ -42,6 +42,22 @@ struct FrontMember {
   // max(1e-4 * max |target|, 0.01 * metrics.max_abs). Filled in for the final front.
   double float32_max_abs_diff = 0;
   bool float32_stable = true;
+  // The error of the formula computed in float32 operation by operation (inputs and constants
+  // rounded to float, as a shader computes it) against the target, over the same points as
+  // metrics.max_abs: the rows, and where a reference is known the points checked between them.
+  double float32_max_abs = 0;
+  double float32_max_rel = 0;
+  // Where the problem has a reference (SearchProblem::reference): metrics.max_abs and max_rel
+  // hold the largest error found between the samples as well as at them (verify/worst_case.hpp),
+  // and worst_point the domain point of the largest |error| (domain order).
+  bool checked_between_samples = false;
+  std::vector<double> worst_point;
+  // With SearchOptions::certify: a rigorous bound of |formula - reference| over the whole domain
+  // (verify/certify.hpp; +inf when none was found), whether it met the tolerance, and its time.
+  std::optional<double> certified_max_abs;
+  bool certified_converged = false;
+  double certify_time_s = 0;
+  std::string certify_note;  // why not converged or no finite bound (verify/certify.hpp)
 };
 
 enum class FrontJson {

@@ -77,12 +77,14 @@ struct SearchOptions {
   CostTarget cost = CostTarget::Instructions;
 
   // Operators formulas may use (Op::IPow stands for x^2 .. x^max_power) and literal constants
-  // (their negatives come free with negation). Either list may be kAutoOperators ("auto"):
-  // a set chosen from the data when the search starts (resolve_auto_operators, search.hpp).
-  std::vector<Op> operators = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow};
+  // (their negatives come free with negation). Either list may be kAutoOperators ("auto", the
+  // default): a set chosen from the data when the search starts (resolve_auto_operators,
+  // search.hpp). A built-in data set may come with its own (data/problem.hpp: Problem::operators;
+  // seed 001's Fresnel task: + - * / ^, and pow exp2 for the evolution).
+  std::vector<Op> operators = kAutoOperators;
   // Operators the evolution may use besides `operators` (the enumeration keeps to those): the
   // larger formulas gain most from a fitted exponent or exponential.
-  std::vector<Op> evolution_operators = {Op::Pow, Op::Exp2};
+  std::vector<Op> evolution_operators = kAutoOperators;
   int max_power = 5;
   std::vector<double> literals = {0.5, 1.0, 2.0};
   // The user's own approximations, over the problem's inputs (docs/search.md, "Starting from a
@@ -145,6 +147,12 @@ struct SearchOptions {
   // reached. The data and the options other than budgets, threads and checkpoint settings must
   // be those of the checkpointed run.
   std::string resume_path;
+
+  // Where the problem has a reference (SearchProblem::reference): a rigorous bound of each
+  // front member's |error| over the whole domain (verify/certify.hpp), at most
+  // certify_time_limit_s seconds per member (a looser but still rigorous bound when it ends).
+  bool certify = false;
+  double certify_time_limit_s = 10.0;
 
   // Each field's check from search_option_fields(), in that order. validate() throws Error
   // located at the first field that fails ("SearchOptions::max_power"); is_valid() returns

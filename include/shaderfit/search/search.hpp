@@ -22,6 +22,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -33,6 +34,7 @@
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/gpu/device.hpp"
+#include "shaderfit/reference/function.hpp"
 #include "shaderfit/search/front_member.hpp"
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/symmetry.hpp"
@@ -45,6 +47,14 @@ struct SearchProblem {
   std::vector<std::vector<double>> inputs;  // inputs[i][row], one column per name
   std::vector<double> target;
   std::vector<double> weights;  // empty: every row weighs 1
+  // The function behind the data, when the rows are its samples (a reference sampled by
+  // data/problem.hpp): the inputs are its outputs of the same names. Each front member's max
+  // error is then also searched for between the samples (the points found join the rows and
+  // the constants are refitted until the error is stable), and with SearchOptions::certify
+  // bounded over the whole domain (docs/reference.md). reference_samples: the size of the
+  // sample design the rows came from (data/sampling.hpp; 0: its default).
+  std::shared_ptr<const reference::ReferenceFunction> reference;
+  std::size_t reference_samples = 0;
 
   // Throws shaderfit::Error for: no inputs, a count of names and columns that differ, duplicate
   // names, columns of unequal length, fewer than 2 rows, a NaN or infinite value, a negative
@@ -76,6 +86,10 @@ struct SearchSummary {
   // of them sent (each rank's payloads, before MPI's own framing).
   int ranks = 1;
   std::uint64_t bytes_sent = 0;
+  // With a reference: members whose formula is NaN or infinite somewhere between the samples
+  // (dropped from the front), and the seconds spent checking and certifying the front.
+  std::size_t dropped_not_finite = 0;
+  double check_time_s = 0;
 
   // A few lines: termination, times, counts, and the front as a table.
   [[nodiscard]] std::string brief_report() const;

@@ -40,6 +40,9 @@ struct Certificate {
   std::size_t boxes = 0;   // boxes evaluated
   double time_s = 0;
   std::string note;  // why not converged or infinite, for people; empty when converged
+  // Where no finite bound could be found (a point where the error may be undefined, or the
+  // centre of the narrowest box that kept an infinite bound); empty otherwise.
+  std::vector<double> trouble_point;
 };
 
 // `inputs` are the formula's variables (Var index i is inputs[i]): outputs of reference.program

@@ -1,0 +1,89 @@
+"""A problem stated by keywords: a reference formula or shader function sampled by shaderfit,
+the errors checked between the samples and certified; a CSV whose columns are inferred."""
+
+import json
+
+import numpy as np
+import pytest
+
+import shaderfit
+
+# One thread and a budget of evaluations: reproducible, and quick.
+BUDGET = dict(threads=1, time=60, max_candidates=100_000, progress=False)
+
+
+def test_search_on_a_reference_formula_and_domain():
+    front = shaderfit.search(reference="acos(x)", domain={"x": (-1, 1)}, loss="max_abs",
+                             **BUDGET)
+    assert len(front) >= 3
+    x = np.linspace(-1, 1, 200_001)
+    for m in front:
+        assert m.checked_between_samples
+        assert m.inputs == ["x"]
+        dense = float(np.max(np.abs(m.predict(x[:, None]) - np.arccos(x))))
+        # Never below what a finer grid finds, and close to it.
+        assert m.max_abs >= dense * (1 - 1e-9), m
+        assert m.max_abs <= dense * 1.01, m
+        assert m.float32_max_abs > 0
+    assert json.loads(front.to_json())["problem"]["domain"] == ["x=-1.0:1.0"]
+
+
+def test_certify_keyword_gives_bounds_above_the_error():
+    front = shaderfit.search(reference="exp2(x)", domain={"x": (0, 1)}, loss="max_abs",
+                             certify=True, certify_time_limit_s=5, **BUDGET)
+    bounded = [m for m in front if m.certified_max_abs is not None]
+    assert bounded, front
+    for m in bounded:
+        assert m.certified_max_abs >= m.max_abs
+
+
+def test_definitions_and_samples():
+    front = shaderfit.search(reference="exp(-t)", domain={"x": (0, 1), "y": (0, 2)},
+                             define=["t = x * y"], inputs=["t"], samples=512, **BUDGET)
+    assert front[-1].inputs == ["t"]
+
+
+def test_a_shader_function(tmp_path):
+    path = tmp_path / "smith.hlsl"
+    path.write_text("float G1(float NdotV, float roughness) {\n"
+                    "  float a2 = roughness * roughness * roughness * roughness;\n"
+                    "  float d = NdotV + sqrt(a2 + (1 - a2) * NdotV * NdotV);\n"
+                    "  return NdotV > 0 ? 2 * NdotV / d : 0;\n"
+                    "}\n")
+    front = shaderfit.search(reference_file=path, function="G1",
+                             domain={"NdotV": (0, 1), "roughness": (0.05, 1)}, **BUDGET)
+    assert front[-1].inputs == ["NdotV", "roughness"]
+    assert "float" in front[-1].code("hlsl")
+
+
+def test_a_csv_file_needs_no_inputs_or_target(tmp_path):
+    path = tmp_path / "xy.csv"
+    x = np.linspace(0, 1, 65)
+    np.savetxt(path, np.c_[x, 2.5 * np.sqrt(x + 0.5)], delimiter=",", header="x,y", comments="")
+    front = shaderfit.search(data=path, **BUDGET)
+    assert front[-1].inputs == ["x"]
+    assert json.loads(front.to_json())["problem"]["target"] == "y"
+
+
+def test_bad_problems_are_errors_at_the_keyword(tmp_path):
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.search(reference="acoss(x)", domain={"x": (-1, 1)}, **BUDGET)
+    assert "unknown function 'acoss'" in str(e.value)
+    assert e.value.source == "reference"
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.search(reference="x + y", domain={"x": (0, 1)}, **BUDGET)
+    assert e.value.source == "domain"
+    assert "'y'" in str(e.value)
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.search(reference="acos(x)", domain={"x": (1, -1)}, **BUDGET)
+    assert e.value.source == "domain"
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.search(reference="log(x)", domain={"x": (-1, 1)}, **BUDGET)
+    assert "NaN or infinite" in str(e.value)
+    front = shaderfit.search(reference="log(x)", domain={"x": (-1, 1)}, drop_nonfinite=True,
+                             **BUDGET)
+    assert len(front) >= 1
+    with pytest.raises(TypeError):
+        shaderfit.search(np.zeros((3, 1)), np.zeros(3), reference="x", domain={"x": (0, 1)})
+    with pytest.raises(TypeError):
+        shaderfit.search(reference="x", domain={"x": 1})
