@@ -25,15 +25,4 @@ std::string describe_builtin_references() {
   return s;
 }
 
-std::vector<double> evaluate_reference(const BuiltinFunction& function, const Dataset& data) {
-  std::vector<const std::vector<double>*> columns;
-  for (std::string_view a : function.arguments) columns.push_back(&data.numeric(a).values);
-  std::vector<double> out(data.rows()), args(columns.size());
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    for (std::size_t k = 0; k < columns.size(); ++k) args[k] = (*columns[k])[i];
-    out[i] = reference::evaluate_builtin(function, args);
-  }
-  return out;
-}
-
 }  // namespace shaderfit

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <optional>
 #include <set>
 
+#include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/search/search.hpp"
 
@@ -42,6 +44,24 @@ TEST(SearchOptions, InvalidValuesSayWhy) {
             std::string::npos);
   EXPECT_NE(reason([](SearchOptions& o) { o.checkpoint_interval_s = -1; }).find("checkpoint"),
             std::string::npos);
+}
+
+TEST(SearchOptions, TheSeedDataSetsOperators) {
+  // The built-in data sets' own operators read and print back as the search's lists.
+  for (const std::string& name : builtin_dataset_names()) {
+    const std::optional<BuiltinDatasetInfo> data_set = builtin_dataset_info(name);
+    ASSERT_TRUE(data_set.has_value()) << name;
+    (void)parse_operator_list(data_set->operators);
+    (void)parse_operator_list(data_set->evolution_operators);
+  }
+  const std::optional<BuiltinDatasetInfo> info = builtin_dataset_info("fresnel-seed");
+  ASSERT_TRUE(info.has_value());
+  EXPECT_EQ(parse_operator_list(info->operators),
+            (std::vector<Op>{Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow}));
+  EXPECT_EQ(parse_operator_list(info->evolution_operators), (std::vector<Op>{Op::Pow, Op::Exp2}));
+  EXPECT_EQ(operator_list_name(parse_operator_list(info->operators)), info->operators);
+  EXPECT_EQ(operator_list_name(parse_operator_list(info->evolution_operators)),
+            info->evolution_operators);
 }
 
 TEST(SearchOptions, OperatorLists) {

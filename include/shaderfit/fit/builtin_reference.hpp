@@ -1,15 +1,14 @@
 // A fit's view of the built-in reference functions (reference/builtin.hpp): those offered to
-// `shaderfit fit --reference`, each reading its arguments from the data columns of the same names.
+// `shaderfit fit --reference` by name, each reading its arguments from the data columns of the
+// same names (the reference language calls them, reference/language.hpp).
 //
 //   const reference::BuiltinFunction* r = find_builtin_reference("fresnel-exact");
-//   std::vector<double> target = evaluate_reference(*r, data);  // columns cos_theta, ior_n, ior_k
 #pragma once
 
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "shaderfit/data/dataset.hpp"
 #include "shaderfit/reference/builtin.hpp"
 
 namespace shaderfit {
@@ -25,10 +24,5 @@ const reference::BuiltinFunction* find_builtin_reference(std::string_view name);
 
 // "name(arguments): description" lines, for help texts.
 std::string describe_builtin_references();
-
-// The reference on every row of `data`, its arguments read from the numeric columns of the same
-// names (Dataset::numeric's errors for a missing or text column).
-std::vector<double> evaluate_reference(const reference::BuiltinFunction& function,
-                                       const Dataset& data);
 
 }  // namespace shaderfit
