@@ -329,7 +329,9 @@ void check_finite(Problem& p, const std::vector<reference::DomainAxis>& axes, bo
   if (!drop || bad.size() == rows) {
     throw Error(what + " is NaN or infinite at " + format_count(bad.size()) + " of " +
                     format_count(rows) + " samples, " + where +
-                    (bad.size() == rows ? "" : " (narrow the domain, or have such points dropped)"),
+                    (bad.size() == rows
+                         ? ""
+                         : " (narrow the domain, or drop them: ProblemSource::drop_nonfinite)"),
                 kReferenceField);
   }
   std::vector<bool> keep(rows, true);

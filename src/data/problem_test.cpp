@@ -497,10 +497,11 @@ TEST(ProblemReference, NonFiniteSamplesAreAnErrorOrDropped) {
             "= -1; they span x in [-1, -2e-04]");
   for (double v : p.data.numeric("reference").values) EXPECT_TRUE(std::isfinite(v));
 
-  expect_problem_error(reference_source("1 / x", {"x=-1:1"}),
-                       "the reference is NaN or infinite at 1 of 10,001 samples, first at x = 0; "
-                       "they span x in [0, 0] (narrow the domain, or have such points dropped)",
-                       "ProblemSource::reference");
+  expect_problem_error(
+      reference_source("1 / x", {"x=-1:1"}),
+      "the reference is NaN or infinite at 1 of 10,001 samples, first at x = 0; "
+      "they span x in [0, 0] (narrow the domain, or drop them: ProblemSource::drop_nonfinite)",
+      "ProblemSource::reference");
   ProblemSource all = reference_source("sqrt(x)", {"x=-2:-1"});
   all.drop_nonfinite = true;
   expect_problem_error(all,
@@ -514,7 +515,7 @@ TEST(ProblemReference, NonFiniteSamplesAreAnErrorOrDropped) {
   d.samples = 5;
   expect_problem_error(d,
                        "'u' is NaN or infinite at 3 of 5 samples, first at x = -1; they span x in "
-                       "[-1, 0] (narrow the domain, or have such points dropped)",
+                       "[-1, 0] (narrow the domain, or drop them: ProblemSource::drop_nonfinite)",
                        "ProblemSource::reference");
 }
 

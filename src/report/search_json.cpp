@@ -56,6 +56,8 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"generations", s.generations},
                 {"check_time_s", s.check_time_s},
                 {"dropped_not_finite", s.dropped_not_finite},
+                {"dropped_no_bound", s.dropped_no_bound},
+                {"dropped_notes", s.dropped_notes},
                 {"ranks", s.ranks},
                 {"bytes_sent", s.bytes_sent},
                 {"symmetry", s.symmetry ? json{{"input", s.symmetry->input_name},

@@ -1,5 +1,7 @@
 #include "search/verify_front.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -164,7 +166,9 @@ std::vector<FrontMember> verify_front(const SearchOptions& options, const Search
             // What the certification met is attained too (a pole between the samples blows up
             // near where it found no finite bound).
             const ErrorPoint met = w.certified_worst(m.expression, cert);
-            if (!std::isfinite(met.abs_error)) undefined[i] = 1;
+            // With certification asked for, a member with no finite bound is not kept: its
+            // error may be unbounded (a pole between the samples) or undefined somewhere.
+            if (!std::isfinite(met.abs_error) || !std::isfinite(cert.bound)) undefined[i] = 1;
             if (met.abs_error > m.metrics.max_abs && std::isfinite(met.abs_error)) {
               m.metrics.max_abs = met.abs_error;
               m.worst_point = met.point;
@@ -175,10 +179,13 @@ std::vector<FrontMember> verify_front(const SearchOptions& options, const Search
         options.threads);
     std::vector<FrontMember> defined;
     for (std::size_t i = 0; i < kept.size(); ++i) {
-      if (undefined[i] != 0)
-        ++summary->dropped_not_finite;
-      else
+      if (undefined[i] != 0) {
+        ++summary->dropped_no_bound;
+        summary->dropped_notes.push_back(
+            fmt::format("cost {:g}: {}", kept[i].cost, kept[i].certify_note));
+      } else {
         defined.push_back(std::move(kept[i]));
+      }
     }
     kept = std::move(defined);
   }

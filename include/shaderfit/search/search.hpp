@@ -86,9 +86,13 @@ struct SearchSummary {
   // of them sent (each rank's payloads, before MPI's own framing).
   int ranks = 1;
   std::uint64_t bytes_sent = 0;
-  // With a reference: members whose formula is NaN or infinite somewhere between the samples
-  // (dropped from the front), and the seconds spent checking and certifying the front.
+  // With a reference: members whose formula is NaN or infinite somewhere between the samples,
+  // and with SearchOptions::certify those for which no finite bound was found (each dropped
+  // from the front; dropped_notes says where, one line each), and the seconds spent checking
+  // and certifying the front.
   std::size_t dropped_not_finite = 0;
+  std::size_t dropped_no_bound = 0;
+  std::vector<std::string> dropped_notes;
   double check_time_s = 0;
 
   // A few lines: termination, times, counts, and the front as a table.
