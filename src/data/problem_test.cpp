@@ -1,6 +1,7 @@
 #include "shaderfit/data/problem.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <bit>
@@ -35,13 +36,13 @@ void expect_problem_error(const ProblemSource& s, const std::string& message,
   expect_error([&] { (void)load_problem(s); }, message, source, line);
 }
 
-// A file in the temporary directory with this text, removed at the end of the test.
+// A file in the temporary directory with this text, removed at the end of the test. The name
+// holds the process id: ctest runs tests side by side, each in its own process.
 class TempFile {
  public:
   TempFile(const std::string& name, const std::string& text)
       : path_(std::filesystem::temp_directory_path() /
-              ("shaderfit_problem_test_" +
-               std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" + name)) {
+              ("shaderfit_problem_test_" + std::to_string(::getpid()) + "_" + name)) {
     std::ofstream(path_) << text;
   }
   ~TempFile() { std::filesystem::remove_all(path_); }
@@ -483,8 +484,8 @@ TEST(ProblemReference, NonFiniteSamplesAreAnErrorOrDropped) {
   ProblemSource s = reference_source("sqrt(x)", {"x=-1:1"});
   expect_problem_error(s,
                        "the reference is NaN or infinite at 5,000 of 10,001 samples, first at x = "
-                       "-1; they span x in [-1, -2e-04] (narrow the domain, or have such points "
-                       "dropped)",
+                       "-1; they span x in [-1, -2e-04] (narrow the domain, or drop them: "
+                       "ProblemSource::drop_nonfinite)",
                        "ProblemSource::reference");
   s.drop_nonfinite = true;
   Problem p = load_problem(s);
