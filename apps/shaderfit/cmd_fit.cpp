@@ -14,6 +14,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/setup.hpp"
+#include "shaderfit/reference/language.hpp"
 #include "shaderfit/report/command_json.hpp"
 
 namespace shaderfit::cli {
@@ -74,7 +75,7 @@ FitSetup to_setup(const FitArgs& a) {
   s.target = a.target;
   s.reference = a.reference;
   if (!a.reference_file.empty()) {
-    s.reference_source = read_reference_file(a.reference_file);
+    s.reference_source = reference::read_shader_file(a.reference_file);
     s.reference_path = a.reference_file;
     if (a.function.empty())
       fail("name the function of the reference file to fit (--function NAME)", "--function");

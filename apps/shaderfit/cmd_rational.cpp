@@ -13,6 +13,7 @@
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/rational/parametric.hpp"
 #include "shaderfit/rational/setup.hpp"
+#include "shaderfit/reference/language.hpp"
 #include "shaderfit/report/command_json.hpp"
 
 namespace shaderfit::cli {
@@ -35,7 +36,7 @@ RationalSetup to_setup(const RationalArgs& a) {
   s.target = a.target;
   s.variable = a.var;
   if (!a.reference_file.empty()) {
-    s.reference_source = read_reference_file(a.reference_file);
+    s.reference_source = reference::read_shader_file(a.reference_file);
     s.reference_path = a.reference_file;
   }
   s.function = a.function;

@@ -1,10 +1,10 @@
 #include "data_source.hpp"
 
-#include <fstream>
 #include <sstream>
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/reference/language.hpp"
 
 namespace shaderfit::cli {
 
@@ -81,7 +81,7 @@ Problem load_problem(const DataSource& src, ProblemSource* used) {
   s.reference.definitions_source = "--define";
   s.inputs = split_names(src.inputs);
   if (!src.reference_file.empty()) {
-    s.reference.shader_source = read_reference_file(src.reference_file);
+    s.reference.shader_source = reference::read_shader_file(src.reference_file);
     s.reference.shader_path = src.reference_file;
     if (s.reference.function.empty())
       throw Error("name the function of the reference file to approximate",
@@ -97,15 +97,6 @@ Problem load_problem(const DataSource& src, ProblemSource* used) {
     used->target = p.target;
   }
   return p;
-}
-
-std::string read_reference_file(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw Error("cannot open the reference file", SourceLocation{path});
-  std::ostringstream text;
-  text << f.rdbuf();
-  if (f.bad()) throw Error("cannot read the reference file", SourceLocation{path});
-  return text.str();
 }
 
 std::string problem_notes(const Problem& problem, const std::string& prefix) {

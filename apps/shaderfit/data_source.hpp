@@ -41,10 +41,6 @@ void add_data_options(CLI::App* cmd, DataSource& src, unsigned options);
 // load_problem does.
 Problem load_problem(const DataSource& src, ProblemSource* used = nullptr);
 
-// The text of a reference file (--reference-file). Throws shaderfit::Error located at the file
-// when it cannot be read.
-std::string read_reference_file(const std::string& path);
-
 // "inputs x, target y, ..." lines of Problem::notes, each prefixed for the command's output.
 std::string problem_notes(const Problem& problem, const std::string& prefix);
 

@@ -18,10 +18,8 @@
 #include <condition_variable>
 #include <deque>
 #include <exception>
-#include <fstream>
 #include <mutex>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <thread>
 
 #include "arrays.hpp"
@@ -197,11 +195,7 @@ LoadedProblem load(const std::string& csv_path, const std::string& dataset,
   s.inputs = inputs;
   s.target = target;
   if (!reference_file.empty()) {
-    std::ifstream f(reference_file, std::ios::binary);
-    if (!f) throw Error("cannot open the reference file", SourceLocation{reference_file});
-    std::ostringstream text;
-    text << f.rdbuf();
-    s.reference.shader_source = text.str();
+    s.reference.shader_source = reference::read_shader_file(reference_file);
     s.reference.shader_path = reference_file;
     if (function.empty())
       throw Error("name the function of the reference file to approximate", {"function"});

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <utility>
 
 #include "data/number.hpp"
@@ -218,15 +216,6 @@ void choose_own_columns(const Dataset& data, const std::string& what, const Prob
   if (!inferred.empty()) p.notes.push_back(join(inferred) + " (" + owner + " own)");
 }
 
-std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error("cannot open '" + path + "'", SourceLocation{path});
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw Error("cannot read '" + path + "'", SourceLocation{path});
-  return text.str();
-}
-
 // The domain's axes in the order given; errors at ProblemSource::domain, line = the entry.
 std::vector<reference::DomainAxis> parse_domain(const std::vector<std::string>& domain) {
   std::vector<reference::DomainAxis> axes;
@@ -374,7 +363,7 @@ Problem load_dataset(const ProblemSource& s) {
 Problem load_reference(const ProblemSource& s) {
   reference::ReferenceText text = s.reference;
   if (text.formula.empty() && text.shader_source.empty()) {
-    text.shader_source = read_text_file(text.shader_path);
+    text.shader_source = reference::read_shader_file(text.shader_path);
   }
   std::vector<reference::DomainAxis> axes = parse_domain(s.domain);
   reference::Program program = compile_over_domain(text, axes);

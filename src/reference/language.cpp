@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <fstream>
 #include <numbers>
+#include <sstream>
 
 #include "language_internal.hpp"
 
@@ -231,6 +233,15 @@ double evaluate_constant(std::string_view text, const std::string& source) {
 
 std::vector<std::string> reference_function_names() {
   return detail::library_function_names(detail::kFormulaLibrary);
+}
+
+std::string read_shader_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error("cannot open '" + path + "'", SourceLocation{path});
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw Error("cannot read '" + path + "'", SourceLocation{path});
+  return text.str();
 }
 
 }  // namespace shaderfit::reference

@@ -82,6 +82,10 @@ Program compile_reference(const ReferenceText& text);
 // names a variable, or is not finite.
 double evaluate_constant(std::string_view text, const std::string& source);
 
+// The text of a shader source file (ReferenceText::shader_source from its shader_path). Throws
+// shaderfit::Error located at the file when it cannot be opened or read.
+std::string read_shader_file(const std::string& path);
+
 // Every function name the formula language knows (for messages and docs), sorted.
 std::vector<std::string> reference_function_names();
 
