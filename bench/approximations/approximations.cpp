@@ -23,9 +23,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <set>
 #include <string>
 #include <vector>
 
+#include "shaderfit/core/random.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/metrics.hpp"
@@ -181,6 +183,23 @@ Samples grid(const std::vector<std::vector<double>>& axes,
       if (k == 0) return s;
     }
   }
+}
+
+// n points drawn uniformly from [a, b) by Rng(seed), ascending, with ref = f(x), redrawn until
+// no point's mirror -x is another point (the symmetry of such samples is found from the function,
+// not from pairs of rows; docs/search.md, "Symmetric data").
+Samples uniform_unmirrored(double a, double b, int n, std::uint64_t seed,
+                           const std::function<double(double)>& f) {
+  shaderfit::Rng rng(seed);
+  std::set<double> xs;
+  while (xs.size() < static_cast<std::size_t>(n)) {
+    const double x = shaderfit::uniform(rng, a, b);
+    if (xs.count(-x) == 0) xs.insert(x);  // a repeat is not inserted: drawn again
+  }
+  Samples s;
+  s.columns.emplace_back(xs.begin(), xs.end());
+  for (double x : s.columns[0]) s.ref.push_back(f(x));
+  return s;
 }
 
 // ---- The cases ----
@@ -575,6 +594,42 @@ std::vector<Case> make_cases() {
        "",
        {"x"},
        sin_grid});
+
+  // The symmetric cases above (acos and erf `_full`, atan, the parabolic sines) on 20,000 uniform
+  // random points of the same interval with no mirrored pair (issue 27): the same formulas and
+  // references, each named NAME_uniform (NAME without `_full`).
+  struct Interval {
+    std::string prefix;
+    double lo, hi;
+    std::string text;
+    std::function<double(double)> f;
+  };
+  const std::vector<Interval> intervals = {
+      {"acos_", -1, 1, "[-1,1)", [](double x) { return std::acos(x); }},
+      {"atan_", -1, 1, "[-1,1)", [](double x) { return std::atan(x); }},
+      {"erf_", -4, 4, "[-4,4)", erf_series},
+      {"sin_parabolic", -kPi, kPi, "[-pi,pi)", [](double x) { return std::sin(x); }},
+  };
+  constexpr int kUniformRows = 20000;
+  constexpr std::uint64_t kUniformSeed = 27;
+  std::vector<Case> variants;
+  for (const Case& k : c) {
+    const bool full = k.name.size() > 5 && k.name.ends_with("_full");
+    for (const Interval& in : intervals) {
+      const bool odd_case = in.prefix == "atan_" || in.prefix == "sin_parabolic";
+      if (!k.name.starts_with(in.prefix) || full == odd_case) continue;
+      Case u = k;
+      u.name = (full ? k.name.substr(0, k.name.size() - 5) : k.name) + "_uniform";
+      u.domain = "x " + std::to_string(kUniformRows) + " uniform random in " + in.text +
+                 " (seed 27), no mirrored pair";
+      u.notes = "`" + k.name + "` on unmirrored samples" + (k.notes.empty() ? "" : "; " + k.notes);
+      u.sample = [in] {
+        return uniform_unmirrored(in.lo, in.hi, kUniformRows, kUniformSeed, in.f);
+      };
+      variants.push_back(std::move(u));
+    }
+  }
+  c.insert(c.end(), variants.begin(), variants.end());
   return c;
 }
 

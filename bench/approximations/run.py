@@ -71,12 +71,18 @@ def main() -> int:
         run = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
         best = None
         used_ops = None
+        symmetry = None
         if run.returncode == 0:
             with open(out_json, encoding="utf-8") as f:
                 doc = json.load(f)
             front = doc["front"]
             # The operators the search used (auto resolved), enumeration | evolution.
             used_ops = doc["options"]["operators"] + " | " + doc["options"]["evolution_operators"]
+            # The symmetry the search folded the data by, and how it was found (older JSON: no
+            # method).
+            sy = doc["summary"].get("symmetry")
+            if sy:
+                symmetry = sy["kind"] + " (" + sy.get("method", "mirrored_pairs") + ")"
             # The front member with the least max |err| among those no costlier than published.
             for m in front:
                 if m["cost"] <= c["cost"] and (best is None or m["max_abs"] < best["max_abs"]):
@@ -85,6 +91,7 @@ def main() -> int:
             print(f"run.py: search failed on {c['name']}: {run.stderr.strip()}", file=sys.stderr)
         win = best is not None and best["max_abs"] <= c["max_abs"]
         results.append({"case": c["name"], "published_cost": c["cost"], "operators": used_ops,
+                        "symmetry": symmetry,
                         "published_max_abs": c["max_abs"],
                         "ours_cost": best["cost"] if best else None,
                         "ours_max_abs": best["max_abs"] if best else None,
@@ -95,8 +102,8 @@ def main() -> int:
               file=sys.stderr)
 
     lines = ["| case | published cost | published max abs err | ours max abs err (cost <= published) "
-             "| our cost | ratio ours/published | f32 stable | ours wins |",
-             "| --- | ---: | ---: | ---: | ---: | ---: | --- | --- |"]
+             "| our cost | ratio ours/published | f32 stable | symmetry | ours wins |",
+             "| --- | ---: | ---: | ---: | ---: | ---: | --- | --- | --- |"]
     for r in results:
         ours = "-" if r["ours_max_abs"] is None else f"{r['ours_max_abs']:.3g}"
         cost = "-" if r["ours_cost"] is None else f"{r['ours_cost']:g}"
@@ -104,7 +111,8 @@ def main() -> int:
                  else f"{r['ours_max_abs'] / r['published_max_abs']:.3g}")
         stable = "-" if r["ours_float32_stable"] is None else ("yes" if r["ours_float32_stable"] else "no")
         lines.append(f"| {r['case']} | {r['published_cost']:g} | {r['published_max_abs']:.3g} | {ours} "
-                     f"| {cost} | {ratio} | {stable} | {'yes' if r['win'] else 'no'} |")
+                     f"| {cost} | {ratio} | {stable} | {r['symmetry'] or '-'} "
+                     f"| {'yes' if r['win'] else 'no'} |")
     wins = sum(r["win"] for r in results)
     lines.append("")
     lines.append(f"Won {wins} of {len(results)} ({100.0 * wins / max(len(results), 1):.0f}%) with "

@@ -21,7 +21,8 @@ def to_sympy(text: str, inputs: Sequence[str]):
         "sin": sympy.sin, "cos": sympy.cos, "sign": sympy.sign, "min": sympy.Min,
         "max": sympy.Max, "pow": sympy.Pow, "fma": lambda a, b, c: a * b + c,
         "copysign": lambda a, b: sympy.Abs(a) * sympy.Piecewise((1, b >= 0), (-1, True)),
-        "select": select, "pi": sympy.pi,
+        "select": select, "pi": sympy.pi, "asin": sympy.asin, "acos": sympy.acos,
+        "atan": sympy.atan, "atan2": sympy.atan2, "tanh": sympy.tanh, "erf": sympy.erf,
     }
     return parse_expr(text, local_dict={**functions, **names},
                       transformations=standard_transformations + (convert_xor,))

@@ -12,6 +12,7 @@
 
 #include "codegen/language.hpp"
 #include "cost/dag.hpp"
+#include "cost/erf_helper.hpp"
 #include "cost/program.hpp"
 
 namespace shaderfit {
@@ -214,6 +215,12 @@ class FunctionPrinter {
       case StepOp::Sign: return sign(st);
       case StepOp::CopySign: return copysign(st);
       case StepOp::Select: return select(st);
+      case StepOp::Asin: return fn(Call::Asin, st);
+      case StepOp::Acos: return fn(Call::Acos, st);
+      case StepOp::Atan: return fn(Call::Atan, st);
+      case StepOp::Atan2: return fn(Call::Atan2, st);
+      case StepOp::Tanh: return fn(Call::Tanh, st);
+      case StepOp::Erf: return fn(Call::Erf, st);
     }
     return {};
   }
@@ -271,23 +278,72 @@ void add_cpp_headers(const Program& p, std::set<std::string_view>* headers) {
   }
 }
 
+// Whether the printed program calls the erf helper (cost/erf_helper.hpp): GLSL, HLSL and Metal have
+// no erf of their own.
+bool needs_erf_helper(const Program& p, Language language) {
+  if (language == Language::Cuda || language == Language::Cpp) return false;
+  return std::any_of(p.steps.begin(), p.steps.end(),
+                     [](const Step& st) { return st.op == StepOp::Erf; });
+}
+
+// The erf helper in `language`, operation for operation as lowering::erf_helper computes it.
+std::string erf_helper_source(Language language) {
+  using codegen::Call;
+  const auto lit = [&](float v) { return float32_literal(v, language); };
+  const auto horner = [&](const float(&c)[7], const char* x) {
+    std::string p = lit(c[6]);
+    for (int k = 5; k >= 0; --k) {
+      p = (k == 5 ? p : "(" + p + ")") + " * " + x + (c[k] < 0 ? " - " : " + ") +
+          lit(std::fabs(c[k]));
+    }
+    return p;
+  };
+  const char* decl = language == Language::Metal ? "inline float" : "float";
+  const char* local = language == Language::Metal ? "const float" : "float";
+  std::string s;
+  s +=
+      "// erf(x): a + a R(a^2) for a = |x| < 1, else 1 - 2^Q(min(a, 4)), with x's sign; max error\n"
+      "// 1.32 ulp in float32 arithmetic (GPU exp2 adds its own, times erfc(a) <= 0.16).\n";
+  s += fmt::format("{} {}(float x) {{\n", decl, lowering::kErfHelperName);
+  s += fmt::format("  {} a = {}(x);\n", local, codegen::call(language, Call::Abs));
+  s += fmt::format("  {} s = a * a;\n", local);
+  s += fmt::format("  {} r = {};\n", local, horner(lowering::kErfSmall, "s"));
+  s += fmt::format("  {} t = {}(a, {});\n", local, codegen::call(language, Call::Min),
+                   lit(lowering::kErfClamp));
+  s += fmt::format("  {} q = {};\n", local, horner(lowering::kErfLarge, "t"));
+  s += fmt::format("  {} lo = a + a * r;\n", local);
+  s +=
+      fmt::format("  {} hi = {} - {}(q);\n", local, lit(1.0f), codegen::call(language, Call::Exp2));
+  // Named values: glslang makes a ?: of names one OpSelect (of expressions, branches).
+  s += fmt::format("  {} e = a < {} ? lo : hi;\n", local, lit(lowering::kErfSplit));
+  s += fmt::format("  {} n = -e;\n", local);
+  s += fmt::format("  return x < {} ? n : e;\n}}\n", lit(0.0f));
+  return s;
+}
+
 }  // namespace
 
 std::string generate_function(const Expression& e, const CodegenOptions& options) {
   const Program program = checked_program(e, options);
-  return FunctionPrinter(e, options, program).print();
+  const std::string f = FunctionPrinter(e, options, program).print();
+  return needs_erf_helper(program, options.language)
+             ? erf_helper_source(options.language) + "\n" + f
+             : f;
 }
 
 std::string generate_source(std::span<const SourceFunction> functions, Language language) {
   std::set<std::string_view> headers;
   std::string body;
+  bool erf_helper = false;
   for (const SourceFunction& f : functions) {
     CodegenOptions o = f.options;
     o.language = language;
     const Program program = checked_program(f.expression, o);
     if (language == Language::Cpp) add_cpp_headers(program, &headers);
+    erf_helper = erf_helper || needs_erf_helper(program, language);
     body += (body.empty() ? "" : "\n") + FunctionPrinter(f.expression, o, program).print();
   }
+  if (erf_helper) body = erf_helper_source(language) + "\n" + body;
   std::string head;
   switch (language) {
     case Language::Cpp:

@@ -91,6 +91,53 @@ TEST(Codegen, SignCopysignSelectPerLanguage) {
             std::string::npos);
 }
 
+std::string source(const std::vector<std::string>& formulas, Language l) {
+  std::vector<SourceFunction> fs;
+  for (std::size_t i = 0; i < formulas.size(); ++i) {
+    SourceFunction f{parse_formula(formulas[i]), {}};
+    f.options.name = "f" + std::to_string(i);
+    fs.push_back(std::move(f));
+  }
+  return generate_source(fs, l);
+}
+
+TEST(Codegen, LibraryFunctionsPerLanguage) {
+  const std::string f = "asin(x) + acos(y) * atan(x) - atan2(y, x) + tanh(x)";
+  const std::string glsl = gen(f, Language::Glsl);
+  for (const char* call : {"asin(x)", "acos(y)", "atan(x)", "atan(y, x)", "tanh(x)"})
+    EXPECT_NE(glsl.find(call), std::string::npos) << call << "\n" << glsl;
+  EXPECT_NE(gen(f, Language::Hlsl).find("atan2(y, x)"), std::string::npos);
+  EXPECT_NE(gen(f, Language::Metal).find("atan2(y, x)"), std::string::npos);
+  const std::string cuda = gen(f, Language::Cuda);
+  for (const char* call : {"asinf(x)", "acosf(y)", "atanf(x)", "atan2f(y, x)", "tanhf(x)"})
+    EXPECT_NE(cuda.find(call), std::string::npos) << call << "\n" << cuda;
+  const std::string cpp = gen(f, Language::Cpp);
+  for (const char* call :
+       {"std::asin(x)", "std::acos(y)", "std::atan(x)", "std::atan2(y, x)", "std::tanh(x)"})
+    EXPECT_NE(cpp.find(call), std::string::npos) << call << "\n" << cpp;
+  // erf: the library's in CUDA and C++; elsewhere the helper, written before the function.
+  EXPECT_NE(gen("erf(x)", Language::Cuda).find("return erff(x);"), std::string::npos);
+  EXPECT_NE(gen("erf(x)", Language::Cpp).find("return std::erf(x);"), std::string::npos);
+  for (Language l : {Language::Glsl, Language::Hlsl, Language::Metal}) {
+    const std::string t = gen("erf(x) * 2", l);
+    const std::size_t helper = t.find("float sf_erf(float x) {");
+    ASSERT_NE(helper, std::string::npos) << t;
+    EXPECT_LT(helper, t.find("float f(float x) {")) << t;
+    EXPECT_NE(t.find("sf_erf(x) * 2.0"), std::string::npos) << t;
+  }
+  EXPECT_EQ(gen("erf(x) * 2", Language::Cuda).find("sf_erf"), std::string::npos);
+  // A source defines the helper once, however many functions call it, and not when none does.
+  const std::string two = source({"erf(x)", "erf(x * 2) + x", "x"}, Language::Glsl);
+  EXPECT_EQ(two.find("float sf_erf(float x) {"), two.rfind("float sf_erf(float x) {"));
+  EXPECT_EQ(two.rfind("#version 450\n\n// erf(x):", 0), 0u) << two;
+  EXPECT_EQ(source({"tanh(x)"}, Language::Hlsl).find("sf_erf"), std::string::npos);
+  // The C++ source includes <cmath> for them.
+  EXPECT_EQ(source({"atan2(x, y)"}, Language::Cpp).rfind("#include <cmath>\n", 0), 0u);
+  // The names they call are reserved.
+  EXPECT_THROW(gen("erf(sf_erf)", Language::Glsl), Error);
+  EXPECT_THROW(gen("atan2f + 1", Language::Cuda), Error);
+}
+
 TEST(Codegen, ParametersAsArgumentsOrBaked) {
   ParseOptions po;
   po.parameters = {"s"};
@@ -102,16 +149,6 @@ TEST(Codegen, ParametersAsArgumentsOrBaked) {
   EXPECT_NE(generate_function(e, o).find("inline float g(float x, float s)"), std::string::npos);
   o.bake_parameters = true;
   EXPECT_NE(generate_function(e, o).find("const float s = 0.25f;"), std::string::npos);
-}
-
-std::string source(const std::vector<std::string>& formulas, Language l) {
-  std::vector<SourceFunction> fs;
-  for (std::size_t i = 0; i < formulas.size(); ++i) {
-    SourceFunction f{parse_formula(formulas[i]), {}};
-    f.options.name = "f" + std::to_string(i);
-    fs.push_back(std::move(f));
-  }
-  return generate_source(fs, l);
 }
 
 TEST(Codegen, SourceHasWhatItsFunctionsNeed) {

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "codegen/compiler_harness_test_support.hpp"
+#include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -150,6 +151,72 @@ TEST(CompilerCheck, SignCopysignSelectAgainstNvccAndGlslang) {
     if (glslang) {
       EXPECT_EQ(glsl.spirv[i], g) << kNewOperators[i];
       EXPECT_EQ(hlsl.spirv[i], g) << kNewOperators[i];
+    }
+  }
+}
+
+// asin, acos, atan, atan2, tanh and erf (CUDA's library functions, GLSL.std.450's functions, the
+// erf helper in GLSL and HLSL), counted by the model and by the compilers. A function's SPIR-V
+// count leaves out the helper it calls; the helper is counted once, as its own function.
+const char* const kLibraryOperators[] = {
+    "asin(x) * y",      "acos(x * y)",          "atan(x) + y",      "atan2(x, y) * 2",
+    "tanh(x * y + 1)",  "erf(x) * y",           "atan(-x * y) * y", "asin(-x * y)",
+    "acos(1 - x)",      "atan2(x, -(x * y))",   "-atan(x)",         "acos(-x * y)",
+    "atan2(-x, y + 1)", "erf(x - y) + tanh(x)", "erf(x) + erf(y)",  "atan(x, y)",
+};
+
+TEST(CompilerCheck, LibraryFunctionsAgainstNvccAndGlslang) {
+  const auto nvcc = testing::find_tool("nvcc");
+  const auto glslang = testing::find_tool("glslangValidator");
+  if (!nvcc && !glslang)
+    GTEST_SKIP() << "skipped: nvcc not found; skipped: glslangValidator not found";
+  std::vector<Expression> formulas;
+  for (const char* f : kLibraryOperators) formulas.push_back(parse_formula(f));
+  CompiledCounts cuda, glsl, hlsl;
+  if (nvcc) {
+    cuda = testing::compile_cuda(formulas, *nvcc, "library_cuda");
+    ASSERT_TRUE(cuda.ok) << cuda.log;
+  }
+  if (glslang) {
+    glsl = testing::compile_spirv(formulas, Language::Glsl, *glslang, "library_glsl");
+    hlsl = testing::compile_spirv(formulas, Language::Hlsl, *glslang, "library_hlsl");
+    ASSERT_TRUE(glsl.ok) << glsl.log;
+    ASSERT_TRUE(hlsl.ok) << hlsl.log;
+    // The helper: the instructions the model charges each erf.
+    const int helper = instruction_count(parse_formula("erf(x)"), InstructionTarget::Generic);
+    EXPECT_EQ(glsl.spirv_functions["sf_erf"], helper);
+    EXPECT_EQ(hlsl.spirv_functions["sf_erf"], helper);
+  }
+  std::cout << "| formula | model sass | nvcc SASS | model ptx | nvcc PTX | model generic | SPIR-V "
+               "GLSL | SPIR-V HLSL |\n"
+               "| --- | --- | --- | --- | --- | --- | --- | --- |\n";
+  const int helper = instruction_count(parse_formula("erf(x)"), InstructionTarget::Generic);
+  for (std::size_t i = 0; i < formulas.size(); ++i) {
+    const int s = instruction_count(formulas[i], InstructionTarget::Sass);
+    const int p = instruction_count(formulas[i], InstructionTarget::Ptx);
+    const int g = instruction_count(formulas[i], InstructionTarget::Generic);
+    // The helper's calls in the function (not its definition, which generate_function puts
+    // first): the function's SPIR-V count is without theirs.
+    const std::string glsl_text = generate_function(formulas[i], CodegenOptions{});
+    int calls = 0;
+    for (std::size_t at = glsl_text.find("sf_erf("); at != std::string::npos;
+         at = glsl_text.find("sf_erf(", at + 1))
+      calls += glsl_text.compare(at, 13, "sf_erf(float ") == 0 ? 0 : 1;
+    const auto plus = [&](const std::vector<int>& v) {
+      return i < v.size() && v[i] >= 0 ? std::to_string(v[i] + calls * helper) : std::string("-");
+    };
+    std::cout << "| `" << kLibraryOperators[i] << "` | " << s << " | " << cell(cuda.sass, i)
+              << " | " << p << " | " << cell(cuda.ptx, i) << " | " << g << " | " << plus(glsl.spirv)
+              << " | " << plus(hlsl.spirv) << " |\n";
+    if (nvcc) {
+      EXPECT_EQ(cuda.ptx[i], p) << kLibraryOperators[i];
+    }
+    if (cuda.have_sass) {
+      EXPECT_EQ(cuda.sass[i], s) << kLibraryOperators[i];
+    }
+    if (glslang) {
+      EXPECT_EQ(glsl.spirv[i] + calls * helper, g) << kLibraryOperators[i];
+      EXPECT_EQ(hlsl.spirv[i] + calls * helper, g) << kLibraryOperators[i];
     }
   }
 }

@@ -22,6 +22,7 @@ struct CompiledCounts {
   std::string log;
   std::vector<int> ptx, sass, spirv;
   bool have_sass = false;
+  std::map<std::string, int> spirv_functions;  // every function of the SPIR-V, by name
 };
 
 inline std::size_t input_count(const Expression& e) { return e.variables.size() + e.parameters.size(); }
@@ -106,6 +107,7 @@ inline CompiledCounts compile_spirv(const std::vector<Expression>& formulas, Lan
     const std::string f = "f" + std::to_string(i);
     r.spirv.push_back(counts.count(f) ? counts.at(f) : -1);
   }
+  r.spirv_functions = counts;
   r.ok = true;
   return r;
 }

@@ -6,6 +6,7 @@
 #include <iostream>
 
 #include "codegen/compiler_harness_test_support.hpp"
+#include "shaderfit/core/random.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
@@ -126,6 +127,98 @@ TEST(CompilerCheck, FrontCompilesEverywhereAndCppAgreesWithEvaluator) {
     EXPECT_LE(worst, 8) << kFront[f];
     std::cout << "C++ vs evaluator, " << kFront[f] << ": max " << worst << " ulp\n";
   }
+}
+
+// asin, acos, atan, atan2, tanh and erf in C++ (std::) and in Metal (its erf the helper), each
+// compiled by every C++ compiler present (the Metal text with <cmath> in place of metal_stdlib,
+// which is C++ as far as these functions go), run on random inputs and compared with the
+// evaluator. nvcc and glslang compile them in CompilerCheck.LibraryFunctionsAgainstNvccAndGlslang.
+TEST(CompilerCheck, LibraryFunctionsInCppAndMetalAgreeWithEvaluator) {
+  const char* const formulas[] = {"asin(x) * y + acos(y)", "atan(3 * x) - atan2(y, x)",
+                                  "tanh(2 * x + y)", "erf(2 * x) + erf(y - 0.5) * x",
+                                  "acos(-x * y) + atan(x, y - 0.25)"};
+  std::vector<Expression> exprs;
+  for (const char* f : formulas) exprs.push_back(parse_formula(f));
+  Rng rng(3);
+  const std::size_t rows = 4096;
+  std::vector<float> xs(rows), ys(rows);
+  for (std::size_t i = 0; i < rows; ++i) {
+    xs[i] = static_cast<float>(uniform(rng, -1.0, 1.0));
+    ys[i] = static_cast<float>(uniform(rng, -1.0, 1.0));
+  }
+  std::vector<std::vector<float>> expected(exprs.size(), std::vector<float>(rows));
+  const float* columns[] = {xs.data(), ys.data()};
+  for (std::size_t f = 0; f < exprs.size(); ++f)
+    evaluate(exprs[f], columns, expected[f], {.threads = 1});
+  std::string input(rows * 8, '\0');
+  for (std::size_t i = 0; i < rows; ++i) {
+    std::memcpy(&input[i * 8], &xs[i], 4);
+    std::memcpy(&input[i * 8 + 4], &ys[i], 4);
+  }
+  const auto dir = testing::scratch_folder("library_cpp");
+  testing::write_text(dir / "in.bin", input);
+
+  int compilers = 0;
+  for (const char* compiler : {"g++", "clang++"}) {
+    const auto cxx = testing::find_tool(compiler);
+    if (!cxx) {
+      std::cout << "skipped: " << compiler << " not found\n";
+      continue;
+    }
+    ++compilers;
+    for (Language lang : {Language::Cpp, Language::Metal}) {
+      std::vector<SourceFunction> functions;
+      std::string calls;
+      for (std::size_t i = 0; i < exprs.size(); ++i) {
+        SourceFunction f{exprs[i], {}};
+        f.options.name = "f" + std::to_string(i);
+        functions.push_back(std::move(f));
+        calls += "    out[" + std::to_string(i) + "] = f" + std::to_string(i) + "(in[0], in[1]);\n";
+      }
+      std::string src = generate_source(functions, lang);
+      if (lang == Language::Metal) {
+        const std::string head = "#include <metal_stdlib>\nusing namespace metal;\n";
+        ASSERT_EQ(src.rfind(head, 0), 0u) << src;
+        src = "#include <cmath>\nusing namespace std;\n" + src.substr(head.size());
+      }
+      src += "#include <cstdio>\nint main() {\n  float in[2], out[" + std::to_string(exprs.size()) +
+             "];\n  while (std::fread(in, sizeof(float), 2, stdin) == 2) {\n" + calls +
+             "    std::fwrite(out, sizeof(float), " + std::to_string(exprs.size()) +
+             ", stdout);\n  }\n}\n";
+      const std::string name = std::string(compiler) + "_" + std::string(language_name(lang));
+      testing::write_text(dir / (name + ".cpp"), src);
+      std::string log;
+      ASSERT_EQ(testing::run_command("'" + *cxx +
+                                         "' -std=c++17 -O1 -ffp-contract=off -Wall "
+                                         "-pedantic -Werror -o '" +
+                                         (dir / name).string() + "' '" +
+                                         (dir / (name + ".cpp")).string() + "'",
+                                     &log),
+                0)
+          << name << ": " << log << "\n"
+          << src;
+      ASSERT_EQ(
+          testing::run_command("'" + (dir / name).string() + "' < '" + (dir / "in.bin").string() +
+                               "' > '" + (dir / (name + ".bin")).string() + "'"),
+          0);
+      const std::string output = testing::read_text(dir / (name + ".bin"));
+      ASSERT_EQ(output.size(), rows * exprs.size() * 4);
+      for (std::size_t f = 0; f < exprs.size(); ++f) {
+        double worst = 0;
+        for (std::size_t i = 0; i < rows; ++i) {
+          float got;
+          std::memcpy(&got, &output[(i * exprs.size() + f) * 4], 4);
+          const double want = expected[f][i];
+          worst = std::max(worst, std::abs(got - want) / std::max(1.0, std::abs(want)));
+        }
+        // A few float32 ulps: each side's functions are within 3 ulp (the helper 1.32), and
+        // the sums add their roundings.
+        EXPECT_LE(worst, 1e-6) << name << ": " << formulas[f];
+        std::cout << name << " vs evaluator, " << formulas[f] << ": max " << worst << "\n";
+      }
+    }
+  }
+  if (compilers == 0) GTEST_SKIP() << "skipped: no C++ compiler found";
 }
 
 }  // namespace

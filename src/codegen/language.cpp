@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cost/erf_helper.hpp"
 #include "cost/float_text.hpp"
 #include "shaderfit/core/error.hpp"
 
@@ -69,6 +70,9 @@ constexpr std::string_view kReserved[] = {
     "virtual", "void", "volatile", "while", "writeonly", "xor",
     // copysign and its bit-level spellings (GLSL, HLSL)
     "asfloat", "asuint", "copysign", "copysignf", "floatBitsToUint", "uintBitsToFloat",
+    // asin ... erf, and the erf helper of GLSL, HLSL and Metal (cost/erf_helper.hpp)
+    "acos", "acosf", "asin", "asinf", "atan", "atan2", "atan2f", "atanf", "erf", "erff", "sf_erf",
+    "tanh", "tanhf",
 };
 
 }  // namespace
@@ -103,6 +107,13 @@ std::string_view call(Language l, Call c) {
       {"max", "max", "fmaxf", "std::fmax", "fmax"},
       {"", "", "fmaf", "std::fma", "fma"},
       {"", "saturate", "__saturatef", "", "saturate"},
+      {"asin", "asin", "asinf", "std::asin", "asin"},
+      {"acos", "acos", "acosf", "std::acos", "acos"},
+      {"atan", "atan", "atanf", "std::atan", "atan"},
+      {"atan", "atan2", "atan2f", "std::atan2", "atan2"},  // GLSL: atan(y, x)
+      {"tanh", "tanh", "tanhf", "std::tanh", "tanh"},
+      {lowering::kErfHelperName, lowering::kErfHelperName, "erff", "std::erf",
+       lowering::kErfHelperName},
   };
   return kNames[static_cast<int>(c)][static_cast<int>(l)];
 }

@@ -93,15 +93,16 @@ inline std::string read_text(const std::filesystem::path& p) {
 inline bool starts_with(const std::string& s, const char* prefix) { return s.rfind(prefix, 0) == 0; }
 
 // Arithmetic instructions per .entry of PTX: float operations (add sub mul fma neg abs div rcp
-// rsqrt sqrt ex2 lg2 sin cos min max copysign, cvt.sat to f32, and set/select on f32). Moves,
-// loads, stores, address and integer arithmetic are not counted.
+// rsqrt sqrt ex2 lg2 sin cos tanh min max copysign, cvt.sat to f32, and set/select on f32).
+// Moves, loads, stores, address and integer arithmetic are not counted.
 inline std::map<std::string, int> count_ptx(const std::string& ptx) {
   std::map<std::string, int> counts;
   std::string current;
   std::istringstream lines(ptx);
-  static const char* kOps[] = {"add.", "sub.",   "mul.",  "fma.",  "neg.",   "abs.", "div.",
-                               "rcp.", "rsqrt.", "sqrt.", "ex2.",  "lg2.",   "sin.", "cos.",
-                               "min.", "max.",   "setp.", "selp.", "testp.", "mad.", "copysign."};
+  static const char* kOps[] = {"add.",   "sub.", "mul.",      "fma.",  "neg.",  "abs.",
+                               "div.",   "rcp.", "rsqrt.",    "sqrt.", "ex2.",  "lg2.",
+                               "sin.",   "cos.", "min.",      "max.",  "setp.", "selp.",
+                               "testp.", "mad.", "copysign.", "tanh."};
   for (std::string line; std::getline(lines, line);) {
     if (line.find(".entry") != std::string::npos) {
       std::istringstream words(line.substr(line.find(".entry") + 6));
@@ -125,10 +126,13 @@ inline std::map<std::string, int> count_ptx(const std::string& ptx) {
 
 // Arithmetic instructions per function of `cuobjdump -sass` output: FADD FMUL FFMA FMNMX MUFU,
 // float compares/selects and LOP3 (the bit operations of copysign and sign; the kernels' address
-// arithmetic is IMAD). Moves (MOV, HFMA2.MMA used as a move) are not counted.
+// arithmetic is IMAD). Moves (MOV, HFMA2.MMA used as a move) are not counted, nor the code after
+// the function's EXIT: out-of-line subroutines such as the slow path of an IEEE division
+// (atan2f's), which runs only for quotients beyond float's normal range.
 inline std::map<std::string, int> count_sass(const std::string& dump) {
   std::map<std::string, int> counts;
   std::string current;
+  bool exited = false;
   std::istringstream lines(dump);
   for (std::string line; std::getline(lines, line);) {
     const auto f = line.find("Function : ");
@@ -136,14 +140,19 @@ inline std::map<std::string, int> count_sass(const std::string& dump) {
       current = line.substr(f + 11);
       while (!current.empty() && std::isspace(static_cast<unsigned char>(current.back()))) current.pop_back();
       counts[current] = 0;
+      exited = false;
       continue;
     }
     const auto close = line.find("*/");
-    if (current.empty() || line.find("/*") == std::string::npos || close == std::string::npos) continue;
+    if (current.empty() || exited || line.find("/*") == std::string::npos ||
+        close == std::string::npos)
+      continue;
     std::istringstream words(line.substr(close + 2));
     std::string op;
     words >> op;
-    if (!op.empty() && op[0] == '@') words >> op;
+    const bool predicated = !op.empty() && op[0] == '@';
+    if (predicated) words >> op;
+    if (op == "EXIT" && !predicated) exited = true;  // the end of the function's own code
     for (const char* k : {"FADD", "FMUL", "FFMA", "FMNMX", "MUFU", "FSETP", "FSEL", "FSET", "FRND",
                           "FCHK", "LOP3"}) {
       if (starts_with(op, k)) {

@@ -96,7 +96,8 @@ class Builder {
       return unary(Op::Rsqrt, dag_.node(a.id).a);  // 1 / sqrt(x) is rsqrt(x), as nvcc makes it
     }
     bool out_neg = false;
-    if (op == Op::Rcp || op == Op::Sin) {  // odd: the sign moves to the result
+    if (op == Op::Rcp || op == Op::Sin || op == Op::Asin || op == Op::Atan || op == Op::Tanh ||
+        op == Op::Erf) {  // odd: the sign moves to the result
       out_neg = a.neg;
       a.neg = false;
     } else if (op == Op::Cos || op == Op::Abs) {  // even: the sign vanishes
@@ -136,6 +137,12 @@ class Builder {
   DagRef sign(DagRef a) {
     if (is_const(a)) return constant(apply_unary(Op::Sign, value(a)));
     return {binary(Op::Sign, {a.id, false}, {}), a.neg};
+  }
+
+  // atan2(-a, b) = -atan2(a, b): a's sign moves to the result; b keeps its sign.
+  DagRef atan2(DagRef a, DagRef b) {
+    if (is_const(a) && is_const(b)) return constant(apply_binary(Op::Atan2, value(a), value(b)));
+    return {binary(Op::Atan2, {a.id, false}, b), a.neg};
   }
 
   // copysign(a, b) drops a's sign, copysign(a, -b) = -copysign(a, b), copysign(a, K) = +-|a|.
@@ -239,6 +246,7 @@ DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
     case Op::Sign: return b.sign(args[0]);
     case Op::CopySign: return b.copysign(args[0], args[1]);
     case Op::Select: return b.select(args[0], args[1], args[2]);
+    case Op::Atan2: return b.atan2(args[0], args[1]);
     case Op::Sqrt:
     case Op::Rsqrt:
     case Op::Rcp:
@@ -248,7 +256,12 @@ DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
     case Op::Abs:
     case Op::Saturate:
     case Op::Sin:
-    case Op::Cos: return b.unary(n.op, args[0]);
+    case Op::Cos:
+    case Op::Asin:
+    case Op::Acos:
+    case Op::Atan:
+    case Op::Tanh:
+    case Op::Erf: return b.unary(n.op, args[0]);
     default: break;
   }
   throw Error("malformed expression: operator '" + std::string(op_info(n.op).name) + "' cannot be costed");

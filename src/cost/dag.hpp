@@ -5,8 +5,9 @@
 //  - hash-consing: a node is looked up by its structure (op, operands with their signs, constant
 //    bits) before it is created, so equal subtrees become one node; + * min max sort operands;
 //  - negation is a flag on the reference (DagRef::neg), never a node: `a - b` is Add(a, -b);
-//    Add keeps its first operand positive, Mul, Rcp, Sin have positive operands (the sign moves
-//    to the result), Cos and Abs drop an operand's sign;
+//    Add keeps its first operand positive, Mul, Rcp, Sin, Asin, Atan, Tanh, Erf and Atan2's
+//    first operand are positive (the sign moves to the result), Cos and Abs drop an operand's
+//    sign;
 //  - subtrees of literal constants are folded in float32, as a compiler folds float literals;
 //    x*1 and x*-1 lose the constant, and x + -0 is x (exact identities only);
 //  - every operator becomes the nodes of the instruction set: a / b = a * rcp(b); x^k is the
@@ -33,8 +34,9 @@ struct DagRef {
   friend bool operator==(const DagRef&, const DagRef&) = default;
 };
 
-// op is one of: Const, Var, Param (leaves); Add, Mul, Min, Max, CopySign (binary); Rcp, Sqrt,
-// Rsqrt, Exp2, Log2, Exp, Sin, Cos, Abs, Saturate, Sign (unary); Select (ternary, operand c).
+// op is one of: Const, Var, Param (leaves); Add, Mul, Min, Max, CopySign, Atan2 (binary); Rcp,
+// Sqrt, Rsqrt, Exp2, Log2, Exp, Sin, Cos, Abs, Saturate, Sign, Asin, Acos, Atan, Tanh, Erf
+// (unary); Select (ternary, operand c).
 struct DagNode {
   Op op = Op::Const;
   DagRef a, b, c;

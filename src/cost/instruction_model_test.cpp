@@ -145,6 +145,61 @@ TEST(InstructionModel, SignCopysignSelect) {
   EXPECT_EQ(c.listing[1].instruction.rfind("FSETP.GE", 0), 0u) << format_listing(c);
 }
 
+// asin ... erf: the instructions nvcc emits for CUDA's asinf ... erff (sm_90, --use_fast_math;
+// docs/cost-model.md, "Library functions"), one OpExtInst in SPIR-V but erf, whose helper
+// function counts; checked against the compilers in
+// CompilerCheck.LibraryFunctionsAgainstNvccAndGlslang where they are installed.
+TEST(InstructionModel, LibraryFunctions) {
+  struct Row {
+    const char* formula;
+    int sass, ptx, generic;
+    int fp32, minmax, mufu;  // of the SASS
+  };
+  const Row alone[] = {
+      {"asin(x)", 22, 26, 1, 15, 6, 1}, {"acos(x)", 24, 29, 1, 17, 6, 1},
+      {"atan(x)", 17, 20, 1, 12, 4, 1}, {"atan2(x, y)", 33, 32, 1, 21, 11, 1},
+      {"tanh(x)", 1, 1, 1, 0, 0, 1},    {"erf(x)", 23, 24, 36, 11, 11, 1},
+  };
+  for (const Row& r : alone) {
+    const Expression e = parse_formula(r.formula);
+    const InstructionCost c = instruction_cost(e, InstructionTarget::Sass);
+    EXPECT_EQ(c.instructions, r.sass) << r.formula;
+    EXPECT_EQ(c.fp32, r.fp32) << r.formula;
+    EXPECT_EQ(c.minmax, r.minmax) << r.formula;
+    EXPECT_EQ(c.mufu, r.mufu) << r.formula;
+    EXPECT_DOUBLE_EQ(c.weighted, r.fp32 + 2.0 * r.minmax + 8.0 * r.mufu) << r.formula;
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Ptx), r.ptx) << r.formula;
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Generic), r.generic) << r.formula;
+  }
+  // In formulas (the counts nvcc and glslang gave): odd functions move an operand's sign to
+  // their result; acos reads it, and of a negated product costs the product's negation.
+  const Row in_formulas[] = {
+      {"asin(x) * y", 23, 27, 2},        {"acos(x * y)", 25, 30, 2},
+      {"atan2(x, y) * 2", 34, 33, 2},    {"tanh(x * y + 1)", 2, 2, 3},
+      {"erf(x) * y", 24, 25, 37},        {"atan(-x * y) * y", 19, 23, 4},
+      {"asin(-x * y)", 24, 28, 3},       {"acos(1 - x)", 25, 30, 2},
+      {"atan2(x, -(x * y))", 34, 34, 3}, {"-atan(x)", 18, 21, 2},
+      {"acos(-x * y)", 26, 31, 3},       {"atan2(-x, y + 1)", 35, 34, 3},
+      {"erf(x) + erf(y)", 47, 49, 73},   {"atan(x, y)", 33, 32, 1},
+  };
+  for (const Row& r : in_formulas) {
+    const Expression e = parse_formula(r.formula);
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Sass), r.sass) << r.formula;
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Ptx), r.ptx) << r.formula;
+    EXPECT_EQ(instruction_count(e, InstructionTarget::Generic), r.generic) << r.formula;
+  }
+  // The listing names the function; its last line is the value.
+  const InstructionCost c = instruction_cost(parse_formula("atan(x)"), InstructionTarget::Sass);
+  EXPECT_EQ(c.listing.front().comment, "atanf 1/17");
+  EXPECT_EQ(c.listing.back().comment, "atan(x)");
+  EXPECT_EQ(c.listing.back().instruction.rfind("FSEL", 0), 0u) << format_listing(c);
+  const InstructionCost g = instruction_cost(parse_formula("erf(x)"), InstructionTarget::Generic);
+  EXPECT_EQ(g.listing.front().comment, "sf_erf 1/36");
+  EXPECT_NE(g.listing.back().instruction.find("OpSelect"), std::string::npos) << format_listing(g);
+  // Constant arguments fold.
+  EXPECT_EQ(sass("atan2(1, 2) * x + erf(0.5)"), 1);
+}
+
 TEST(InstructionModel, WeightsFollowTheThroughputTable) {
   EXPECT_DOUBLE_EQ(throughput_weight(InstructionTarget::Sass, InstructionUnit::Fp32), 1.0);
   EXPECT_DOUBLE_EQ(throughput_weight(InstructionTarget::Sass, InstructionUnit::Mufu), 8.0);

@@ -208,6 +208,16 @@ class ProgramBuilder {
           case Op::Cos: unary(StepOp::Cos, want(nd.a.id, false)); break;
           case Op::Abs: unary(StepOp::Abs, want(nd.a.id, false)); break;
           case Op::Sign: unary(StepOp::Sign, want(nd.a.id, false)); break;
+          case Op::Asin: unary(StepOp::Asin, want(nd.a.id, false)); break;
+          case Op::Acos: unary(StepOp::Acos, want(nd.a.id, nd.a.neg)); break;
+          case Op::Atan: unary(StepOp::Atan, want(nd.a.id, false)); break;
+          case Op::Tanh: unary(StepOp::Tanh, want(nd.a.id, false)); break;
+          case Op::Erf: unary(StepOp::Erf, want(nd.a.id, false)); break;
+          case Op::Atan2:
+            pl.op = StepOp::Atan2;
+            pl.arity = 2;
+            pl.args = {want(nd.a.id, false), want(nd.b.id, nd.b.neg), Want{}};
+            break;
           default: throw Error("internal: unexpected DAG operator");
         }
         break;

@@ -22,6 +22,8 @@ enum class StepOp : std::uint8_t {
   Add, Sub, Mul, Div, Fma, Neg, Abs,
   Sqrt, Rsqrt, Exp2, Log2, Exp, Log, Sin, Cos, Sat, Min, Max,
   Sign, CopySign, Select,
+  // Library functions (cost/library_calls.hpp).
+  Asin, Acos, Atan, Atan2, Tanh, Erf,
 };
 
 struct Operand {

@@ -16,13 +16,19 @@
 //    and FSEL, except that a branch computed only for the select runs under the predicate
 //    instead (no FSEL);
 //  - copysign(a, b) is one LOP3 (a & 0x7fffffff | b & 0x80000000); sign(x), written
-//    |x| > 0 ? copysign(1, x) : x, is FSETP on |x|, LOP3 and FSEL.
+//    |x| > 0 ? copysign(1, x) : x, is FSETP on |x|, LOP3 and FSEL;
+//  - asin, acos, atan, atan2, tanh and erf are the instructions of CUDA's asinf ... erff as
+//    measured (cost/library_calls.hpp); their operands are read as they are (a negated operand
+//    costs its FADD; acos of a negated product is the product, its negation and acosf).
+#include <fmt/format.h>
+
 #include <cmath>
 #include <deque>
 #include <map>
 #include <tuple>
 
 #include "cost/float_text.hpp"
+#include "cost/library_calls.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
 
@@ -67,12 +73,17 @@ class SassSelector {
     }
     return true;
   }
-  // A product whose only reader is a negation that is not free: ptxas computes it negated.
+  // A product whose only reader is a negation that is not free: ptxas computes it negated,
+  // unless the negation is read by a library function (checked against ptxas: acosf(-(x * y))
+  // is FMUL, FADD -p, -RZ, then acosf's instructions).
   bool negated_product(int s) const {
     const Step& st = p_.steps[static_cast<std::size_t>(s)];
     if (st.op != StepOp::Mul || st.uses != 1 || consumers_[static_cast<std::size_t>(s)].size() != 1) return false;
     const int c = consumers_[static_cast<std::size_t>(s)][0];
-    return p_.steps[static_cast<std::size_t>(c)].op == StepOp::Neg && !all_alu(c);
+    if (p_.steps[static_cast<std::size_t>(c)].op != StepOp::Neg || all_alu(c)) return false;
+    for (int r : consumers_[static_cast<std::size_t>(c)])
+      if (library_call(p_.steps[static_cast<std::size_t>(r)].op) != nullptr) return false;
+    return true;
   }
 
   // The one step that reads step s, or -1.
@@ -142,6 +153,23 @@ class SassSelector {
     }
     out_.push_back(std::move(ins));
     return d;
+  }
+
+  // The measured instructions of a library function, the first reading the operands and the
+  // last giving the result.
+  Val library(const LibraryCall& call, Val a, Val b, int arity, const std::string& c) {
+    const std::vector<std::string_view> ops = mnemonics(call.sass);
+    Val v;
+    for (std::size_t k = 0; k < ops.size(); ++k) {
+      const std::string what =
+          text_ ? (k + 1 == ops.size() ? c : fmt::format("{} {}/{}", call.cuda, k + 1, ops.size()))
+                : std::string();
+      if (k == 0 && arity == 2)
+        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {a, b}, what);
+      else
+        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {k == 0 ? a : v}, what);
+    }
+    return v;
   }
 
   void select(int s) {
@@ -265,6 +293,21 @@ class SassSelector {
           }
         }
         out = emit(U::MinMax, "FSEL", {b, val(st.args[2]), it->second}, c);
+        break;
+      }
+      case StepOp::Asin:
+      case StepOp::Acos:
+      case StepOp::Atan:
+      case StepOp::Atan2:
+      case StepOp::Tanh:
+      case StepOp::Erf: {
+        // acosf of a negated product (read only there): ptxas computes the product and negates
+        // it, where other readers take FMUL -a, b.
+        const Step* x = step_of(st.args[0]);
+        Val arg = a;
+        if (st.op == StepOp::Acos && x && x->op == StepOp::Mul && x->negated && x->uses == 1)
+          arg = emit(U::Fp32, "FADD.FTZ", {a, rz}, "the product's negation");
+        out = library(*library_call(st.op), arg, b, st.arity, c);
         break;
       }
       case StepOp::Sin:

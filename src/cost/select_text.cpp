@@ -6,12 +6,19 @@
 //  - copysign: PTX copysign.f32; GLSL/HLSL (no copysign) the bits, a & 0x7fffffff | b &
 //    0x80000000, two ANDs and an OR (one AND folds when a is a literal);
 //  - sign(x): PTX (|x| > 0 ? copysignf(1, x) : x) abs, setp, copysign, selp; GLSL/HLSL
-//    (x > 0 ? 1 : (x < 0 ? -1 : x)) two comparisons and two selects.
+//    (x > 0 ? 1 : (x < 0 ? -1 : x)) two comparisons and two selects;
+//  - asin, acos, atan, atan2, tanh, erf: PTX the instructions of CUDA's asinf ... erff as
+//    measured (cost/library_calls.hpp); SPIR-V one OpExtInst, erf the instructions of the helper
+//    function GLSL and HLSL call (cost/erf_helper.hpp).
+#include <fmt/format.h>
+
 #include <bit>
 #include <cstdio>
 #include <map>
 
+#include "cost/erf_helper.hpp"
 #include "cost/float_text.hpp"
+#include "cost/library_calls.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
 
@@ -149,6 +156,27 @@ class TextSelector {
         simple(U::MinMax, "selp.f32", "OpSelect",
                ptx_ ? std::initializer_list<std::string>{b, name(st.args[2]), p}
                     : std::initializer_list<std::string>{p, b, name(st.args[2])});
+        break;
+      }
+      case StepOp::Asin:
+      case StepOp::Acos:
+      case StepOp::Atan:
+      case StepOp::Atan2:
+      case StepOp::Tanh:
+      case StepOp::Erf: {
+        const LibraryCall& call = *library_call(st.op);
+        const std::vector<std::string_view> ops = mnemonics(ptx_ ? call.ptx : call.spirv);
+        const std::string_view name =
+            ptx_ ? call.cuda : (st.op == StepOp::Erf ? kErfHelperName : "");
+        for (std::size_t k = 0; k < ops.size(); ++k) {
+          const std::string what =
+              !text_ || k + 1 == ops.size() ? c : fmt::format("{} {}/{}", name, k + 1, ops.size());
+          const U unit = mnemonic_unit(ops[k]);
+          if (k == 0 && st.arity == 2)
+            out = emit(unit, std::string(ops[k]), {a, b}, what);
+          else
+            out = emit(unit, std::string(ops[k]), {k == 0 ? a : std::string(out)}, what);
+        }
         break;
       }
       case StepOp::Log:

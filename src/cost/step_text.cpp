@@ -42,6 +42,12 @@ const char* call_name(StepOp op) {
     case StepOp::Max: return "max";
     case StepOp::Sign: return "sign";
     case StepOp::CopySign: return "copysign";
+    case StepOp::Asin: return "asin";
+    case StepOp::Acos: return "acos";
+    case StepOp::Atan: return "atan";
+    case StepOp::Atan2: return "atan2";
+    case StepOp::Tanh: return "tanh";
+    case StepOp::Erf: return "erf";
     default: return "?";
   }
 }

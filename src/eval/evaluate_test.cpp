@@ -125,6 +125,8 @@ TEST(EvalOps, EveryOpMatchesScalarDouble) { check_all_ops<double>(); }
 
 TEST(EvalOps, SpecialValues) {
   constexpr float inf = std::numeric_limits<float>::infinity();
+  constexpr float kPi = 3.14159265358979f, kHalfPi = 1.57079632679490f,
+                  kQuarterPi = 0.785398163397448f;
   struct Case {
     Op op;
     float x, y, want;
@@ -164,10 +166,31 @@ TEST(EvalOps, SpecialValues) {
       {Op::Select, -1e-45f, 5.0f, 0.0f},
       {Op::Select, NAN, 5.0f, 0.0f},  // NaN takes the third operand
       {Op::Select, inf, 5.0f, 5.0f},
+      {Op::Asin, -0.0f, 0, -0.0f},
+      {Op::Asin, 1.0f, 0, kHalfPi},
+      {Op::Acos, 1.0f, 0, 0.0f},
+      {Op::Acos, -1.0f, 0, kPi},
+      {Op::Atan, -inf, 0, -kHalfPi},
+      {Op::Atan, -0.0f, 0, -0.0f},
+      {Op::Tanh, inf, 0, 1.0f},
+      {Op::Tanh, -0.0f, 0, -0.0f},
+      {Op::Tanh, 1e-30f, 0, 1e-30f},
+      {Op::Tanh, -1e-40f, 0, -1e-40f},  // subnormal
+      {Op::Erf, -inf, 0, -1.0f},
+      {Op::Erf, -0.0f, 0, -0.0f},
+      {Op::Atan2, 0.0f, -0.0f, kPi},  // both zero: the signs decide
+      {Op::Atan2, -0.0f, -1.0f, -kPi},
+      {Op::Atan2, -0.0f, 0.0f, -0.0f},
+      {Op::Atan2, inf, inf, kQuarterPi},
+      {Op::Atan2, -inf, -inf, -3 * kQuarterPi},
+      {Op::Atan2, 1.0f, -inf, kPi},
+      {Op::Atan2, inf, -0.0f, kHalfPi},
+      {Op::Atan2, 1e-30f, 1e30f, 0.0f},
   };
-  const Op nan_ops[] = {Op::Log2, Op::Log, Op::Sqrt, Op::Saturate,
-                        Op::Sin,  Op::Cos, Op::Exp2, Op::Sign};
-  const float nan_args[] = {-1.0f, -1.0f, -1.0f, NAN, inf, -inf, NAN, NAN};
+  const Op nan_ops[] = {Op::Log2, Op::Log,  Op::Sqrt, Op::Saturate, Op::Sin,  Op::Cos, Op::Exp2,
+                        Op::Sign, Op::Asin, Op::Acos, Op::Atan,     Op::Tanh, Op::Erf, Op::Acos};
+  const float nan_args[] = {-1.0f, -1.0f, -1.0f, NAN, inf, -inf, NAN,
+                            NAN,   1.5f,  -inf,  NAN, NAN, NAN,  -1.0001f};
   for (std::int64_t target : eval_detail::simd_targets()) {
     SCOPED_TRACE(eval_detail::simd_target_name(target));
     const ForceTarget force(target);
@@ -181,6 +204,8 @@ TEST(EvalOps, SpecialValues) {
           << op_info(nan_ops[i]).name << "(" << nan_args[i] << ")";
     EXPECT_TRUE(std::isnan(eval1(single_op(Op::Pow, 0), -2.0f, 2.0f)));  // a < 0
     EXPECT_TRUE(std::isnan(eval1(single_op(Op::Pow, 0), 0.0f, 0.0f)));   // 0 * log2(0)
+    EXPECT_TRUE(std::isnan(eval1(single_op(Op::Atan2, 0), NAN, 1.0f)));
+    EXPECT_TRUE(std::isnan(eval1(single_op(Op::Atan2, 0), inf, NAN)));
   }
 }
 

@@ -6,7 +6,7 @@
 // is a rounded product, then a rounded sum, as apply_fma); min/max follow fmin/fmax, including
 // glibc's choice of the second operand for min(+0, -0); sign, copysign and select are exact
 // (masks and sign bits); transcendental ops use Highway's
-// polynomials with masks that restore the scalar special values.
+// polynomials with masks that restore the scalar special values; erf is std::erf row by row.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -149,6 +149,48 @@ HWY_INLINE V Log2V(D d, V x) {
   return FixLog(d, x, r);
 }
 
+// tanh: Highway's, except that |x| below 2^-12 (float) or 2^-27 (double), where tanh(x) rounds
+// to x, is x itself (Highway's expm1 loses subnormals).
+template <class D, class V>
+HWY_INLINE V TanhV(D d, V x) {
+  using T = hn::TFromD<D>;
+  const T tiny = sizeof(T) == 4 ? T(0x1p-12) : T(0x1p-27);
+  return hn::IfThenElse(hn::Lt(hn::Abs(x), hn::Set(d, tiny)), x, hn::Tanh(d, x));
+}
+
+// atan2(y, x) from a = atan(t), t the smaller magnitude over the larger (in [0, 1], so the
+// quotient neither overflows nor loses more than its rounding), placed in the quadrant:
+// base +- a with base 0, pi/2 (|y| > |x|) or pi (x has its sign bit set, x = -0 included; pi/2
+// when both hold), a subtracted when exactly one holds; y's sign last. The bases are split in
+// two parts, so that the sum rounds as one. t = 1 takes pi/4 exactly; both zero (t = 0) and both
+// infinite (t = 1) give C's values; NaN stays NaN.
+template <class D, class V>
+HWY_INLINE V Atan2V(D d, V y, V x) {
+  using T = hn::TFromD<D>;
+  const bool f32 = sizeof(T) == 4;
+  const V zero = hn::Zero(d), one = hn::Set(d, T(1));
+  const V ay = hn::Abs(y), ax = hn::Abs(x);
+  const V lo = hn::Min(ay, ax), hi = hn::Max(ay, ax);
+  V t = hn::Div(lo, hi);
+  t = hn::IfThenElse(hn::Eq(hi, zero), zero, t);
+  t = hn::IfThenElse(hn::Eq(lo, hn::Set(d, std::numeric_limits<T>::infinity())), one, t);
+  // Min and Max may drop a NaN operand: bring it back.
+  t = hn::IfThenElse(hn::Or(hn::IsNaN(y), hn::IsNaN(x)), hn::Add(y, x), t);
+  const V a = hn::IfThenElse(hn::Eq(t, one), hn::Set(d, T(0.785398163397448309615660845820)),
+                             hn::Atan(d, t));
+  const auto swap = hn::Gt(ay, ax);
+  const auto x_negative = hn::Lt(hn::CopySign(one, x), zero);
+  const V half_pi_hi = hn::Set(d, T(1.57079632679489661923));
+  const V half_pi_lo = hn::Set(d, f32 ? T(-4.37113883e-8) : T(6.123233995736766e-17));
+  const V pi_hi = hn::Set(d, T(3.14159265358979323846));
+  const V pi_lo = hn::Set(d, f32 ? T(-8.74227766e-8) : T(1.2246467991473532e-16));
+  const V base_hi = hn::IfThenElse(swap, half_pi_hi, hn::IfThenElseZero(x_negative, pi_hi));
+  const V base_lo = hn::IfThenElse(swap, half_pi_lo, hn::IfThenElseZero(x_negative, pi_lo));
+  const auto minus = hn::Xor(swap, x_negative);
+  const V r = hn::Add(hn::Add(base_hi, hn::IfThenElse(minus, hn::Neg(a), a)), base_lo);
+  return hn::CopySign(r, y);
+}
+
 // Elementwise ops as small function objects, so each kernel loop is specialized for one op.
 // `one` is 1 in the lane type.
 #define SF_UNARY(Name, expr)                                       \
@@ -192,6 +234,13 @@ SF_BINARY(MinOp, hn::IfThenElse(hn::Or(hn::Lt(a, b), hn::IsNaN(b)), a, b))
 SF_BINARY(MaxOp, hn::IfThenElse(hn::Or(hn::Gt(a, b), hn::IsNaN(b)), a, b))
 SF_BINARY(PowOp, Exp2V(d, hn::Mul(b, Log2V(d, a))))
 SF_BINARY(CopySignOp, hn::CopySign(a, b))
+// asin, acos, atan: Highway's; |x| > 1, infinities and NaN come out NaN (asin, acos) and
+// +-pi/2, NaN (atan) as in libm.
+SF_UNARY(AsinOp, hn::Asin(d, a))
+SF_UNARY(AcosOp, hn::Acos(d, a))
+SF_UNARY(AtanOp, hn::Atan(d, a))
+SF_UNARY(TanhOp, TanhV(d, a))
+SF_BINARY(Atan2Op, Atan2V(d, a, b))
 #undef SF_UNARY
 #undef SF_BINARY
 
@@ -273,6 +322,12 @@ HWY_INLINE void SinCos(D d, const T* a, T* o, size_t count) {
   }
 }
 
+// erf: std::erf row by row (Highway has no erf; the search rarely uses it).
+template <class T>
+HWY_INLINE void ErfRows(const T* a, T* o, size_t count) {
+  for (size_t i = 0; i < count; ++i) o[i] = std::erf(a[i]);
+}
+
 template <typename T>
 struct SimdKernels {
   void operator()(const Instr& ins, T* const* src, size_t count) const {
@@ -303,6 +358,12 @@ struct SimdKernels {
       case Op::Cos: return SinCos<false>(d, a, o, count);
       case Op::Sign: return Map1(d, a, o, count, SignOp());
       case Op::CopySign: return Map2(d, a, b, o, count, CopySignOp());
+      case Op::Asin: return Map1(d, a, o, count, AsinOp());
+      case Op::Acos: return Map1(d, a, o, count, AcosOp());
+      case Op::Atan: return Map1(d, a, o, count, AtanOp());
+      case Op::Atan2: return Map2(d, a, b, o, count, Atan2Op());
+      case Op::Tanh: return Map1(d, a, o, count, TanhOp());
+      case Op::Erf: return ErfRows(a, o, count);
       case Op::Select: return Select(d, a, b, static_cast<const T*>(src[ins.arg[2]]), o, count);
       case Op::Fma:
         // Two passes, so that no compiler can fuse the product into the sum. The third operand

@@ -141,7 +141,8 @@ T reference(const Expression& e, Op op, int k, T x, T y, T z) {
 }
 
 // The documented bounds (docs/evaluation.md), a little above the largest errors measured on
-// SSE4, AVX2 and EMU128 (exp2, exp, log: 1 ulp; log2, sin, cos: 2 ulp); 0 means the same bits.
+// SSE4, AVX2, AVX-512 and EMU128 (exp2, exp, log, acos: 1 ulp; log2, sin, cos, asin, atan,
+// atan2: 2 ulp; tanh: 3 ulp); 0 means the same bits.
 inline std::uint64_t ulp_tolerance(Op op) {
   switch (op) {
     case Op::Exp2:
@@ -151,7 +152,12 @@ inline std::uint64_t ulp_tolerance(Op op) {
     case Op::Sin:
     case Op::Cos: return 3;
     case Op::Pow: return 4;  // plus the amplification in pow_tolerance
-    default: return 0;
+    case Op::Asin:
+    case Op::Acos:
+    case Op::Atan:
+    case Op::Atan2: return 3;
+    case Op::Tanh: return 4;
+    default: return 0;  // erf: std::erf itself
   }
 }
 
@@ -223,7 +229,9 @@ inline void grow(Rng& rng, int depth, int num_vars, bool arithmetic_only, std::v
                                        Op::Max,    Op::Neg,     Op::IPow,     Op::Sqrt, Op::Rsqrt,
                                        Op::Rcp,    Op::Abs,     Op::Saturate, Op::Fma,  Op::Sign,
                                        Op::Select, Op::CopySign};
-  static constexpr Op kOther[] = {Op::Pow, Op::Exp2, Op::Log2, Op::Exp, Op::Log, Op::Sin, Op::Cos};
+  static constexpr Op kOther[] = {Op::Pow,   Op::Exp2, Op::Log2, Op::Exp,  Op::Log,
+                                  Op::Sin,   Op::Cos,  Op::Asin, Op::Acos, Op::Atan,
+                                  Op::Atan2, Op::Tanh, Op::Erf};
   if (depth == 0 || bernoulli(rng, 0.25)) {
     const double r = uniform01(rng);
     if (r < 0.6)

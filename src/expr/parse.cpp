@@ -377,7 +377,8 @@ class Parser {
       fail("expected ',' or ')' in the arguments of " + s + ", found " + describe(tok_),
            tok_.column);
     }
-    if (got != want) {
+    if (op == Op::Atan && got == 2) op = Op::Atan2;  // GLSL spelling: atan(y, x)
+    if (got != arity(op)) {
       fail(s + " takes " + std::to_string(want) + (want == 1 ? " argument" : " arguments") +
                ", got " + std::to_string(got),
            name.column);

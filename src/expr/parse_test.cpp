@@ -157,6 +157,32 @@ TEST(Parse, SignAndCopySign) {
   EXPECT_EQ(parse_formula("sign(x)", vars({"x"})).nodes.back().op, Op::Sign);
 }
 
+TEST(Parse, InverseTrigonometricTanhErf) {
+  auto p = [](const char* s) { return to_infix(parse_formula(s, vars({"x", "y"}))); };
+  EXPECT_EQ(p("asin(x) + acos(y) * atan(x / y)"), "asin(x) + acos(y) * atan(x / y)");
+  EXPECT_EQ(p("atan2(y, x) - tanh(-x) * erf(2 * y)"), "atan2(y, x) - tanh(-x) * erf(2 * y)");
+  // GLSL's two-argument atan is atan2.
+  const Expression e = parse_formula("atan(y, x)", vars({"x", "y"}));
+  EXPECT_EQ(e.nodes.back().op, Op::Atan2);
+  EXPECT_EQ(to_infix(e), "atan2(y, x)");
+  EXPECT_THROW(parse_formula("atan(x, y, x)", vars({"x", "y"})), Error);
+  EXPECT_THROW(parse_formula("erf(x, y)", vars({"x", "y"})), Error);
+  EXPECT_THROW(parse_formula("tanh", vars({"x"})), Error);  // a function, not a variable
+  EXPECT_EQ(to_latex(parse_formula("asin(x) + acos(x) + atan(x) + tanh(x) + erf(x)", vars({"x"}))),
+            "\\arcsin\\left(x\\right) + \\arccos\\left(x\\right) + \\arctan\\left(x\\right) + "
+            "\\tanh\\left(x\\right) + \\operatorname{erf}\\left(x\\right)");
+  EXPECT_EQ(to_latex(parse_formula("atan2(y, x)", vars({"x", "y"}))),
+            "\\operatorname{atan2}\\left(y, x\\right)");
+  // Their values are C's.
+  const double row[] = {0.3, -0.7};
+  EXPECT_EQ(evaluate_at<double>(parse_formula("atan(y, x)", vars({"x", "y"})),
+                                std::span<const double>(row), {}),
+            std::atan2(-0.7, 0.3));
+  EXPECT_EQ(evaluate_at<double>(parse_formula("erf(x) - asin(y)", vars({"x", "y"})),
+                                std::span<const double>(row), {}),
+            std::erf(0.3) - std::asin(-0.7));
+}
+
 // Each comparison is lowered to select(a, b, c) = a >= 0 ? b : c on a difference, as the parser
 // documents; the printer writes the operand back as "a >= 0".
 TEST(Parse, SelectComparisonsLowerToOneOperator) {

@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "shaderfit/core/error.hpp"
 
@@ -225,6 +226,13 @@ class LatexPrinter {
       case Op::Sign: return call("\\operatorname{sign}");
       case Op::CopySign:
         return "\\operatorname{copysign}\\left(" + text(c[0]) + ", " + text(c[1]) + "\\right)";
+      case Op::Asin: return call("\\arcsin");
+      case Op::Acos: return call("\\arccos");
+      case Op::Atan: return call("\\arctan");
+      case Op::Atan2:
+        return "\\operatorname{atan2}\\left(" + text(c[0]) + ", " + text(c[1]) + "\\right)";
+      case Op::Tanh: return call("\\tanh");
+      case Op::Erf: return call("\\operatorname{erf}");
       case Op::Select:
         return "\\begin{cases}" + text(c[1]) + " & " + text(c[0]) + " \\geq 0 \\\\ " + text(c[2]) +
                " & \\text{otherwise}\\end{cases}";
@@ -289,16 +297,86 @@ class LatexPrinter {
   const PrintOptions& o_;
 };
 
+// e without the parts its text would show as neutral: a literal factor or divisor written 1 or
+// -1 (x * -1 is written -x), a literal addend or subtrahend written 0 (0 - x is written -x), and
+// ^1. The text means the same without them (a literal is what its text reads: 1.0000000001 shown
+// in float32 is 1), up to the sign of a zero sum. A sign counts as written too, because a sum
+// shows its terms' signs as its own (a - -1 * x is written a + 1 * x).
+Expression without_neutral_text(const Expression& e, const PrintOptions& o) {
+  using Frag = std::vector<Node>;
+  // The value of a literal: a constant, or a parameter printed as its value.
+  const auto literal = [&](const Frag& f) -> std::optional<double> {
+    if (f.size() != 1) return std::nullopt;
+    if (f[0].op == Op::Const) return f[0].value;
+    const auto k = static_cast<std::size_t>(f[0].index);
+    if (f[0].op == Op::Param && o.substitute_parameters && k < e.parameter_values.size())
+      return e.parameter_values[k];
+    return std::nullopt;
+  };
+  // Whether f is a literal whose text reads `value` (0 with either sign).
+  const auto reads = [&](const Frag& f, double value) {
+    const std::optional<double> v = literal(f);
+    return v && format_number(value == 0 ? std::fabs(*v) : *v, o) == format_number(value, o);
+  };
+  const auto negated = [&](Frag f) -> Frag {
+    if (f.back().op == Op::Neg) {
+      f.pop_back();
+      return f;
+    }
+    if (const std::optional<double> v = literal(f)) return {Node::constant(-*v)};
+    f.push_back(Node::op_node(Op::Neg));
+    return f;
+  };
+  std::vector<Frag> stack;
+  for (const Node& n : e.nodes) {
+    std::vector<Frag> kids(static_cast<std::size_t>(n.arity));
+    for (std::size_t k = kids.size(); k-- > 0;) {
+      kids[k] = std::move(stack.back());
+      stack.pop_back();
+    }
+    const bool product = n.op == Op::Mul || n.op == Op::Div,
+               sum = n.op == Op::Add || n.op == Op::Sub;
+    if (n.op == Op::IPow && n.index == 1) {
+      stack.push_back(std::move(kids[0]));
+    } else if (product && reads(kids[1], 1)) {
+      stack.push_back(std::move(kids[0]));
+    } else if (product && reads(kids[1], -1)) {
+      stack.push_back(negated(std::move(kids[0])));
+    } else if (n.op == Op::Mul && reads(kids[0], 1)) {
+      stack.push_back(std::move(kids[1]));
+    } else if (n.op == Op::Mul && reads(kids[0], -1)) {
+      stack.push_back(negated(std::move(kids[1])));
+    } else if (sum && reads(kids[1], 0)) {
+      stack.push_back(std::move(kids[0]));
+    } else if (n.op == Op::Add && reads(kids[0], 0)) {
+      stack.push_back(std::move(kids[1]));
+    } else if (n.op == Op::Sub && reads(kids[0], 0)) {
+      stack.push_back(negated(std::move(kids[1])));
+    } else {
+      Frag f;
+      for (Frag& k : kids) f.insert(f.end(), k.begin(), k.end());
+      f.push_back(n);
+      stack.push_back(std::move(f));
+    }
+  }
+  Expression out = e;
+  out.nodes = std::move(stack.back());
+  out.update_lengths();
+  return out;
+}
+
 }  // namespace
 
 std::string to_infix(const Expression& e, const PrintOptions& options) {
   if (e.nodes.empty()) return "";
-  return InfixPrinter(e, options).print(e.nodes.size() - 1);
+  const Expression shown = without_neutral_text(e, options);
+  return InfixPrinter(shown, options).print(shown.nodes.size() - 1);
 }
 
 std::string to_latex(const Expression& e, const PrintOptions& options) {
   if (e.nodes.empty()) return "";
-  return LatexPrinter(e, options).text(e.nodes.size() - 1);
+  const Expression shown = without_neutral_text(e, options);
+  return LatexPrinter(shown, options).text(shown.nodes.size() - 1);
 }
 
 }  // namespace shaderfit

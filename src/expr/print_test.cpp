@@ -171,5 +171,26 @@ TEST(Print, TextForPeopleReadsBackToTheSameFloat32Values) {
   }
 }
 
+TEST(Print, NeutralPartsAreNotShown) {
+  const ParseOptions o = names({"x", "y"}, {"k"}, {1.0000000001});
+  auto infix = [&](const char* f) { return to_infix(parse_formula(f, o)); };
+  for (const char* f : {"x * 1", "1 * x", "x / 1", "x + 0", "0 + x", "x - 0", "x + -0"})
+    EXPECT_EQ(infix(f), "x") << f;
+  Expression power = parse_formula("y^2", o);
+  power.nodes.back() = Node::ipow(1);  // x^1 does not parse; built in code, it is not shown
+  power.update_lengths();
+  EXPECT_EQ(to_infix(power), "y");
+  EXPECT_EQ(infix("(x + y) * 1 * y"), "(x + y) * y");
+  EXPECT_EQ(infix("0 - x"), "-x");
+  EXPECT_EQ(infix("y - -1 * x"), "y + x");
+  EXPECT_EQ(infix("x * 1.5 + 10"), "x * 1.5 + 10");
+  // A literal is what its text reads: k prints as 1 in float32, as itself exactly.
+  const Expression e = parse_formula("x * k", o);
+  EXPECT_EQ(to_infix(e, PrintOptions::for_people()), "x");
+  EXPECT_EQ(to_infix(e, {.substitute_parameters = true}), "x * 1.0000000001");
+  EXPECT_EQ(to_infix(e), "x * k");
+  EXPECT_EQ(to_latex(parse_formula("(x + 0) * 1", o)), "x");
+}
+
 }  // namespace
 }  // namespace shaderfit

@@ -2,7 +2,8 @@
 // which applies the local rules; rules only fire when the result equals the original wherever the
 // original is finite (e.g. x - x = 0, x / x = 1). Rules that may turn a -0 into +0 (x + 0 = x,
 // x * 0 = 0, ...) also skip subtrees whose sign of zero reaches the result: those that feed the
-// second operand of a copysign through operators that pass a zero's sign on.
+// second operand of a copysign, or either operand of an atan2, through operators that pass a
+// zero's sign on.
 //
 // With SimplifyOptions::regroup_constants, further rules move constants through sums and
 // products (they hold in real arithmetic and round differently): scaled() and shifted() push a
@@ -373,10 +374,12 @@ Expression simplify(const Expression& e, const SimplifyOptions& options) {
     if (n.arity == 0) continue;
     e.child_indices(i, std::span<std::size_t>(kids_at, n.arity));
     for (int k = 0; k < n.arity; ++k) {
-      // |x|, even powers, copysign's magnitude and select's condition drop a zero's sign.
+      // |x|, even powers, copysign's magnitude and select's condition drop a zero's sign;
+      // atan2 reads the signs of both its zeros (atan2(+-0, -1) = +-pi, atan2(0, -0) = pi).
       const bool drops = n.op == Op::Abs || (n.op == Op::IPow && n.index % 2 == 0) ||
                          (n.op == Op::CopySign && k == 0) || (n.op == Op::Select && k == 0);
-      signed_zero[kids_at[k]] = (n.op == Op::CopySign && k == 1) || (signed_zero[i] && !drops);
+      signed_zero[kids_at[k]] =
+          (n.op == Op::CopySign && k == 1) || n.op == Op::Atan2 || (signed_zero[i] && !drops);
     }
   }
   // Replay the postfix order with a stack of simplified fragments.

@@ -26,7 +26,13 @@ TEST(Jacobian, AgreesWithJetsForEveryOperator) {
                             "copysign(a * x, x - 0.5)",
                             "copysign(x - 0.5, a - 0.8) + copysign(x, a * x - 0.3)",
                             "select(a * x - 0.3 >= 0, a * a, x / a)",
-                            "select(x < a * 0.5, a * x, 2)"};
+                            "select(x < a * 0.5, a * x, 2)",
+                            "asin(a * x)",
+                            "acos(a * x)",
+                            "atan(a * x - 0.3)",
+                            "atan2(a * x, x - 0.5) + atan2(x, a)",
+                            "tanh(a * x)",
+                            "erf(a * x - 0.3)"};
   const std::vector<double> xs = {0.1, 0.35, 0.6, 0.9};
   const double a = 0.8;
   for (const char* text : formulas) {

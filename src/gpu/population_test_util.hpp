@@ -13,8 +13,10 @@
 
 namespace shaderfit::gpu_test {
 
-// Operators of the generated formulas: all of them, or only those whose float32 value the CPU
-// and the GPU compute alike (+ - * / min max neg abs saturate ipow fma sqrt rcp rsqrt).
+// Operators of the generated formulas: all of them but copysign, or only those whose float32
+// value the CPU and the GPU compute alike (+ - * / min max neg abs saturate ipow fma sqrt rcp
+// rsqrt). copysign reads the sign bit of a NaN operand, which the SIMD functions, libm and CUDA
+// set differently (asin and acos of |x| > 1 make NaNs often); its exact value is checked apart.
 enum class OpSet { All, Exact };
 
 namespace detail {
@@ -38,7 +40,7 @@ inline void grow(Rng& rng, Expression& e, int budget, OpSet set, bool with_param
   do {
     op = set == OpSet::Exact ? kExact[uniform_index(rng, std::size(kExact))]
                              : static_cast<Op>(3 + uniform_index(rng, kOpCount - 3));
-  } while (arity(op) + 1 > budget);
+  } while (arity(op) + 1 > budget || op == Op::CopySign);
   const int rest = budget - 1;  // nodes below this one
   if (arity(op) == 1) {
     grow(rng, e, rest, set, with_param);

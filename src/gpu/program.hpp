@@ -115,6 +115,10 @@ SF_CPU_GPU inline void run_program(const GpuNode* code, std::uint32_t count, con
         --sp;
         binary_rows<Op::CopySign>(st[sp - 1], st[sp]);
         break;
+      case Op::Atan2:
+        --sp;
+        binary_rows<Op::Atan2>(st[sp - 1], st[sp]);
+        break;
       case Op::Neg: unary_rows<Op::Neg>(st[sp - 1]); break;
       case Op::IPow:
         for (int j = 0; j < R; ++j) st[sp - 1][j] = apply_ipow(st[sp - 1][j], int{n.index});
@@ -131,6 +135,11 @@ SF_CPU_GPU inline void run_program(const GpuNode* code, std::uint32_t count, con
       case Op::Sin: unary_rows<Op::Sin>(st[sp - 1]); break;
       case Op::Cos: unary_rows<Op::Cos>(st[sp - 1]); break;
       case Op::Sign: unary_rows<Op::Sign>(st[sp - 1]); break;
+      case Op::Asin: unary_rows<Op::Asin>(st[sp - 1]); break;
+      case Op::Acos: unary_rows<Op::Acos>(st[sp - 1]); break;
+      case Op::Atan: unary_rows<Op::Atan>(st[sp - 1]); break;
+      case Op::Tanh: unary_rows<Op::Tanh>(st[sp - 1]); break;
+      case Op::Erf: unary_rows<Op::Erf>(st[sp - 1]); break;
       case Op::Fma:
         sp -= 2;
         for (int j = 0; j < R; ++j)

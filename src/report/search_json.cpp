@@ -60,11 +60,16 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"dropped_notes", s.dropped_notes},
                 {"ranks", s.ranks},
                 {"bytes_sent", s.bytes_sent},
-                {"symmetry", s.symmetry ? json{{"input", s.symmetry->input_name},
-                                               {"kind", symmetry_kind_name(s.symmetry->kind)},
-                                               {"center", s.symmetry->center},
-                                               {"sign", s.symmetry->sign}}
-                                        : json(nullptr)}}},
+                {"symmetry",
+                 s.symmetry ? json{{"input", s.symmetry->input_name},
+                                   {"kind", symmetry_kind_name(s.symmetry->kind)},
+                                   {"center", s.symmetry->center},
+                                   {"sign", s.symmetry->sign},
+                                   {"method", symmetry_method_name(s.symmetry->evidence.method)},
+                                   {"rows_compared", s.symmetry->evidence.rows_compared},
+                                   {"max_residual", s.symmetry->evidence.max_residual},
+                                   {"noise", s.symmetry->evidence.noise}}
+                            : json(nullptr)}}},
               {"front", front}};
   return out.dump(2) + "\n";
 }

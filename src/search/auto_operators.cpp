@@ -4,6 +4,8 @@
 #include <optional>
 #include <vector>
 
+#include "search/library_operators.hpp"
+#include "search/operator_probe.hpp"
 #include "shaderfit/search/search.hpp"
 #include "shaderfit/search/symmetry.hpp"
 
@@ -59,6 +61,15 @@ SearchOptions resolve_auto_operators(SearchOptions o, const SearchProblem& p) {
     if (both_signs)
       o.operators.insert(o.operators.end(), std::begin(kBothSignsOperators),
                          std::end(kBothSignsOperators));
+    // The optional groups the data asks for (search/operator_probe.hpp).
+    const std::vector<Op> extra = search_detail::probe_operator_groups(
+        o, p, o.operators, search_detail::probed_operator_groups());
+    o.operators.insert(o.operators.end(), extra.begin(), extra.end());
+    // asin ... erf where a reference calls them or the target is one of them of a simple
+    // function of the inputs (search/library_operators.hpp).
+    for (Op op : search_detail::suggested_library_operators(p))
+      if (std::find(o.operators.begin(), o.operators.end(), op) == o.operators.end())
+        o.operators.push_back(op);
   }
   if (is_auto_operators(o.evolution_operators)) {
     std::vector<Op> wanted(std::begin(kShadingEvolutionOperators),

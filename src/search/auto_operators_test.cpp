@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shaderfit/core/random.hpp"
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/search.hpp"
 
@@ -64,15 +65,16 @@ TEST(AutoOperators, TheShadingSetAndPowForAHighDynamicRange) {
             "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,sign,copysign");
   EXPECT_EQ(operator_list_name(both.evolution_operators), "pow,rsqrt,saturate,select");
   // Odd data is searched on its half x >= 0 (symmetry.hpp), where x has one sign; with the
-  // folding off the sign operators are back.
+  // folding off the sign operators are back. (atan's data asks for atan itself:
+  // LibraryOperatorsForTheirData below.)
   const auto atan_data = one_input(-1, 1, [](double x) { return std::atan(x); });
   const SearchOptions odd = resolve_auto_operators(o, atan_data);
-  EXPECT_EQ(operator_list_name(odd.operators), "+,-,*,/,^,sqrt,exp2,log2,abs,min,max");
+  EXPECT_EQ(operator_list_name(odd.operators), "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,atan");
   EXPECT_EQ(operator_list_name(odd.evolution_operators), "pow,rsqrt,saturate");
   SearchOptions unfolded = o;
   unfolded.symmetry = false;
   EXPECT_EQ(operator_list_name(resolve_auto_operators(unfolded, atan_data).operators),
-            "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,sign,copysign");
+            "+,-,*,/,^,sqrt,exp2,log2,abs,min,max,sign,copysign,atan");
   // Lists that are not auto stay as given.
   SearchOptions given;
   given.operators = parse_operator_list("+,-,*,/,^");
@@ -81,6 +83,39 @@ TEST(AutoOperators, TheShadingSetAndPowForAHighDynamicRange) {
       resolve_auto_operators(given, one_input(0, 1, [](double x) { return std::pow(x, 40.0); }));
   EXPECT_EQ(same.operators, given.operators);
   EXPECT_EQ(same.evolution_operators, given.evolution_operators);
+}
+
+TEST(AutoOperators, LibraryOperatorsForTheirData) {
+  // asin ... erf join the enumeration where the data is one of them of a simple function of the
+  // inputs (search/library_operators.hpp has the rule and its tests); the search prints the
+  // choice ("operators (auto): ...").
+  SearchOptions o;
+  o.operators = kAutoOperators;
+  o.evolution_operators = kAutoOperators;
+  SearchProblem p;
+  p.input_names = {"lambda", "n", "d"};
+  p.inputs.assign(3, {});
+  Rng rng(5);
+  for (int i = 0; i < 500; ++i) {
+    const double lambda = uniform(rng, 0.5, 1.0), n = uniform(rng, 1.0, 2.0),
+                 d = uniform(rng, 1.0, 2.0);
+    p.inputs[0].push_back(lambda);
+    p.inputs[1].push_back(n);
+    p.inputs[2].push_back(d);
+    p.target.push_back(std::asin(lambda / (n * d)));
+  }
+  const SearchOptions r = resolve_auto_operators(o, p);
+  EXPECT_TRUE(has(r.operators, Op::Asin)) << operator_list_name(r.operators);
+  EXPECT_FALSE(has(r.operators, Op::Acos) || has(r.operators, Op::Erf));
+  // Not on data that does not ask for them, and never in a list that is not auto.
+  const SearchOptions smooth =
+      resolve_auto_operators(o, one_input(0, 1, [](double x) { return std::sqrt(x) + 0.1; }));
+  EXPECT_EQ(operator_list_name(smooth.operators), "+,-,*,/,^,sqrt,exp2,log2,abs,min,max");
+  SearchOptions given = o;
+  given.operators = parse_operator_list("+,-,*,/");
+  EXPECT_EQ(operator_list_name(resolve_auto_operators(given, p).operators), "+,-,*,/");
+  EXPECT_EQ(operator_list_name(parse_operator_list("asin,acos,atan,atan2,tanh,erf")),
+            "asin,acos,atan,atan2,tanh,erf");
 }
 
 TEST(AutoOperators, ASearchWithAutoOperatorsRuns) {

@@ -108,7 +108,11 @@ json body_json(const Checkpoint& c) {
     data["symmetry"] = {{"input", c.symmetry->input_name},
                         {"kind", symmetry_kind_name(c.symmetry->kind)},
                         {"center", num(c.symmetry->center)},
-                        {"sign", c.symmetry->sign}};
+                        {"sign", c.symmetry->sign},
+                        {"method", symmetry_method_name(c.symmetry->evidence.method)},
+                        {"rows_compared", c.symmetry->evidence.rows_compared},
+                        {"max_residual", num(c.symmetry->evidence.max_residual)},
+                        {"noise", num(c.symmetry->evidence.noise)}};
   return {{"phase", search_phase_name(c.phase)},
           {"data", data},
           {"options", options},
@@ -150,6 +154,13 @@ Checkpoint checkpoint_from(const json& j) {
                      get_num(sy.at("center")), get_integer<int>(sy.at("sign"), "sign")};
     if (c.symmetry->sign < -1 || c.symmetry->sign > 1)
       throw BadBody("a symmetry sign not -1, 0 or 1");
+    if (sy.contains("method")) {  // the evidence; absent in older checkpoints
+      const auto method = symmetry_method_from_name(sy.at("method").get<std::string>());
+      if (!method) throw BadBody("a symmetry found by no known method");
+      c.symmetry->evidence = {*method,
+                              get_integer<std::size_t>(sy.at("rows_compared"), "rows_compared"),
+                              get_num(sy.at("max_residual")), get_num(sy.at("noise"))};
+    }
   }
   for (const json& kv : j.at("options"))
     c.options.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());

@@ -347,6 +347,16 @@ TEST(Checkpoint, RecordsTheSymmetry) {
   EXPECT_EQ(*r.symmetry, *c.symmetry);
 }
 
+TEST(Checkpoint, RecordsTheSymmetryEvidence) {
+  Checkpoint c = sample_checkpoint();
+  DataSymmetry s{1, "x", SymmetryKind::Odd};
+  s.evidence = {SymmetryMethod::Interpolation, 19993, 2.4e-14, 1.0 / 3.0 * 1e-16};
+  c.symmetry = s;
+  const Checkpoint r = parse_checkpoint(checkpoint_text(c), "mem");
+  ASSERT_TRUE(r.symmetry);
+  EXPECT_EQ(*r.symmetry, *c.symmetry);
+}
+
 TEST(Checkpoint, SymmetricSearchResumesAsTheUninterruptedRun) {
   const SearchProblem p = atan_problem();
   constexpr std::int64_t kBudget = 1200;

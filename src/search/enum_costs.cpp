@@ -29,8 +29,12 @@ bool sign_sensitive(Op op) {
     case Op::Abs:
     case Op::Sin:
     case Op::Cos:
-    case Op::Sign: return false;
-    default: return true;
+    case Op::Sign:
+    case Op::Asin:  // odd: op(-a) = -op(a), and negating a class is free
+    case Op::Atan:
+    case Op::Tanh:
+    case Op::Erf: return false;
+    default: return true;  // acos(-a) = pi - acos(a) among them
   }
 }
 
@@ -40,8 +44,9 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
   literal = static_cast<int>(cost_of(o, {Node::constant(2.0)}) + 0.5);
   unary.fill(-1);
   binary.fill(-1);
-  for (Op op : {Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2, Op::Log2, Op::Exp, Op::Log, Op::Abs,
-                Op::Saturate, Op::Sin, Op::Cos, Op::Sign}) {
+  for (Op op :
+       {Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2, Op::Log2, Op::Exp, Op::Log, Op::Abs, Op::Saturate,
+        Op::Sin, Op::Cos, Op::Sign, Op::Asin, Op::Acos, Op::Atan, Op::Tanh, Op::Erf}) {
     if (has(o, op))
       unary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, Node::op_node(op)}) - leaf);
   }
@@ -53,7 +58,7 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
     binary[static_cast<int>(Op::Add)] =
         at_least_one(cost_of(o, {a, b, Node::op_node(Op::Add)}) - 2 * leaf);
   }
-  for (Op op : {Op::Mul, Op::Div, Op::Min, Op::Max, Op::Pow, Op::CopySign}) {
+  for (Op op : {Op::Mul, Op::Div, Op::Min, Op::Max, Op::Pow, Op::CopySign, Op::Atan2}) {
     if (has(o, op))
       binary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, b, Node::op_node(op)}) - 2 * leaf);
   }

@@ -83,6 +83,11 @@ class Builder {
         build(r.b, neg_b != neg);
         nodes.push_back(Node::op_node(Op::CopySign));
         return;
+      case EKind::Atan2:  // -atan2(a, b) = atan2(-a, b)
+        build(r.a, neg);
+        build(r.b, neg_b);
+        nodes.push_back(Node::op_node(Op::Atan2));
+        return;
     }
   }
 

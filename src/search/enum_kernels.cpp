@@ -109,7 +109,8 @@ SF_INLINE v8f vunary(Op op, v8f a) {
       return select(a > 0.0f, splat(1.0f), select(a < 0.0f, splat(-1.0f), a * 0.0f));
     default: {
       v8f r = {};
-      for (int l = 0; l < 8; ++l) r[l] = apply_unary(op, a[l]);  // sin, cos: rare, scalar
+      // sin, cos, asin, acos, atan, tanh, erf: rare, scalar
+      for (int l = 0; l < 8; ++l) r[l] = apply_unary(op, a[l]);
       return r;
     }
   }
@@ -161,6 +162,9 @@ SF_KERNEL void compute_column(EKind kind, Op unary, int k, const float* a, const
         store(out + i, std::bit_cast<v8f>((x & 0x7fffffff) |
                                           (y & std::numeric_limits<std::int32_t>::min())));
       }
+      return;
+    case EKind::Atan2:  // rare, scalar
+      for (std::size_t i = 0; i < n; ++i) out[i] = apply_binary(Op::Atan2, a[i], sb * b[i]);
       return;
     case EKind::Var:
     case EKind::Literal: return;  // leaves are filled by the caller

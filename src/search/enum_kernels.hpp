@@ -33,6 +33,7 @@ enum class EKind : std::uint8_t {
   Pow,       // pow(a, +-b)
   FusedAdd,  // m +- b where m's last instruction is a multiply (one FMA)
   CopySign,  // copysign(a, +-b)
+  Atan2,     // atan2(a, +-b)
 };
 
 inline constexpr std::size_t kHashRows = 16;

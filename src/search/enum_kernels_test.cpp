@@ -37,6 +37,17 @@ TEST(EnumKernels, ArithmeticIsExactFloat) {
     EXPECT_EQ(out[i], apply_binary(Op::CopySign, a[i], -b[i]));
   compute_column(EKind::Unary, Op::Sign, 0, a.data(), nullptr, true, false, out.data(), kRows);
   for (std::size_t i = 0; i < kRows; ++i) EXPECT_EQ(out[i], apply_unary(Op::Sign, -a[i]));
+  // The library functions are the scalar ones in float, lane by lane.
+  compute_column(EKind::Atan2, Op::Const, 0, a.data(), b.data(), false, true, out.data(), kRows);
+  for (std::size_t i = 0; i < kRows; ++i) EXPECT_EQ(out[i], apply_binary(Op::Atan2, a[i], -b[i]));
+  for (Op op : {Op::Asin, Op::Acos, Op::Atan, Op::Tanh, Op::Erf}) {
+    compute_column(EKind::Unary, op, 0, a.data(), nullptr, true, false, out.data(), kRows);
+    for (std::size_t i = 0; i < kRows; ++i) {
+      const float want = apply_unary(op, -a[i]);
+      EXPECT_TRUE(out[i] == want || (std::isnan(out[i]) && std::isnan(want)))
+          << op_info(op).name << "(" << -a[i] << ")";
+    }
+  }
 }
 
 TEST(EnumKernels, TranscendentalsAreCloseToLibm) {

@@ -34,6 +34,7 @@ int pair_variants(EKind kind, Variant* v) {
       v[1] = {true, false, false};
       return 2;
     case EKind::Pow:
+    case EKind::Atan2:  // both orders, and b's sign (a's: the result's, free)
       v[0] = {};
       v[1] = {false, false, true};
       v[2] = {true, false, false};
@@ -141,7 +142,8 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
   const std::pair<EKind, Op> binaries[] = {{EKind::AddSub, Op::Add},       {EKind::Mul, Op::Mul},
                                            {EKind::Div, Op::Div},          {EKind::Min, Op::Min},
                                            {EKind::Max, Op::Max},          {EKind::Pow, Op::Pow},
-                                           {EKind::CopySign, Op::CopySign}};
+                                           {EKind::CopySign, Op::CopySign},
+                                           {EKind::Atan2, Op::Atan2}};
   for (const auto& [kind, op] : binaries) {
     const int d = c.binary[static_cast<std::size_t>(op)];
     if (d < 0) continue;

@@ -35,6 +35,7 @@ constexpr double kMinimaxMargin = 2.0;
 constexpr int kRefitPasses = 10;
 constexpr int kRefitSteps = 2;
 constexpr std::size_t kMigrants = 4;
+constexpr std::uint64_t kRestartEvery = 50;
 // Near the end of the time budget, the front's fitted constants are refined on every row with a
 // full Levenberg-Marquardt run (the evolution fits a few steps on the fit rows only), then, for
 // a minimax loss, Lawson passes of kRefitIterations steps.
@@ -238,12 +239,12 @@ const Evolution::Individual& Evolution::tournament(Island& island, const std::ve
 }
 
 void Evolution::init_island(Island& island, const std::vector<Expression>& seeds,
-                            std::size_t index) {
+                            std::size_t first, std::size_t stride) {
   const std::size_t size = ctx_.options.population;
   std::vector<Expression> start;
-  // This island's share of the seeds, each also with a fitted linear scaling and with its
-  // literals as free parameters.
-  for (std::size_t i = index; i < seeds.size(); i += islands_.size()) {
+  // This island's share of the seeds (every stride-th from first), each also with a fitted
+  // linear scaling.
+  for (std::size_t i = first; i < seeds.size(); i += stride) {
     start.push_back(seeds[i]);
     if (limits_.max_parameters >= 2) start.push_back(with_linear_scaling(seeds[i], 1.0, 0.0));
   }
@@ -349,6 +350,17 @@ void Evolution::polish_front() {
       ctx_.threads);
   for (Candidate& c : done)
     ctx_.offer(std::move(c.expr), loss_value(ctx_.options.loss, c.metrics), SearchPhase::Evolution);
+}
+
+void Evolution::restart_island() {
+  const std::size_t i = static_cast<std::size_t>(generations_ / kRestartEvery) % islands_.size();
+  if (!owns(i)) return;
+  Island& island = islands_[i];
+  std::vector<Expression> seeds;
+  const std::vector<FrontMember>& front = ctx_.front.members();
+  for (std::size_t k = 0; k < (front.size() + 1) / 2; ++k) seeds.push_back(front[k].expression);
+  island.population.clear();
+  init_island(island, seeds, 0, 1);
 }
 
 void Evolution::migrate() {
@@ -471,7 +483,7 @@ void Evolution::run(const std::vector<Expression>& seeds) {
   parallel_for(
       owned_.size(), 1,
       [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) init_island(islands_[owned_[k]], all, owned_[k]);
+        for (std::size_t k = b; k < e; ++k) init_island(islands_[owned_[k]], all, owned_[k], islands_.size());
       },
       ctx_.threads);
   evolve();
@@ -535,6 +547,11 @@ void Evolution::evolve() {
             loss_value(ctx_.options.loss, c->metrics), SearchPhase::Evolution);
       }
       for (Island& is : islands_) is.found.clear();
+      // The front's parts, for the mutations (the same on every rank: the front is).
+      const std::vector<FrontMember> members = ctx_.front.members();
+      std::vector<const Expression*> parts;
+      for (const FrontMember& m : members) parts.push_back(&m.expression);
+      limits_.blocks = subtree_blocks(parts);
       ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
       ctx_.maybe_progress(SearchPhase::Evolution);
       if (joint.interrupted) ctx_.stop(Termination::Interrupted);
@@ -572,6 +589,7 @@ void Evolution::evolve() {
     cut = std::find(complete.begin(), complete.end(), 0) != complete.end();
     ++generations_;
     if (generations_ % interval == 0) migrate();
+    if (generations_ % kRestartEvery == 0) restart_island();
   }
   if (!distributed && checkpoints != nullptr) checkpoints->at_end(cut, state());
   // Across ranks the state where the run stopped (a generation cut short by the clock or an

@@ -77,7 +77,8 @@ class Evolution {
   static Individual restored(const SavedIndividual& s);
   static SavedIsland saved_island(const Island& island);
 
-  void init_island(Island& island, const std::vector<Expression>& seeds, std::size_t index);
+  void init_island(Island& island, const std::vector<Expression>& seeds, std::size_t first,
+                   std::size_t stride);
   void evolve();  // the generation loop
   // False when it stopped early (time or interrupt) with fewer children than usual.
   bool generation(Island& island, const Snapshot& front);
@@ -96,6 +97,9 @@ class Evolution {
   [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
                                              const std::vector<double>& crowd) const;
   void migrate();
+  // Every kRestartEvery generations one island (in turn) starts again: the front's cheaper half
+  // and random formulas, so that a population stuck on one shape makes room for others.
+  void restart_island();
   // Distributed: every rank's islands' found candidates and evaluation counts to every rank (so
   // that each offers the same candidates in island order), with the votes of Joint.
   Joint synchronize(bool cut);

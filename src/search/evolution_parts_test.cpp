@@ -4,6 +4,7 @@
 #include "search/nsga2.hpp"
 #include "search/pareto.hpp"
 #include "search/variation.hpp"
+#include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 
 namespace shaderfit::search_detail {
@@ -113,6 +114,34 @@ TEST(Variation, NewOperatorsAppearAndStayWellFormed) {
   EXPECT_GT(seen[0], 0);
   EXPECT_GT(seen[1], 0);
   EXPECT_GT(seen[2], 0);
+}
+
+// The front's parts as building blocks: distinct subtrees of 2 to kMaxBlockNodes nodes, with
+// their parameters' values; mutations insert them and stay well formed.
+TEST(Variation, BuildingBlocksFromTheFront) {
+  const VariationLimits base = limits();
+  const Expression a =
+      parse_formula("sqrt(1 - (x / r0)^2) * p0",
+                    {.variables = base.variables, .parameters = {"p0"}, .parameter_values = {2.5}});
+  const Expression b = parse_formula("(x / r0)^2 + x", {.variables = base.variables});
+  const std::vector<std::vector<Node>> blocks = subtree_blocks({&a, &b});
+  // a: x / y, (x / y)^2, 1 - (x / y)^2, sqrt(...), sqrt(...) * p0; b adds only (x / y)^2 + x.
+  ASSERT_EQ(blocks.size(), 6u);
+  EXPECT_EQ(blocks.back().size(), 6u);
+  EXPECT_EQ(blocks[4].back().op, Op::Mul);
+  EXPECT_EQ(blocks[4][blocks[4].size() - 2].value, 2.5);  // p0 with its value
+  VariationLimits l = base;
+  l.blocks = blocks;
+  Rng rng(3);
+  int inserted = 0;
+  for (int i = 0; i < 2000; ++i) {
+    const Expression c = mutate(rng, b, l);
+    if (c.empty()) continue;
+    Expression copy = c;
+    ASSERT_NO_THROW(copy.update_lengths());
+    inserted += to_infix(c).find("sqrt(") != std::string::npos;
+  }
+  EXPECT_GT(inserted, 0);
 }
 
 TEST(Variation, LinearScalingForm) {

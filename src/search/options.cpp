@@ -17,10 +17,11 @@ namespace shaderfit {
 namespace {
 
 // The enumeration builds every unary and binary one; select (ternary) only the evolution does.
-constexpr Op kSearchable[] = {Op::Add,   Op::Sub,      Op::Mul,      Op::Div,   Op::IPow, Op::Sqrt,
-                              Op::Rsqrt, Op::Rcp,      Op::Exp2,     Op::Log2,  Op::Exp,  Op::Log,
-                              Op::Abs,   Op::Saturate, Op::Sin,      Op::Cos,   Op::Min,  Op::Max,
-                              Op::Pow,   Op::Sign,     Op::CopySign, Op::Select};
+constexpr Op kSearchable[] = {Op::Add,   Op::Sub,      Op::Mul,      Op::Div,    Op::IPow, Op::Sqrt,
+                              Op::Rsqrt, Op::Rcp,      Op::Exp2,     Op::Log2,   Op::Exp,  Op::Log,
+                              Op::Abs,   Op::Saturate, Op::Sin,      Op::Cos,    Op::Min,  Op::Max,
+                              Op::Pow,   Op::Sign,     Op::CopySign, Op::Select, Op::Asin, Op::Acos,
+                              Op::Atan,  Op::Atan2,    Op::Tanh,     Op::Erf};
 
 bool searchable(Op op) {
   return std::find(std::begin(kSearchable), std::end(kSearchable), op) != std::end(kSearchable);
@@ -115,7 +116,8 @@ const SearchOptionField kFields[] = {
      .role = Role::Search,
      .help =
          "operators, comma-separated: + - * / ^ sqrt rsqrt rcp exp2 log2 exp log abs saturate sin "
-         "cos min max pow; or auto: chosen from the data",
+         "cos min max pow sign copysign select asin acos atan atan2 tanh erf; or auto: chosen "
+         "from the data",
      .check =
          [](const O& o) {
            return o.operators.empty() ? "no operators given" : searchable_ops(o.operators);

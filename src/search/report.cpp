@@ -37,8 +37,9 @@ std::string search_summary_lines(const SearchSummary& summary) {
     s += "\n";
   }
   if (summary.symmetry)
-    s += "symmetry: the data is " + describe_symmetry(*summary.symmetry) +
-         "; searched on the half where it is >= 0, formulas reflected\n";
+    s += "symmetry: the data is " + describe_symmetry(*summary.symmetry) + " (" +
+         describe_symmetry_evidence(*summary.symmetry) +
+         "); searched on the half where it is >= 0, formulas reflected\n";
   return s;
 }
 

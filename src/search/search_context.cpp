@@ -110,8 +110,9 @@ namespace {
 
 // Operators whose result can be finite while an operand is not (x / inf = 0, rcp(inf) = 0,
 // min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2,
-// sign(inf) = 1, copysign(x, inf) = |x|, select's branch not taken): a NaN or an infinity can
-// hide below them. Through every other operator it reaches the result.
+// sign(inf) = 1, copysign(x, inf) = |x|, select's branch not taken, atan(inf) = pi/2,
+// tanh(inf) = erf(inf) = 1, atan2(x, inf) = 0): a NaN or an infinity can hide below them.
+// Through every other operator it reaches the result.
 bool absorbs_non_finite(const Node& n) {
   switch (n.op) {
     case Op::Div:
@@ -125,7 +126,11 @@ bool absorbs_non_finite(const Node& n) {
     case Op::Pow:
     case Op::Sign:
     case Op::CopySign:
-    case Op::Select: return true;
+    case Op::Select:
+    case Op::Atan:
+    case Op::Tanh:
+    case Op::Erf:
+    case Op::Atan2: return true;
     case Op::IPow: return n.index < 0;
     default: return false;
   }

@@ -3,8 +3,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <numeric>
+#include <span>
+#include <tuple>
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/search/options.hpp"
@@ -130,6 +135,304 @@ bool weights_mirrored(const SearchProblem& problem, const Pairs& p) {
   });
 }
 
+// The residual (symmetry.hpp) of y at x and n at -x under `kind` about m.
+double mirror_residual(SymmetryKind kind, double y, double n, double m) {
+  switch (kind) {
+    case SymmetryKind::Even: return y - n;
+    case SymmetryKind::Odd: return y + n;
+    case SymmetryKind::Point: return (y - m) + (n - m);
+  }
+  return y - n;
+}
+
+// The evidence of a symmetry found on mirrored pairs.
+SymmetryEvidence pairs_evidence(const SearchProblem& problem, const Pairs& p, SymmetryKind kind,
+                                double center) {
+  const std::vector<double>& y = problem.target;
+  const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+  double worst = 0;
+  for (const auto& [n, q] : p.mirrored)
+    worst = std::max(worst, std::abs(mirror_residual(kind, y[q], y[n], center)));
+  if (kind != SymmetryKind::Even)
+    for (std::size_t r : p.zero) worst = std::max(worst, std::abs(y[r] - center));
+  return {SymmetryMethod::MirroredPairs, 2 * p.mirrored.size(), worst / (*hi - *lo), 0.0};
+}
+
+// ---- Symmetry by interpolation (symmetry.hpp) ----
+
+constexpr std::size_t kMinSliceNodes = 8;  // distinct |x| on each side of every slice
+constexpr double kMinOverlap = 0.5;        // the shorter side's reach / the longer side's
+constexpr double kResidualRatio = 10;      // a residual / its local error estimate
+// The largest noise, and error estimate of a compared row, relative to the target's range (the
+// caller's tolerance where that is larger).
+constexpr double kMaxNoise = 1e-6;
+constexpr std::size_t kWindow = 8;  // nodes on either side for a local median
+constexpr double kMinGap = 0.25;    // between nodes / the mean spacing about them
+// Float64 roundings of the interpolation and the residual, relative to the values' size.
+constexpr double kRoundings = 16 * std::numeric_limits<double>::epsilon();
+// The median |residual| of Gaussian noise times this is its standard deviation.
+constexpr double kMadToSigma = 1.4826;
+
+// The polynomial through the nodes (u[i], v[i]), i in `at`, evaluated at t (Lagrange's form).
+double polynomial_at(const std::vector<double>& u, const std::vector<double>& v,
+                     std::span<const std::size_t> at, double t) {
+  double sum = 0;
+  for (std::size_t i : at) {
+    double w = 1;
+    for (std::size_t j : at)
+      if (j != i) w *= (t - u[j]) / (u[i] - u[j]);
+    sum += w * v[i];
+  }
+  return sum;
+}
+
+// The first index of a run of n nodes about position p in [0, size): p - 2, kept inside.
+std::size_t stencil_start(std::size_t p, std::size_t n, std::size_t size) {
+  return std::min(p < 2 ? 0 : p - 2, size - n);
+}
+
+// The rows of one side of 0 in a slice, as a function of u = |x| > 0.
+struct Side {
+  std::vector<std::size_t> rows;  // the rows, by ascending |x|
+  std::vector<double> u, v;       // the nodes (build): |x| ascending, the mean target at each
+  std::vector<double> loo;        // |leave-one-out residual| at each node
+  std::vector<double> scale;      // the median of `loo` over the nodes within kWindow
+
+  // The nodes of `rows` (ascending |x|): the distinct |x|, each with its mean target, less those
+  // closer to the previous node than kMinGap times the mean spacing about them (their rows are
+  // still compared): a cubic through nearly coincident nodes multiplies their rounding or noise.
+  // Then each node's leave-one-out residual and the local scale. Less than kMinSliceNodes nodes:
+  // no scale (the slice is not used).
+  void build(const std::vector<double>& x, const std::vector<double>& y) {
+    std::vector<double> du, dv;
+    for (std::size_t k = 0; k < rows.size();) {
+      std::size_t end = k;
+      double sum = 0;
+      while (end < rows.size() && std::abs(x[rows[end]]) == std::abs(x[rows[k]]))
+        sum += y[rows[end++]];
+      du.push_back(std::abs(x[rows[k]]));
+      dv.push_back(sum / static_cast<double>(end - k));
+      k = end;
+    }
+    const std::size_t d = du.size();
+    if (d < kMinSliceNodes) return;
+    for (std::size_t k = 0; k < d; ++k) {
+      const std::size_t a = k < 4 ? 0 : k - 4, b = std::min(d - 1, k + 4);
+      const double spacing = (du[b] - du[a]) / static_cast<double>(b - a);
+      if (!u.empty() && du[k] - u.back() < kMinGap * spacing) continue;
+      u.push_back(du[k]);
+      v.push_back(dv[k]);
+    }
+    const std::size_t n = u.size();
+    if (n < kMinSliceNodes) return;
+    // Each node from the four nearest others (a cubic; extrapolated at the two ends).
+    loo.resize(n);
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t lo = stencil_start(k, 5, n);
+      std::array<std::size_t, 4> at{};
+      std::size_t m = 0;
+      for (std::size_t i = lo; i < lo + 5; ++i)
+        if (i != k) at[m++] = i;
+      loo[k] = std::abs(v[k] - polynomial_at(u, v, at, u[k]));
+    }
+    scale.resize(n);
+    std::vector<double> window;
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t a = k < kWindow ? 0 : k - kWindow, b = std::min(n, k + kWindow + 1);
+      window.assign(loo.begin() + static_cast<std::ptrdiff_t>(a),
+                    loo.begin() + static_cast<std::ptrdiff_t>(b));
+      const auto mid = window.begin() + static_cast<std::ptrdiff_t>(window.size() / 2);
+      std::nth_element(window.begin(), mid, window.end());
+      scale[k] = *mid;
+    }
+  }
+
+  bool usable() const { return !scale.empty(); }
+  bool covers(double t) const { return t >= u.front() && t <= u.back(); }
+
+  // The first node at or after t, or the last.
+  std::size_t position(double t) const {
+    const auto p = static_cast<std::size_t>(std::lower_bound(u.begin(), u.end(), t) - u.begin());
+    return std::min(p, u.size() - 1);
+  }
+
+  // The local leave-one-out scale at t: the larger of the two nodes' about it.
+  double scale_at(double t) const {
+    const std::size_t p = position(t);
+    return std::max(scale[p], scale[p == 0 ? 0 : p - 1]);
+  }
+
+  // The side's value at t (covers(t)): the cubic through the four nearest nodes, and its error
+  // estimate there: the larger of the next term (|quartic - cubic|) and the local scale times
+  // the cubic's noise gain at t (the sum of its |Lagrange weights|).
+  std::pair<double, double> at(double t) const {
+    const std::size_t n = u.size(), p = position(t);
+    const std::size_t lo4 = stencil_start(p, 4, n), lo5 = stencil_start(p, 5, n);
+    const std::array<std::size_t, 4> cubic{lo4, lo4 + 1, lo4 + 2, lo4 + 3};
+    const std::array<std::size_t, 5> quartic{lo5, lo5 + 1, lo5 + 2, lo5 + 3, lo5 + 4};
+    const double v4 = polynomial_at(u, v, cubic, t), v5 = polynomial_at(u, v, quartic, t);
+    double gain = 0;
+    for (std::size_t i : cubic) {
+      double w = 1;
+      for (std::size_t j : cubic)
+        if (j != i) w *= (t - u[j]) / (u[i] - u[j]);
+      gain += std::abs(w);
+    }
+    return {v4, std::max(std::abs(v5 - v4), gain * scale_at(t))};
+  }
+};
+
+// A row compared with its mirror: its target, the other side's value at -x, the error estimate.
+struct Compared {
+  double y, mirror, estimate;
+};
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0;
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+// The symmetry of input k by interpolation (symmetry.hpp), or nullopt.
+std::optional<DataSymmetry> interpolated_symmetry(const SearchProblem& problem, std::size_t k,
+                                                  double tolerance) {
+  const auto& inputs = problem.inputs;
+  const std::vector<double>& x = inputs[k];
+  const std::vector<double>& y = problem.target;
+  const auto below =
+      static_cast<std::size_t>(std::count_if(x.begin(), x.end(), [](double v) { return v < 0; }));
+  const auto above =
+      static_cast<std::size_t>(std::count_if(x.begin(), x.end(), [](double v) { return v > 0; }));
+  if (below < kSymmetryMinSideRows || above < kSymmetryMinSideRows) return std::nullopt;
+  const auto [lo, hi] = std::minmax_element(y.begin(), y.end());
+  const double range = *hi - *lo;
+  if (!(range > 0)) return std::nullopt;  // a constant target
+
+  // Slices: the rows ordered by the other inputs, then x.
+  std::vector<std::size_t> order(x.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  auto same_rest = [&](std::size_t a, std::size_t b) {
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+      if (i != k && inputs[i][a] != inputs[i][b]) return false;
+    return true;
+  };
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      if (i == k) continue;
+      if (inputs[i][a] != inputs[i][b]) return inputs[i][a] < inputs[i][b];
+    }
+    return x[a] < x[b];
+  });
+
+  std::vector<Compared> compared;
+  std::vector<std::size_t> zero;
+  std::vector<double> loo;
+  struct Count {
+    std::size_t overlap = 0, compared = 0;  // rows whose mirror the other side covers; compared
+  } below_rows, above_rows;
+  // A row is compared where its error estimate is at most this.
+  const double resolved = std::max(kMaxNoise, tolerance) * range;
+  for (std::size_t begin = 0; begin < order.size();) {
+    std::size_t end = begin + 1;
+    while (end < order.size() && same_rest(order[begin], order[end])) ++end;
+    Side neg, pos;
+    for (std::size_t j = begin; j < end; ++j) {
+      const std::size_t r = order[j];
+      if (x[r] < 0)
+        neg.rows.push_back(r);
+      else if (x[r] > 0)
+        pos.rows.push_back(r);
+      else
+        zero.push_back(r);
+    }
+    std::reverse(neg.rows.begin(), neg.rows.end());  // by ascending |x|
+    neg.build(x, y);
+    pos.build(x, y);
+    if (!neg.usable() || !pos.usable()) return std::nullopt;
+    const double reach = std::min(neg.u.back(), pos.u.back());
+    if (reach < kMinOverlap * std::max(neg.u.back(), pos.u.back())) return std::nullopt;
+    for (const auto& [side, other, count] :
+         {std::tuple{&neg, &pos, &below_rows}, std::tuple{&pos, &neg, &above_rows}}) {
+      for (std::size_t r : side->rows) {
+        const double t = std::abs(x[r]);
+        if (!other->covers(t)) continue;
+        ++count->overlap;
+        const auto [mirror, estimate] = other->at(t);
+        const double e = std::max(estimate, side->scale_at(t));
+        if (e > resolved) continue;  // the data does not resolve the function here
+        compared.push_back({y[r], mirror, e});
+        ++count->compared;
+      }
+      loo.insert(loo.end(), side->loo.begin(), side->loo.end());
+    }
+    begin = end;
+  }
+  for (const Count& c : {below_rows, above_rows})
+    if (c.compared < kSymmetryMinSideRows || 2 * c.compared < c.overlap) return std::nullopt;
+  const double noise = kMadToSigma * median(std::move(loo));
+  if (noise > resolved) return std::nullopt;
+
+  const double floor = tolerance * range;
+  // The largest |residual| under `kind` about m, or nullopt where some row is beyond its bound.
+  auto worst_residual = [&](SymmetryKind kind, double m) -> std::optional<double> {
+    double worst = 0;
+    for (const Compared& c : compared) {
+      const double r = std::abs(mirror_residual(kind, c.y, c.mirror, m));
+      const double roundings = kRoundings * (std::abs(c.y) + std::abs(c.mirror) + 2 * std::abs(m));
+      if (!(r <= std::max(kResidualRatio * std::max(c.estimate, noise) + roundings, floor)))
+        return std::nullopt;
+      worst = std::max(worst, r);
+    }
+    if (kind != SymmetryKind::Even)
+      for (std::size_t r : zero) {
+        const double d = std::abs(y[r] - m);
+        const double roundings = kRoundings * (std::abs(y[r]) + std::abs(m));
+        if (!(d <= std::max(kResidualRatio * noise + roundings, floor))) return std::nullopt;
+        worst = std::max(worst, d);
+      }
+    return worst;
+  };
+  // The sign of y - m on the half x > 0 (DataSymmetry::sign), within the noise.
+  auto half_sign = [&](double m) {
+    const double tol = std::max(floor, kResidualRatio * noise);
+    bool up = true, down = true;
+    for (std::size_t r = 0; r < x.size(); ++r) {
+      if (!(x[r] > 0)) continue;
+      up = up && y[r] - m >= -tol;
+      down = down && y[r] - m <= tol;
+    }
+    return up ? 1 : down ? -1 : 0;
+  };
+  auto found = [&](SymmetryKind kind, double m, int sign, double worst) {
+    return DataSymmetry{k,
+                        problem.input_names[k],
+                        kind,
+                        m,
+                        sign,
+                        {SymmetryMethod::Interpolation, below_rows.compared + above_rows.compared,
+                         worst / range, noise / range}};
+  };
+  if (const auto w = worst_residual(SymmetryKind::Even, 0))
+    return found(SymmetryKind::Even, 0, 1, *w);
+  if (const auto w = worst_residual(SymmetryKind::Odd, 0))
+    return found(SymmetryKind::Odd, 0, half_sign(0), *w);
+  // m: the mean target at x = 0 where the data has it, else the median midpoint.
+  double m = 0;
+  if (!zero.empty()) {
+    for (std::size_t r : zero) m += y[r];
+    m /= static_cast<double>(zero.size());
+  } else {
+    std::vector<double> mid(compared.size());
+    for (std::size_t i = 0; i < compared.size(); ++i)
+      mid[i] = 0.5 * (compared[i].y + compared[i].mirror);
+    m = median(std::move(mid));
+  }
+  if (const auto w = worst_residual(SymmetryKind::Point, m))
+    return found(SymmetryKind::Point, m, half_sign(m), *w);
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::string_view symmetry_kind_name(SymmetryKind kind) {
@@ -147,6 +450,16 @@ std::optional<SymmetryKind> symmetry_kind_from_name(std::string_view name) {
   return std::nullopt;
 }
 
+std::string_view symmetry_method_name(SymmetryMethod method) {
+  return method == SymmetryMethod::Interpolation ? "interpolation" : "mirrored_pairs";
+}
+
+std::optional<SymmetryMethod> symmetry_method_from_name(std::string_view name) {
+  for (SymmetryMethod m : {SymmetryMethod::MirroredPairs, SymmetryMethod::Interpolation})
+    if (symmetry_method_name(m) == name) return m;
+  return std::nullopt;
+}
+
 std::optional<DataSymmetry> search_symmetry(const SearchOptions& options,
                                             const SearchProblem& problem) {
   if (!options.symmetry) return std::nullopt;
@@ -158,14 +471,21 @@ std::optional<DataSymmetry> search_symmetry(const SearchOptions& options,
 }
 
 std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem, double tolerance) {
+  std::vector<bool> mirrored(problem.inputs.size(), false);
   for (std::size_t k = 0; k < problem.inputs.size(); ++k) {
     const std::optional<Pairs> p = mirrored_pairs(problem, k);
+    mirrored[k] = p.has_value();
     if (!p || p->mirrored.size() < kMinPairs || !weights_mirrored(problem, *p)) continue;
     double center = 0;
     int sign = 1;
-    if (const auto kind = target_symmetry(problem, *p, tolerance, &center, &sign))
-      return DataSymmetry{k, problem.input_names[k], *kind, center, sign};
+    if (const auto kind = target_symmetry(problem, *p, tolerance, &center, &sign)) {
+      const SymmetryEvidence evidence = pairs_evidence(problem, *p, *kind, center);
+      return DataSymmetry{k, problem.input_names[k], *kind, center, sign, evidence};
+    }
   }
+  for (std::size_t k = 0; k < problem.inputs.size(); ++k)
+    if (!mirrored[k])
+      if (auto s = interpolated_symmetry(problem, k, tolerance)) return s;
   return std::nullopt;
 }
 
@@ -299,6 +619,17 @@ std::string describe_symmetry(const DataSymmetry& symmetry) {
       return fmt::format("point-symmetric in {} about {}", x, symmetry.center);
   }
   return {};
+}
+
+std::string describe_symmetry_evidence(const DataSymmetry& symmetry) {
+  const SymmetryEvidence& e = symmetry.evidence;
+  if (e.method == SymmetryMethod::MirroredPairs)
+    return fmt::format("{} mirrored pairs, largest residual {:.2g} of the range",
+                       e.rows_compared / 2, e.max_residual);
+  return fmt::format(
+      "{} rows against the other side's interpolant, largest residual {:.2g} of the range, "
+      "noise {:.2g}",
+      e.rows_compared, e.max_residual, e.noise);
 }
 
 }  // namespace shaderfit

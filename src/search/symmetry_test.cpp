@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <numbers>
+#include <set>
 #include <tuple>
 
 #include "search/seed_problem_test_util.hpp"
@@ -14,6 +16,7 @@
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/report/search_json.hpp"
 #include "shaderfit/search/report.hpp"
 #include "shaderfit/search/search.hpp"
 
@@ -31,6 +34,27 @@ SearchProblem on_grid(const std::function<double(double)>& f, int n = 65) {
     p.target.push_back(f(x));
   }
   return p;
+}
+
+// y = f(x) at n uniform random points of [a, b) drawn from Rng(seed), the targets rounded to
+// float32 when asked.
+SearchProblem uniform_random(const std::function<double(double)>& f, std::uint64_t seed,
+                             double a = -1, double b = 1, int n = 20000, bool float32 = false) {
+  Rng rng(seed);
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs.resize(1);
+  for (int i = 0; i < n; ++i) {
+    const double x = uniform(rng, a, b);
+    p.inputs[0].push_back(x);
+    p.target.push_back(float32 ? static_cast<double>(static_cast<float>(f(x))) : f(x));
+  }
+  return p;
+}
+
+bool has_mirrored_row(const std::vector<double>& x) {
+  const std::set<double> all(x.begin(), x.end());
+  return std::any_of(x.begin(), x.end(), [&](double v) { return v != 0 && all.count(-v) > 0; });
 }
 
 TEST(Symmetry, DetectsEvenOddAndPoint) {
@@ -197,6 +221,141 @@ TEST(Symmetry, FactoredExpression) {
   EXPECT_DOUBLE_EQ(v[1], -v[0]);
 }
 
+TEST(Symmetry, MirroredPairsSayTheirEvidence) {
+  const auto odd = detect_symmetry(on_grid([](double x) { return std::atan(x); }));
+  ASSERT_TRUE(odd);
+  EXPECT_EQ(odd->evidence.method, SymmetryMethod::MirroredPairs);
+  EXPECT_EQ(odd->evidence.rows_compared, 64U);  // 32 pairs with x != 0
+  EXPECT_EQ(odd->evidence.max_residual, 0);     // atan(-x) = -atan(x) to the last bit
+  EXPECT_EQ(odd->evidence.noise, 0);
+  EXPECT_EQ(describe_symmetry_evidence(*odd), "32 mirrored pairs, largest residual 0 of the range");
+  EXPECT_EQ(symmetry_method_name(SymmetryMethod::Interpolation), "interpolation");
+  EXPECT_EQ(symmetry_method_from_name("mirrored_pairs"), SymmetryMethod::MirroredPairs);
+  EXPECT_FALSE(symmetry_method_from_name("pairs"));
+}
+
+// The yardstick's symmetric functions (bench/approximations: acos, atan, erf, the parabolic
+// sines' sin) and x^2 at 20,000 uniform random points, so that no row has its mirror: detected
+// by interpolation as on mirrored pairs, in float64 and float32, on equal and unequal sides.
+TEST(SymmetryInterpolation, DetectsUnmirroredSamples) {
+  constexpr double pi = std::numbers::pi;
+  struct Case {
+    const char* name;
+    double (*f)(double);
+    double scale;  // the domain is scale * [-1, 1), or scale * [-0.7, 1)
+    SymmetryKind kind;
+    int sign;
+  };
+  const Case cases[] = {
+      {"acos", [](double x) { return std::acos(x); }, 1, SymmetryKind::Point, -1},
+      {"erf", [](double x) { return std::erf(x); }, 1, SymmetryKind::Odd, 1},
+      {"erf on [-4, 4)", [](double x) { return std::erf(x); }, 4, SymmetryKind::Odd, 1},
+      {"atan", [](double x) { return std::atan(x); }, 1, SymmetryKind::Odd, 1},
+      {"sin", [](double x) { return std::sin(x); }, pi, SymmetryKind::Odd, 1},
+      {"x^2", [](double x) { return x * x; }, 1, SymmetryKind::Even, 1},
+  };
+  for (const Case& c : cases)
+    for (const bool float32 : {false, true})
+      for (const double left : {-1.0, -0.7})
+        for (const std::uint64_t seed : {1U, 2U, 3U}) {
+          const SearchProblem p =
+              uniform_random(c.f, seed, left * c.scale, c.scale, 20000, float32);
+          SCOPED_TRACE(testing::Message() << c.name << (float32 ? " float32" : " float64")
+                                          << " from " << left << " seed " << seed);
+          ASSERT_FALSE(has_mirrored_row(p.inputs[0]));
+          const auto s = detect_symmetry(p);
+          ASSERT_TRUE(s);
+          EXPECT_EQ(s->kind, c.kind);
+          EXPECT_EQ(s->sign, c.sign);
+          const SymmetryEvidence& e = s->evidence;
+          EXPECT_EQ(e.method, SymmetryMethod::Interpolation);
+          EXPECT_GT(e.rows_compared, left == -1 ? 19000U : 15000U);
+          EXPECT_LT(e.noise, float32 ? 1e-7 : 1e-12);
+          // acos's float64 residuals reach 3e-7 next to x = -1 and 1, where the square-root
+          // singularity leaves the cubic's error at the compared rows' bound.
+          EXPECT_LT(e.max_residual, float32 || c.kind == SymmetryKind::Point ? 1e-6 : 1e-10);
+          if (c.kind == SymmetryKind::Point)
+            EXPECT_NEAR(s->center, pi / 2, float32 ? 1e-7 : 1e-13);
+          else
+            EXPECT_EQ(s->center, 0);
+          std::printf("%s %s [%g, %g) seed %d: %s\n", c.name, float32 ? "f32" : "f64",
+                      left * c.scale, c.scale, static_cast<int>(seed),
+                      describe_symmetry_evidence(*s).c_str());
+        }
+}
+
+TEST(SymmetryInterpolation, NoneForAsymmetricNoisyOrThinData) {
+  const auto data = [](double (*f)(double)) { return uniform_random(f, 7); };
+  EXPECT_FALSE(detect_symmetry(data([](double x) { return std::exp(x); })));
+  EXPECT_FALSE(detect_symmetry(data([](double) { return 3.0; })));
+  // Nearly odd: the even part is far above what the data's smoothness allows.
+  EXPECT_FALSE(detect_symmetry(data([](double x) { return x * x * x + 0.01 * x * x; })));
+  EXPECT_FALSE(detect_symmetry(data([](double x) { return x * x * x + 1e-6 * x * x; })));
+  EXPECT_FALSE(detect_symmetry(
+      uniform_random([](double x) { return x * x * x + 0.01 * x * x; }, 7, -1, 1, 20000, true)));
+  // Noisy data (Gaussian, sigma 1e-3) is searched as it is, as on mirrored pairs: the fold
+  // would hide an asymmetry below the noise. A tolerance above the noise takes it, and says it.
+  SearchProblem noisy = data([](double x) { return std::atan(x); });
+  Rng rng(11);
+  std::normal_distribution<double> noise(0.0, 1e-3);
+  for (double& y : noisy.target) y += noise(rng);
+  EXPECT_FALSE(detect_symmetry(noisy));
+  const auto loose = detect_symmetry(noisy, 1e-2);
+  ASSERT_TRUE(loose);
+  EXPECT_EQ(loose->kind, SymmetryKind::Odd);
+  const double range = std::atan(1.0) * 2;
+  EXPECT_GT(loose->evidence.noise, 1e-3 / range);      // the leave-one-out residuals' spread,
+  EXPECT_LT(loose->evidence.noise, 2 * 1e-3 / range);  // about 1.4 sigma
+  // Fewer than 64 rows on a side, then enough.
+  const auto square = [](double x) { return x * x; };
+  EXPECT_FALSE(detect_symmetry(uniform_random(square, 3, -1, 1, 100)));
+  EXPECT_TRUE(detect_symmetry(uniform_random(square, 3, -1, 1, 400)));
+  // One side much shorter than the other (it reaches less than half as far).
+  EXPECT_FALSE(detect_symmetry(uniform_random(square, 3, -0.45, 1)));
+  EXPECT_TRUE(detect_symmetry(uniform_random(square, 3, -0.55, 1)));
+  // A row at x = 0 that breaks oddness.
+  SearchProblem odd = data([](double x) { return std::atan(x); });
+  odd.inputs[0].push_back(0);
+  odd.target.push_back(0);
+  EXPECT_TRUE(detect_symmetry(odd));
+  odd.target.back() = 1e-3;
+  const auto shifted = detect_symmetry(odd);
+  EXPECT_TRUE(!shifted || shifted->kind != SymmetryKind::Odd);
+}
+
+// Two inputs: a grid in r with many x per value is compared slice by slice; scattered rows are
+// not (they would need the exact pairs).
+TEST(SymmetryInterpolation, SlicesOfAGridInTheOtherInputs) {
+  auto make = [](bool grid, double (*f)(double, double)) {
+    Rng rng(21);
+    SearchProblem p;
+    p.input_names = {"r", "x"};
+    p.inputs.resize(2);
+    const double rs[] = {0.5, 1.0, 1.5, 2.0};
+    for (int i = 0; i < 8000; ++i) {
+      const double r = grid ? rs[i % 4] : uniform(rng, 0.5, 2.0);
+      const double x = uniform(rng, -1.0, 1.0);
+      p.inputs[0].push_back(r);
+      p.inputs[1].push_back(x);
+      p.target.push_back(f(r, x));
+    }
+    return p;
+  };
+  const auto odd = [](double r, double x) { return r * std::erf(2 * x); };
+  const auto s = detect_symmetry(make(true, odd));
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->input, 1U);
+  EXPECT_EQ(s->kind, SymmetryKind::Odd);
+  EXPECT_EQ(s->evidence.method, SymmetryMethod::Interpolation);
+  EXPECT_FALSE(detect_symmetry(make(false, odd)));
+  // Point-symmetric about a centre that changes with r: no one m, not symmetric.
+  EXPECT_FALSE(detect_symmetry(make(true, [](double r, double x) { return r + std::atan(x); })));
+  // Even in x with a centre: even.
+  const auto even = detect_symmetry(make(true, [](double r, double x) { return r + x * x; }));
+  ASSERT_TRUE(even);
+  EXPECT_EQ(even->kind, SymmetryKind::Even);
+}
+
 // Every row's error of e.
 ErrorMetrics metrics_on(const Expression& e, const SearchProblem& p) {
   std::vector<const double*> cols;
@@ -298,6 +457,32 @@ TEST(SymmetrySearch, EvenAndSignChangingOddData) {
       }
     }
   }
+}
+
+// acos at uniform random points: folded as on mirrored pairs; the report and the JSON say how.
+TEST(SymmetrySearch, UnmirroredAcosIsFoldedAndSaysHow) {
+  const SearchProblem p = uniform_random([](double x) { return std::acos(x); }, 5, -1, 1, 4000);
+  SearchOptions o = test::seed_task_options();
+  o.threads = 1;
+  o.time_limit_s = 60;
+  o.max_candidates = 3000;
+  o.loss = Loss::MaxAbs;
+  SearchSummary s;
+  run_search(o, p, &s);
+  ASSERT_TRUE(s.symmetry);
+  EXPECT_EQ(s.symmetry->kind, SymmetryKind::Point);
+  EXPECT_EQ(s.symmetry->evidence.method, SymmetryMethod::Interpolation);
+  const std::string report = s.brief_report();
+  EXPECT_NE(report.find("point-symmetric in x about 1.57"), std::string::npos) << report;
+  EXPECT_NE(report.find("rows against the other side's interpolant"), std::string::npos) << report;
+  const nlohmann::json j = nlohmann::json::parse(search_json(s, o, {}));
+  const nlohmann::json& sy = j.at("summary").at("symmetry");
+  EXPECT_EQ(sy.at("kind"), "point");
+  EXPECT_EQ(sy.at("method"), "interpolation");
+  EXPECT_EQ(sy.at("rows_compared").get<std::size_t>(), s.symmetry->evidence.rows_compared);
+  EXPECT_EQ(sy.at("noise").get<double>(), s.symmetry->evidence.noise);
+  for (const FrontMember& m : s.front)
+    EXPECT_EQ(metrics_on(m.expression, p).max_abs, m.metrics.max_abs) << m.formula;
 }
 
 TEST(SymmetrySearch, StartFormulasJoinTheWholeFront) {

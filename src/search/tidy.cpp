@@ -11,6 +11,7 @@
 #include "search/search_context.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/loss.hpp"
+#include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/expr/simplify.hpp"
 
@@ -27,10 +28,23 @@ std::vector<double> make_simple_values() {
   std::vector<double> v = {0.0};
   for (int q = 1; q <= 4; ++q)
     for (int p = 1; p <= 32 * q; ++p) v.push_back(static_cast<double>(p) / q);
-  constexpr double pi = std::numbers::pi;
-  for (double x :
-       {pi / 4, pi / 2, pi, 2 * pi, 4 * pi, 1 / pi, 1 / (2 * pi), 1 / (4 * pi), std::numbers::ln2})
-    v.push_back(x);
+  // r b and 1 / (r b) for r = k / q: pi's multiples and fractions (angles, 4 pi epsilon), ln 2's
+  // (exp and log written with exp2 and log2). In long double, so that each is the double nearest
+  // its real value.
+  using Real = long double;
+  const auto multiples = [&v](Real b, int k_max) {
+    for (int q = 1; q <= 4; ++q)
+      for (int k = 1; k <= k_max; ++k) {
+        v.push_back(static_cast<double>(k * b / q));
+        v.push_back(static_cast<double>(q / (k * b)));
+      }
+  };
+  multiples(std::numbers::pi_v<Real>, 8);
+  multiples(std::numbers::ln2_v<Real>, 4);
+  for (Real x : {Real{2}, std::numbers::pi_v<Real>, 2 * std::numbers::pi_v<Real>}) {
+    v.push_back(static_cast<double>(std::sqrt(x)));
+    v.push_back(static_cast<double>(1 / std::sqrt(x)));
+  }
   const std::size_t positive = v.size();
   for (std::size_t i = 1; i < positive; ++i) v.push_back(-v[i]);
   std::sort(v.begin(), v.end());
@@ -85,7 +99,7 @@ Expression lifted(Expression e, const Expression& original) {
 class Tidier {
  public:
   Tidier(const SearchOptions& options, const SearchProblem& problem)
-      : ctx_(options, problem), cost_target_(options.cost) {
+      : ctx_(options, problem), cost_target_(options.cost), noise_rmse_(noise_level_rmse(problem)) {
     simplify_options_.regroup_constants = true;
     simplify_options_.cost = [this](const Expression& e) {
       return expression_cost(e, cost_target_);
@@ -99,13 +113,20 @@ class Tidier {
   // The tidied member, or nullopt when no step was kept.
   std::optional<FrontMember> tidy(const FrontMember& m) {
     limit_ = m.loss + kTidyRelativeLoss * std::abs(m.loss) + floor_;
+    noise_ = m.metrics.rmse <= noise_rmse_;
     original_ = &m.expression;
     current_ = baked(m.expression);
     cost_ = m.cost;
+    metrics_ = m.metrics;
     changed_ = false;
     keep(simplify(current_, simplify_options_));
-    snap_near_constants();
-    for (int step = 0; step < kMaxSteps && snap_one_constant(); ++step) {
+    drop_idle_branches();
+    snap_constants();
+    if (!noise_ && metrics_.rmse <= noise_rmse_) {
+      // Tidied to noise level (a constant snapped to the value the data was made with): the
+      // noise-level rule from here on.
+      noise_ = true;
+      snap_constants();
     }
     if (!changed_) return std::nullopt;
     FrontMember t = m;
@@ -122,7 +143,8 @@ class Tidier {
 
  private:
   // Keeps `candidate` as the current form when it differs, costs no more, is finite everywhere
-  // and its loss is within the limit.
+  // and its error is acceptable: at noise level for a member at noise level, else its loss
+  // within the limit.
   bool keep(Expression candidate) {
     if (candidate == current_) return false;
     const double cost = expression_cost(lifted(candidate, *original_), cost_target_);
@@ -132,8 +154,9 @@ class Tidier {
     for (double v : prediction)
       if (!std::isfinite(v)) return false;
     const ErrorMetrics metrics = ctx_.metrics_of(prediction);
-    const double loss = loss_value(ctx_.options.loss, metrics);
-    if (!(loss <= limit_) || !ctx_.finite_everywhere(candidate)) return false;
+    const bool acceptable =
+        noise_ ? metrics.rmse <= noise_rmse_ : loss_value(ctx_.options.loss, metrics) <= limit_;
+    if (!acceptable || !ctx_.finite_everywhere(candidate)) return false;
     current_ = std::move(candidate);
     cost_ = cost;
     metrics_ = metrics;
@@ -141,25 +164,87 @@ class Tidier {
     return true;
   }
 
-  // Snapping works on the regrouped form even when that alone was not kept: regrouping can
-  // leave a residue (k - d / c of a cancelled offset) that is only noise once snapped with the
-  // rest.
+  // A min, max, saturate, abs or select whose result on the rows is one of its operands (or a
+  // bound of saturate) is replaced by that operand: a clamp that never acts on the data is no
+  // part of the function it shows, and outside the rows (a wider domain) it would cut it.
+  // Repeated while one is dropped; each replacement passes keep().
+  void drop_idle_branches() {
+    for (int step = 0; step < kMaxSteps; ++step) {
+      const Expression base = current_;
+      bool dropped = false;
+      for (std::size_t i = 0; i < base.nodes.size() && !dropped; ++i) {
+        const Op op = base.nodes[i].op;
+        if (op != Op::Min && op != Op::Max && op != Op::Saturate && op != Op::Abs &&
+            op != Op::Select)
+          continue;
+        std::vector<std::vector<Node>> options;
+        // The operands, last first: each ends where the next one starts.
+        std::size_t end = i;
+        std::vector<std::vector<Node>> operands;
+        for (int k = 0; k < arity(op); ++k) {
+          const std::size_t last = end - 1;
+          const std::size_t first = last - base.nodes[last].length;
+          operands.insert(operands.begin(), std::vector<Node>(base.nodes.begin() + first,
+                                                              base.nodes.begin() + last + 1));
+          end = first;
+        }
+        if (op == Op::Select) {
+          options = {operands[1], operands[2]};
+        } else {
+          options = operands;
+          if (op == Op::Saturate) options.push_back({Node::constant(1.0)});
+        }
+        for (const std::vector<Node>& with : options) {
+          Expression t = base;
+          t.nodes.erase(t.nodes.begin() + static_cast<std::ptrdiff_t>(end),
+                        t.nodes.begin() + static_cast<std::ptrdiff_t>(i) + 1);
+          t.nodes.insert(t.nodes.begin() + static_cast<std::ptrdiff_t>(end), with.begin(),
+                         with.end());
+          t.update_lengths();
+          if (keep(simplify(t, simplify_options_))) {
+            dropped = true;
+            break;
+          }
+        }
+      }
+      if (!dropped) return;
+    }
+  }
+
+  void snap_constants() {
+    snap_near_constants();
+    for (int step = 0; step < kMaxSteps && snap_one_constant(); ++step) {
+    }
+  }
+
+  // Which constants snap_near_constants snaps.
+  enum class Near { All, Zero, NonZero };
+
+  // The constants near a simple value snapped at once: all of them, else those near 0 alone
+  // (noise terms), else the others alone. Noise terms of an exact fit compensate each other (and
+  // a near-simple constant's own noise), so that one at a time each raises the error while all
+  // at once they do not. Snapping works on the regrouped form even when that alone was not kept:
+  // regrouping can leave a residue (k - d / c of a cancelled offset) that is only noise once
+  // snapped with the rest.
   void snap_near_constants() {
     const Expression base = simplify(current_, simplify_options_);
     double scale = 1;
     for (const Node& n : base.nodes)
       if (n.op == Op::Const) scale = std::max(scale, std::abs(n.value));
-    Expression all = base;
-    bool any = false;
-    for (Node& n : all.nodes) {
-      if (n.op != Op::Const) continue;
-      const double s = nearest_simple_value(n.value);
-      if (s == n.value || std::abs(n.value - s) > kNearRelative * (s == 0 ? scale : std::abs(s)))
-        continue;
-      n.value = s;
-      any = true;
+    for (const Near which : {Near::All, Near::Zero, Near::NonZero}) {
+      Expression snapped = base;
+      bool any = false;
+      for (Node& n : snapped.nodes) {
+        if (n.op != Op::Const) continue;
+        const double s = nearest_simple_value(n.value);
+        if (s == n.value || (which == Near::Zero && s != 0) || (which == Near::NonZero && s == 0) ||
+            std::abs(n.value - s) > kNearRelative * (s == 0 ? scale : std::abs(s)))
+          continue;
+        n.value = s;
+        any = true;
+      }
+      if (any && keep(simplify(snapped, simplify_options_))) return;
     }
-    if (any) keep(simplify(all, simplify_options_));
   }
 
   bool snap_one_constant() {
@@ -179,8 +264,10 @@ class Tidier {
   SearchContext ctx_;
   CostTarget cost_target_;
   SimplifyOptions simplify_options_;
+  double noise_rmse_ = 0;
   double floor_ = 0;
   double limit_ = 0;
+  bool noise_ = false;  // whether the member is at noise level: the rule keep() applies
   const Expression* original_ = nullptr;
   Expression current_;
   double cost_ = 0;
@@ -205,6 +292,12 @@ double nearest_simple_value(double v) {
   return v - lo <= hi - v ? lo : hi;
 }
 
+double noise_level_rmse(const SearchProblem& problem) {
+  const std::vector<double> zero(problem.target.size(), 0.0);
+  const double rms = error_metrics(zero, problem.target, {}, problem.weights).rmse;
+  return std::isfinite(rms) ? kNoiseLevel * rms : 0.0;
+}
+
 std::vector<FrontMember> tidy_front(const SearchOptions& options, const SearchProblem& problem,
                                     std::vector<FrontMember> front,
                                     std::uint64_t* node_evaluations) {
@@ -222,7 +315,12 @@ std::vector<FrontMember> tidy_front(const SearchOptions& options, const SearchPr
     }
   }
   if (node_evaluations != nullptr) *node_evaluations += tidier.node_evaluations();
-  return tidied.members();
+  std::vector<FrontMember> out = tidied.members();
+  const double noise_rmse = noise_level_rmse(problem);
+  const auto first = std::find_if(
+      out.begin(), out.end(), [&](const FrontMember& m) { return m.metrics.rmse <= noise_rmse; });
+  if (first != out.end()) out.erase(first + 1, out.end());
+  return out;
 }
 
 }  // namespace shaderfit::search_detail

@@ -190,6 +190,26 @@ Expression with_literals_as_parameters(const Expression& e) {
   return finish(std::move(n), unlimited);
 }
 
+std::vector<std::vector<Node>> subtree_blocks(const std::vector<const Expression*>& formulas) {
+  std::vector<Nodes> out;
+  for (const Expression* e : formulas) {
+    const Nodes n = inline_parameters(*e);
+    for (std::size_t i = 0; i < n.size() && out.size() < kMaxBlocks; ++i) {
+      const std::size_t size = n[i].length + 1;
+      if (size < 2 || size > kMaxBlockNodes) continue;
+      Nodes t = subtree_of(n, i);
+      const auto same = [&](const Nodes& b) {
+        return b.size() == t.size() &&
+               std::equal(b.begin(), b.end(), t.begin(), [](const Node& x, const Node& y) {
+                 return x.op == y.op && x.index == y.index && x.value == y.value;
+               });
+      };
+      if (std::none_of(out.begin(), out.end(), same)) out.push_back(std::move(t));
+    }
+  }
+  return out;
+}
+
 Expression mutate(Rng& rng, const Expression& e, const VariationLimits& l) {
   Nodes n = inline_parameters(e);  // lengths valid: e is well formed
   const bool room_for_param = count_params(n) < l.max_parameters;
@@ -211,10 +231,13 @@ Expression mutate(Rng& rng, const Expression& e, const VariationLimits& l) {
       n[i] = random_leaf(rng, l, room_for_param || n[i].op == Op::Param);
       break;
     }
-    case 2: {  // a new random subtree
+    case 2: {  // a new random subtree, or a building block
       const std::size_t i = random_node(rng, n, false);
       Nodes t;
-      grow(rng, l, static_cast<int>(uniform_index(rng, 3)), room_for_param, t);
+      if (!l.blocks.empty() && bernoulli(rng, 0.5))
+        t = l.blocks[uniform_index(rng, l.blocks.size())];
+      else
+        grow(rng, l, static_cast<int>(uniform_index(rng, 3)), room_for_param, t);
       n = splice(n, i, t);
       break;
     }

@@ -19,12 +19,23 @@ struct VariationLimits {
   std::vector<double> literals;
   std::size_t max_nodes = 25;
   int max_parameters = 4;
+  // Building blocks a mutation may insert instead of a random subtree (subtree_blocks); each
+  // carries its parameters' values in Node::value.
+  std::vector<std::vector<Node>> blocks;
 };
+
+// The distinct subtrees of 2 to kMaxBlockNodes nodes of the given formulas, in order of
+// appearance, at most kMaxBlocks: the parts of the front's formulas, for mutations to reuse
+// anywhere (a sub-formula that explains part of the data in one member often does in another).
+inline constexpr std::size_t kMaxBlockNodes = 9;
+inline constexpr std::size_t kMaxBlocks = 256;
+std::vector<std::vector<Node>> subtree_blocks(const std::vector<const Expression*>& formulas);
 
 // A random formula grown to at most `depth` operator levels.
 Expression random_formula(Rng& rng, const VariationLimits& limits, int depth);
 
-// One random mutation: a point change (operator or leaf), a new random subtree, hoisting a
+// One random mutation: a point change (operator or leaf), a new random subtree (half the time one
+// of limits.blocks, when there are any), hoisting a
 // child over its parent, wrapping a subtree in a new operator, turning a literal into a free
 // parameter, scaling or shifting a subtree by a new parameter, or jittering a parameter.
 Expression mutate(Rng& rng, const Expression& e, const VariationLimits& limits);

@@ -132,6 +132,24 @@ TEST(Certify, Exp2Polynomial) {
   expect_tight(c, dense_max(e, f, 1000001), 1.05, "exp2");
 }
 
+TEST(Certify, FormulasWithAsinAcosAtanAtan2TanhErf) {
+  // The search's operators asin ... erf in the formula, against references of the same functions.
+  const ReferenceFunction f1 = make_reference("erf(x)", {"x=-2:2"});
+  const Expression e1 = formula("tanh(1.202 * x) + 0.003 * erf(3 * x)", f1);
+  const Certificate c1 = certify(e1, {"x"}, f1);
+  expect_tight(c1, dense_max(e1, f1, 1000001), 1.05, "tanh and erf");
+  const ReferenceFunction f2 = make_reference("acos(x)", {"x=-0.9:0.9"});
+  const Expression e2 = formula("1.5707963 - asin(x) - 0.01 * atan(3 * x) + 0.001 * acos(x)", f2);
+  const Certificate c2 = certify(e2, {"x"}, f2);
+  expect_tight(c2, dense_max(e2, f2, 1000001), 1.05, "asin, acos, atan");
+  const ReferenceFunction f3 = make_reference("atan(y / x)", {"x=0.2:1", "y=-1:1"});
+  const Expression e3 = formula("atan2(y, x) * 0.99 + 0.01 * atan2(x, 2 - y)", f3);
+  CertifyOptions o;
+  o.time_limit_s = 20;
+  const Certificate c3 = certify(e3, {"x", "y"}, f3, o);
+  expect_tight(c3, dense_max(e3, f3, 2001), 1.2, "atan2 2-D");
+}
+
 TEST(Certify, PiecewiseReferenceSrgb) {
   // sRGB encoding: a select in the reference, pow with a fractional exponent down to 0.
   const ReferenceFunction f =

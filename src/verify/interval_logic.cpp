@@ -172,6 +172,12 @@ Dual apply_op(Op op, int index, std::span<const Dual> o) {
     case Op::Sign: return sign(o[0]);
     case Op::CopySign: return copysign(o[0], o[1]);
     case Op::Select: return select(o[0], o[1], o[2]);
+    case Op::Asin: return asin(o[0]);
+    case Op::Acos: return acos(o[0]);
+    case Op::Atan: return atan(o[0]);
+    case Op::Atan2: return atan2(o[0], o[1]);
+    case Op::Tanh: return tanh(o[0]);
+    case Op::Erf: return erf(o[0]);
     default: break;
   }
   throw Error("certify: operator '" + std::string(op_info(op).name) + "' is not an operation");

@@ -46,7 +46,9 @@ struct CodegenOptions {
   std::vector<std::string> comment;
 };
 
-// One function, ending in a newline. Throws shaderfit::Error (located at CodegenOptions::name,
+// One function, ending in a newline; in GLSL, HLSL and Metal, which have no erf, a formula with
+// erf is preceded by the helper function it calls (`sf_erf`, max error 1.32 ulp in float32
+// arithmetic; docs/codegen.md). Throws shaderfit::Error (located at CodegenOptions::name,
 // Expression::variables, Expression::parameters or "formula") for a function, input or parameter
 // name that is not an identifier of the language or is reserved there, and for a constant that is
 // not finite.
@@ -59,7 +61,8 @@ struct SourceFunction {
 };
 
 // A source file that compiles on its own, pasted into an empty file: the lines its functions need
-// first, then the functions (generate_function's text) with a blank line between. Those lines:
+// first, the erf helper once where a function needs it (GLSL, HLSL, Metal), then the functions
+// with a blank line between. Those lines:
 //   C++    #include <cmath> when a function calls std::fma, std::sqrt, std::copysign, ...;
 //          #include <algorithm> for std::clamp (saturate; C++17)
 //   GLSL   #version 450: glslangValidator reads a file without one as ES 1.00 (no uint, no

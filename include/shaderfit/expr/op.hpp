@@ -63,6 +63,13 @@ enum class Op : std::uint8_t {
   // positive ones): the search rejects formulas with a NaN there (not finite everywhere).
   CopySign,
   Select,  // ternary: select(a, b, c) = a >= 0 ? b : c; -0.0 takes b, NaN takes c
+  // As C's libm; unary but atan2 (NaN outside the domain: asin and acos of |a| > 1).
+  Asin,
+  Acos,
+  Atan,
+  Atan2,  // binary: atan2(a, b) as C's atan2(y = a, x = b), in [-pi, pi]
+  Tanh,
+  Erf,
   Count_
 };
 
@@ -87,6 +94,8 @@ inline constexpr OpInfo kOpInfo[kOpCount] = {
     {"log", 1, false, false},   {"abs", 1, false, false},      {"saturate", 1, false, false},
     {"sin", 1, false, false},   {"cos", 1, false, false},      {"fma", 3, false, false},
     {"sign", 1, false, false},  {"copysign", 2, false, false}, {"select", 3, false, false},
+    {"asin", 1, false, false},  {"acos", 1, false, false},     {"atan", 1, false, false},
+    {"atan2", 2, false, false}, {"tanh", 1, false, false},     {"erf", 1, false, false},
 };
 
 constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<int>(op)]; }
@@ -121,7 +130,8 @@ SF_OP_INLINE T apply_ipow(T x, int k, T one = T(1)) {
 
 template <typename T>
 SF_OP_INLINE T apply_unary(Op op, T a) {
-  using std::abs, std::cos, std::exp, std::exp2, std::log, std::log2, std::sin, std::sqrt;
+  using std::abs, std::acos, std::asin, std::atan, std::cos, std::erf, std::exp, std::exp2,
+      std::log, std::log2, std::sin, std::sqrt, std::tanh;
   switch (op) {
     case Op::Neg: return -a;
     case Op::Sqrt: return sqrt(a);
@@ -137,13 +147,18 @@ SF_OP_INLINE T apply_unary(Op op, T a) {
     case Op::Cos: return cos(a);
     // a * 0 keeps the zero's sign and a NaN, and has no derivative part (Taylor jets).
     case Op::Sign: return a > T(0) ? T(1) : (a < T(0) ? T(-1) : a * T(0));
+    case Op::Asin: return asin(a);
+    case Op::Acos: return acos(a);
+    case Op::Atan: return atan(a);
+    case Op::Tanh: return tanh(a);
+    case Op::Erf: return erf(a);
     default: return a / T(0) * T(0);  // NaN: not a unary operator
   }
 }
 
 template <typename T>
 SF_OP_INLINE T apply_binary(Op op, T a, T b) {
-  using std::copysign, std::exp2, std::fmax, std::fmin, std::log2;
+  using std::atan2, std::copysign, std::exp2, std::fmax, std::fmin, std::log2;
   switch (op) {
     case Op::Add: return a + b;
     case Op::Sub: return a - b;
@@ -153,6 +168,7 @@ SF_OP_INLINE T apply_binary(Op op, T a, T b) {
     case Op::Max: return fmax(a, b);
     case Op::Pow: return exp2(b * log2(a));
     case Op::CopySign: return copysign(a, b);
+    case Op::Atan2: return atan2(a, b);
     default: return a / T(0) * T(0);
   }
 }
@@ -180,8 +196,9 @@ SF_OP_INLINE T apply_ternary(Op op, T a, T b, T c) {
 // take the derivative 0.
 template <typename T>
 SF_OP_INLINE T unary_derivative(Op op, T a, T y) {
-  using std::cos, std::sin;
+  using std::cos, std::exp, std::sin, std::sqrt;
   constexpr double kLn2 = 0.6931471805599453;
+  constexpr double kTwoOverSqrtPi = 1.1283791670955126;
   switch (op) {
     case Op::Neg: return T(-1);
     case Op::Sqrt: return T(0.5) / y;
@@ -196,6 +213,11 @@ SF_OP_INLINE T unary_derivative(Op op, T a, T y) {
     case Op::Sin: return cos(a);
     case Op::Cos: return -sin(a);
     case Op::Sign: return T(0);
+    case Op::Asin: return T(1) / sqrt(T(1) - a * a);  // NaN outside [-1, 1], inf at +-1
+    case Op::Acos: return T(-1) / sqrt(T(1) - a * a);
+    case Op::Atan: return T(1) / (T(1) + a * a);
+    case Op::Tanh: return T(1) - y * y;
+    case Op::Erf: return T(kTwoOverSqrtPi) * exp(-(a * a));
     default: return a / T(0) * T(0);  // NaN: not a unary operator (IPow: ipow_derivative)
   }
 }
@@ -232,6 +254,11 @@ SF_OP_INLINE BinaryPartials<T> binary_partials(Op op, T a, T b, T y) {
     case Op::Pow: return {b * y / a, y * log(a)};
     // d/da = sign(a) * (sign of b) (0 at a = +-0); b only contributes its sign bit: d/db = 0.
     case Op::CopySign: return {apply_unary(Op::Sign, a) * copysign(T(1), b), T(0)};
+    // atan2(a, b) is atan(a / b) up to a constant: d/da = b / r2, d/db = -a / r2, r2 = a^2 + b^2.
+    case Op::Atan2: {
+      const T r2 = a * a + b * b;
+      return {b / r2, -a / r2};
+    }
     default: return {a / T(0) * T(0), a / T(0) * T(0)};  // NaN: not a binary operator
   }
 }

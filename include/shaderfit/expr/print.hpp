@@ -31,7 +31,11 @@ struct PrintOptions {
   static PrintOptions for_people(int digits = 0);
 };
 
-// Infix with the fewest parentheses that keep the structure. A sum never shows a sign twice:
+// Infix with the fewest parentheses that keep the structure. Parts whose text would read as
+// neutral are left out: a literal factor or divisor written `1`, a literal addend or subtrahend
+// written `0`, and `^1` (e.g. `x * 1.0000000001` with NumberText::Float32 is written `x`), so
+// no text shows `x * 1`, `x / 1`, `x + 0`, `x - 0`, `0 + x`, `1 * x` or `x^1`; the text then
+// means what it did, up to the sign of a zero sum. A sum never shows a sign twice:
 // `a - -c` is written `a + c` and `a + -c * x` is written `a - c * x` (the same value bit for
 // bit: negation commutes with rounding). With NumberText::Exact, parse_formula(to_infix(e),
 // {variables, parameters}) evaluates equal to e on every input, and printing what it reads

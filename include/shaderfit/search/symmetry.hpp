@@ -1,5 +1,6 @@
-// Symmetry of the data in one input, found on the rows, so that a search can fit the half
-// x >= 0 and add the reflection (docs/search.md, "Symmetric data").
+// Symmetry of the data in one input, found on mirrored pairs of rows or, for any sampling, by
+// interpolation, so that a search can fit the half x >= 0 and add the reflection (docs/search.md,
+// "Symmetric data").
 //
 //   std::optional<DataSymmetry> s = detect_symmetry(problem);    // e.g. odd in x
 //   SearchProblem half = symmetric_half(problem, *s);             // rows with x >= 0
@@ -32,6 +33,25 @@ enum class SymmetryKind {
 std::string_view symmetry_kind_name(SymmetryKind kind);
 std::optional<SymmetryKind> symmetry_kind_from_name(std::string_view name);
 
+// How a symmetry was found (detect_symmetry): on mirrored pairs of rows, or by comparing each
+// row with an interpolant of the data on the other side of 0.
+enum class SymmetryMethod { MirroredPairs, Interpolation };
+// "mirrored_pairs", "interpolation" (and back; nullopt for anything else).
+std::string_view symmetry_method_name(SymmetryMethod method);
+std::optional<SymmetryMethod> symmetry_method_from_name(std::string_view name);
+
+// What the decision rests on, relative to the target's range (max - min).
+struct SymmetryEvidence {
+  SymmetryMethod method = SymmetryMethod::MirroredPairs;
+  std::size_t rows_compared = 0;  // rows with x != 0 compared with their mirror's value
+  double max_residual = 0;        // the largest |mirror residual| (below) / range
+  // Interpolation: the data's noise, a robust standard deviation of the leave-one-out
+  // residuals of the same-side interpolant, / range; 0 for mirrored pairs.
+  double noise = 0;
+
+  friend bool operator==(const SymmetryEvidence&, const SymmetryEvidence&) = default;
+};
+
 struct DataSymmetry {
   std::size_t input = 0;   // index into the problem's inputs
   std::string input_name;  // its name
@@ -41,25 +61,59 @@ struct DataSymmetry {
   // that copysign carries the sign of s (y - m) >= 0 (|t - g| <= |t + g| wherever t >= 0 > g, so
   // copysign never adds error); 0 when it changes sign (the slower form with sign). Even: 1.
   int sign = 1;
+  SymmetryEvidence evidence;
 
   friend bool operator==(const DataSymmetry&, const DataSymmetry&) = default;
 };
 
-// Relative to the target's range (max - min): float64 references of an exactly symmetric
-// function meet it; measured or float32 data generally do not, and are searched as they are.
+// Relative to the target's range (max - min): the asymmetry accepted whatever the data's noise.
+// float64 references of an exactly symmetric function meet it on mirrored pairs.
 inline constexpr double kSymmetryTolerance = 1e-9;
 
-// The first input (in problem order) in which the data is symmetric, or nullopt. The data is
-// symmetric in x when
+// Interpolation (below): the fewest rows compared on each side of 0, over all slices.
+inline constexpr std::size_t kSymmetryMinSideRows = 64;
+
+// The first input in which the data is symmetric, or nullopt. Every input (in problem order) is
+// tried on mirrored pairs first, then every input whose rows are not mirrored by interpolation.
+// A constant target is not taken as symmetric. Residuals: y(x) - y(-x) (even), y(x) + y(-x)
+// (odd), y(x) + y(-x) - 2 m (point). Tried in that order, even first.
+//
+// Mirrored pairs (exact, cheap): the data is symmetric in x when
 //  - the rows come in mirrored pairs: for each row with x != 0 exactly one row with -x and every
 //    other input equal (bit for bit), rows with x = 0 pairing with themselves, no two rows alike;
 //  - at least 8 pairs have x != 0;
 //  - paired rows have the same weight;
-//  - the target satisfies, on every pair, within tolerance * (max - min of the target):
-//    y(-x) = y(x) (even, tried first), y(-x) = -y(x) (odd) or y(-x) + y(x) = 2 m (point; m is
-//    the mean target of the rows with x = 0, or without such rows the mean of the pairs'
-//    midpoints).
-// A constant target is not taken as symmetric. `problem` must be valid (SearchProblem::validate).
+//  - every pair's residual is within tolerance * (max - min of the target), and for odd data
+//    y = 0, for point data y = m, at x = 0 (m is the mean target of the rows with x = 0, or
+//    without such rows the mean of the pairs' midpoints).
+// Rows that are mirrored in x are decided by this rule alone.
+//
+// Interpolation (any sampling), in slices of rows whose other inputs are equal bit for bit
+// (all rows in one input; a grid in the other inputs otherwise; scattered rows in several inputs
+// make slices of one row, and the data is then not taken as symmetric). In each slice the rows of
+// each side (x < 0, x > 0) are a function of |x| on nodes: the distinct |x| with their mean
+// target, less any node closer to the previous one than a quarter of the local spacing. y(-x) for
+// a row at x is the cubic through the four nearest nodes of the other side. The noise is 1.4826
+// times the median |leave-one-out residual| of the nodes (each from the cubic through its four
+// neighbours), the local scale that median over 17 nodes. A row's error estimate is the largest
+// of the cubic's next term at the mirror (|quartic - cubic|), the local scale there times the
+// cubic's noise gain (the sum of its |Lagrange weights|), the local scale at the row, and the
+// noise. A row is compared when its mirror lies within the other side's nodes (the overlap |x| <=
+// min(max x, -min x): rows beyond it are not compared, but the fold still fits the half x >= 0
+// and scores each reflected formula on every row) and its error estimate is at most R = max(1e-6,
+// tolerance) * range (where it is larger, the data does not resolve the function). The data is
+// symmetric in x when
+//  - every slice has at least 8 nodes on each side, and its shorter side reaches at least half as
+//    far from 0 as its longer side;
+//  - on each side at least kSymmetryMinSideRows rows, and at least half of the rows in the
+//    overlap, are compared;
+//  - the noise is at most R: float64 and float32-rounded data pass, measured data with noise 1e-3
+//    does not (as on mirrored pairs);
+//  - every compared row's residual is within 10 times its error estimate plus a few float64
+//    roundings, or within tolerance * range;
+//  - for odd and point data, rows at x = 0 are within 10 times the noise of 0 and m (m: the mean
+//    target at x = 0, or without such rows the median over compared rows of (y(x) + y(-x)) / 2).
+// Weights play no part in this rule. `problem` must be valid (SearchProblem::validate).
 std::optional<DataSymmetry> detect_symmetry(const SearchProblem& problem,
                                             double tolerance = kSymmetryTolerance);
 
@@ -89,5 +143,10 @@ std::optional<Expression> factored_expression(const Expression& g, const DataSym
 
 // "odd in x", "even in x", "point-symmetric in x about 1.5707963267948966".
 std::string describe_symmetry(const DataSymmetry& symmetry);
+
+// The evidence in a few words: "512 mirrored pairs, largest residual 0 of the range", or
+// "19873 rows against the other side's interpolant, largest residual 2.1e-14 of the range,
+// noise 3.4e-16".
+std::string describe_symmetry_evidence(const DataSymmetry& symmetry);
 
 }  // namespace shaderfit

@@ -1,0 +1,72 @@
+// `auto`'s optional operator groups: suggested where the data shows them, not elsewhere.
+#include "search/operator_probe.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+#include "shaderfit/core/random.hpp"
+
+namespace shaderfit::search_detail {
+namespace {
+
+SearchProblem drawn(std::vector<std::string> names, double lo, double hi,
+                    const std::function<double(const std::vector<double>&)>& f) {
+  Rng rng(5);
+  SearchProblem p;
+  p.input_names = std::move(names);
+  p.inputs.assign(p.input_names.size(), {});
+  std::vector<double> row(p.input_names.size());
+  for (int i = 0; i < 1000; ++i) {
+    for (std::size_t k = 0; k < row.size(); ++k)
+      p.inputs[k].push_back(row[k] = uniform(rng, lo, hi));
+    p.target.push_back(f(row));
+  }
+  return p;
+}
+
+bool has(const std::vector<Op>& ops, Op op) {
+  return std::find(ops.begin(), ops.end(), op) != ops.end();
+}
+
+const std::vector<Op> kArithmetic = {Op::Add, Op::Sub, Op::Mul, Op::Div, Op::IPow, Op::Sqrt};
+
+TEST(OperatorProbe, TrigonometryWhereTheDataTurnsLikeASine) {
+  SearchOptions o;
+  o.time_limit_s = 2;
+  // r F sin(theta), theta over [1, 5]: the one-input trace.
+  const auto torque = drawn({"r", "F", "theta"}, 1, 5, [](const std::vector<double>& v) {
+    return v[0] * v[1] * std::sin(v[2]);
+  });
+  const std::vector<Op> extra =
+      probe_operator_groups(o, torque, kArithmetic, probed_operator_groups());
+  EXPECT_TRUE(has(extra, Op::Sin) && has(extra, Op::Cos));
+  // Rational and power functions: none.
+  const auto lens = drawn({"d1", "d2", "n"}, 1, 5, [](const std::vector<double>& v) {
+    return 1 / (1 / v[0] + v[2] / v[1]);
+  });
+  EXPECT_TRUE(probe_operator_groups(o, lens, kArithmetic, probed_operator_groups()).empty());
+  const auto mass = drawn({"m", "v", "c"}, 1, 2, [](const std::vector<double>& v) {
+    return v[0] / std::sqrt(1 - v[1] * v[1] / (9 * v[2] * v[2]));
+  });
+  EXPECT_TRUE(probe_operator_groups(o, mass, kArithmetic, probed_operator_groups()).empty());
+  // Operators the base has already are not repeated.
+  std::vector<Op> with_trig = kArithmetic;
+  with_trig.push_back(Op::Sin);
+  with_trig.push_back(Op::Cos);
+  EXPECT_TRUE(probe_operator_groups(o, torque, with_trig, probed_operator_groups()).empty());
+}
+
+TEST(OperatorProbe, SameAnswerEveryTime) {
+  SearchOptions o;
+  o.time_limit_s = 1;
+  const auto wave = drawn(
+      {"x", "t"}, 0, 6, [](const std::vector<double>& v) { return std::cos(v[0] - v[1]) + v[1]; });
+  const std::vector<Op> a = probe_operator_groups(o, wave, kArithmetic, probed_operator_groups());
+  EXPECT_EQ(a, probe_operator_groups(o, wave, kArithmetic, probed_operator_groups()));
+}
+
+}  // namespace
+}  // namespace shaderfit::search_detail
