@@ -150,12 +150,15 @@ HWY_INLINE V Log2V(D d, V x) {
 }
 
 // tanh: Highway's, except that |x| below 2^-12 (float) or 2^-27 (double), where tanh(x) rounds
-// to x, is x itself (Highway's expm1 loses subnormals).
+// to x, is x itself (Highway's expm1 loses subnormals), and NaN is passed through (Highway's
+// expm1 converts its argument to an integer, which a NaN must not reach).
 template <class D, class V>
 HWY_INLINE V TanhV(D d, V x) {
   using T = hn::TFromD<D>;
   const T tiny = sizeof(T) == 4 ? T(0x1p-12) : T(0x1p-27);
-  return hn::IfThenElse(hn::Lt(hn::Abs(x), hn::Set(d, tiny)), x, hn::Tanh(d, x));
+  const auto nan = hn::IsNaN(x);
+  const V r = hn::Tanh(d, hn::IfThenZeroElse(nan, x));
+  return hn::IfThenElse(hn::Or(nan, hn::Lt(hn::Abs(x), hn::Set(d, tiny))), x, r);
 }
 
 // atan2(y, x) from a = atan(t), t the smaller magnitude over the larger (in [0, 1], so the

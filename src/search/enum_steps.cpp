@@ -139,11 +139,10 @@ std::vector<Enumerator::Step> Enumerator::make_steps(int level) const {
     s.order = level - d;
     steps.push_back(s);
   }
-  const std::pair<EKind, Op> binaries[] = {{EKind::AddSub, Op::Add},       {EKind::Mul, Op::Mul},
-                                           {EKind::Div, Op::Div},          {EKind::Min, Op::Min},
-                                           {EKind::Max, Op::Max},          {EKind::Pow, Op::Pow},
-                                           {EKind::CopySign, Op::CopySign},
-                                           {EKind::Atan2, Op::Atan2}};
+  const std::pair<EKind, Op> binaries[] = {
+      {EKind::AddSub, Op::Add},        {EKind::Mul, Op::Mul},    {EKind::Div, Op::Div},
+      {EKind::Min, Op::Min},           {EKind::Max, Op::Max},    {EKind::Pow, Op::Pow},
+      {EKind::CopySign, Op::CopySign}, {EKind::Atan2, Op::Atan2}};
   for (const auto& [kind, op] : binaries) {
     const int d = c.binary[static_cast<std::size_t>(op)];
     if (d < 0) continue;

@@ -238,8 +238,8 @@ const Evolution::Individual& Evolution::tournament(Island& island, const std::ve
   return island.population[a_better ? a : b];
 }
 
-void Evolution::init_island(Island& island, const std::vector<Expression>& seeds,
-                            std::size_t first, std::size_t stride) {
+void Evolution::init_island(Island& island, const std::vector<Expression>& seeds, std::size_t first,
+                            std::size_t stride) {
   const std::size_t size = ctx_.options.population;
   std::vector<Expression> start;
   // This island's share of the seeds (every stride-th from first), each also with a fitted
@@ -483,7 +483,8 @@ void Evolution::run(const std::vector<Expression>& seeds) {
   parallel_for(
       owned_.size(), 1,
       [&](std::size_t b, std::size_t e) {
-        for (std::size_t k = b; k < e; ++k) init_island(islands_[owned_[k]], all, owned_[k], islands_.size());
+        for (std::size_t k = b; k < e; ++k)
+          init_island(islands_[owned_[k]], all, owned_[k], islands_.size());
       },
       ctx_.threads);
   evolve();
