@@ -114,6 +114,29 @@ def one_minus_r2(y: np.ndarray, f: np.ndarray) -> float:
     return mse / var if var > 0 else (0.0 if mse == 0 else math.inf)
 
 
+NEUTRAL = re.compile(r"(\* 1(?![0-9.e])|/ 1(?![0-9.e])|\+ 0(?![0-9.e])|- 0(?![0-9.e])|\^1(?![0-9])|"
+                     r"(?<![A-Za-z_0-9.])1 \*|(?<![A-Za-z_0-9.])0 \+)")
+NUMBER = re.compile(r"(?<![A-Za-z_0-9.])([0-9]+\.?[0-9]*(?:e[-+]?[0-9]+)?)")
+NOISE_LEVEL = 1e-9  # rmse <= 1e-9 rms(y): shaderfit's kNoiseLevel (search/tidy.hpp)
+
+
+def front_noise_check(front: list, y: np.ndarray) -> dict:
+    """The issue's front rules, checked from outside: members at noise level print no neutral
+    part (`* 1`, `+ 0`, `^1`) and no constant below 1e-6 in magnitude (a noise term), and nothing
+    follows the first member at noise level."""
+    bound = NOISE_LEVEL * math.sqrt(float(np.mean(y * y)))
+    at_noise = [i for i, m in enumerate(front) if math.sqrt(m["mse"]) <= bound]
+    noisy = []
+    for i in at_noise:
+        text = front[i].get("formula_display", front[i]["formula"])
+        tiny = [v for v in NUMBER.findall(text) if 0 < abs(float(v)) < 1e-6]
+        if NEUTRAL.search(text) or tiny:
+            noisy.append(text)
+    after = len(front) - 1 - at_noise[0] if at_noise else 0
+    return {"members_at_noise_level": len(at_noise), "printing_noise": noisy,
+            "members_after_first": after}
+
+
 def run_one(eq: dict, args) -> dict:
     work = Path(args.out) / f"eq{eq['number']:03d}"
     work.mkdir(parents=True, exist_ok=True)
@@ -131,15 +154,21 @@ def run_one(eq: dict, args) -> dict:
                eq["output"], "--time", str(args.time), "--threads", str(args.threads), "--seed",
                str(args.seed), "--quiet", "--json", str(work / "run.json")] + args.extra
     start = time.monotonic()
-    proc = subprocess.run(command, capture_output=True, text=True)
+    if args.reuse and (work / "run.json").exists():
+        proc = subprocess.CompletedProcess(command, 0, "", "")
+    else:
+        proc = subprocess.run(command, capture_output=True, text=True)
     wall = time.monotonic() - start
     result = {"number": eq["number"], "name": eq["name"], "variables": len(names),
               "equation": eq["formula"], "wall_s": wall, "exact": False}
     if proc.returncode != 0:
         result["error"] = (proc.stderr or proc.stdout).strip().splitlines()[-1:]
         return result
-    front = json.load(open(work / "run.json"))["front"]
+    run = json.load(open(work / "run.json"))
+    front = run["front"]
     best = min(front, key=lambda m: (m["mse"], m["cost"]))
+    result["operators"] = run["options"].get("operators")
+    result["noise"] = front_noise_check(front, train_y)
     result.update(formula=best["formula"], display=best.get("formula_display", best["formula"]),
                   cost=best["cost"], train_mse=best["mse"], front_size=len(front))
     try:
@@ -163,6 +192,8 @@ def main() -> int:
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--only", default="", help="equation numbers, e.g. 2,5,18-20")
     p.add_argument("--out", default="/tmp/shaderfit-feynman")
+    p.add_argument("--reuse", action="store_true",
+                   help="score the fronts an earlier run left in --out instead of searching")
     p.add_argument("extra", nargs="*", help="more search options, after --")
     args = p.parse_args()
     equations = load_equations(Path(args.equations))
@@ -193,6 +224,12 @@ def main() -> int:
         group = [r for r in results if r["variables"] == n]
         print(f"{n:9d}  {len(group):9d}  {sum(r['exact'] for r in group):5d}")
     print("misses:", " ".join(str(r["number"]) for r in results if not r["exact"]))
+    checked = [r for r in results if "noise" in r]
+    noisy = sum(len(r["noise"]["printing_noise"]) for r in checked)
+    level = sum(r["noise"]["members_at_noise_level"] for r in checked)
+    after = sum(1 for r in checked if r["noise"]["members_after_first"] > 0)
+    print(f"fronts: {level} members at noise level in {len(checked)} fronts, {noisy} printing "
+          f"noise; {after} fronts with a member after their first noise-level one")
     return 0
 
 

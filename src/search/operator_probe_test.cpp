@@ -7,24 +7,15 @@
 #include <cmath>
 #include <functional>
 
-#include "shaderfit/core/random.hpp"
+#include "search/drawn_problem_test_util.hpp"
 
 namespace shaderfit::search_detail {
 namespace {
 
 SearchProblem drawn(std::vector<std::string> names, double lo, double hi,
                     const std::function<double(const std::vector<double>&)>& f) {
-  Rng rng(5);
-  SearchProblem p;
-  p.input_names = std::move(names);
-  p.inputs.assign(p.input_names.size(), {});
-  std::vector<double> row(p.input_names.size());
-  for (int i = 0; i < 1000; ++i) {
-    for (std::size_t k = 0; k < row.size(); ++k)
-      p.inputs[k].push_back(row[k] = uniform(rng, lo, hi));
-    p.target.push_back(f(row));
-  }
-  return p;
+  const std::vector<std::pair<double, double>> ranges(names.size(), {lo, hi});
+  return test::drawn_problem(std::move(names), ranges, f, 5, 1000);
 }
 
 bool has(const std::vector<Op>& ops, Op op) {

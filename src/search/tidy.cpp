@@ -164,8 +164,8 @@ class Tidier {
     return true;
   }
 
-  // A min, max, saturate, abs or select whose result on the rows is one of its operands (or a
-  // bound of saturate) is replaced by that operand: a clamp that never acts on the data is no
+  // A min, max, saturate, abs or select whose result on the rows is one of its operands (or
+  // saturate's bound 1, or abs's operand negated) is replaced by it: a clamp that never acts on the data is no
   // part of the function it shows, and outside the rows (a wider domain) it would cut it.
   // Repeated while one is dropped; each replacement passes keep().
   void drop_idle_branches() {
@@ -193,6 +193,10 @@ class Tidier {
         } else {
           options = operands;
           if (op == Op::Saturate) options.push_back({Node::constant(1.0)});
+          if (op == Op::Abs) {  // abs(a) = -a where a <= 0 on every row
+            options.push_back(operands[0]);
+            options.back().push_back(Node::op_node(Op::Neg));
+          }
         }
         for (const std::vector<Node>& with : options) {
           Expression t = base;

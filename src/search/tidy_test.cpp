@@ -12,6 +12,7 @@
 #include <numbers>
 #include <regex>
 
+#include "search/drawn_problem_test_util.hpp"
 #include "search/search_context.hpp"
 #include "search/seed_problem_test_util.hpp"
 #include "shaderfit/core/random.hpp"
@@ -28,46 +29,16 @@ constexpr double kPi = std::numbers::pi;
 // Inputs uniform in [lo, hi], the target computed exactly by `f` (float64).
 SearchProblem exact_problem(std::vector<std::string> names, double lo, double hi,
                             const std::function<double(const std::vector<double>&)>& f) {
-  Rng rng(11);
-  SearchProblem p;
-  p.input_names = std::move(names);
-  p.inputs.assign(p.input_names.size(), {});
-  std::vector<double> row(p.input_names.size());
-  for (int i = 0; i < 500; ++i) {
-    for (std::size_t k = 0; k < row.size(); ++k) {
-      row[k] = uniform(rng, lo, hi);
-      p.inputs[k].push_back(row[k]);
-    }
-    p.target.push_back(f(row));
-  }
-  return p;
+  const std::vector<std::pair<double, double>> ranges(names.size(), {lo, hi});
+  return test::drawn_problem(std::move(names), ranges, f, 11, 500);
 }
 
-// Feynman-like data: each input uniform in its own range (seeded), the target computed by `f` in
-// float64 and, with `digits` > 0, rounded to that many significant digits (a CSV written so).
+// Feynman-like data: each input in its own range (test::drawn_problem, seed 27, 500 rows).
 SearchProblem feynman_problem(std::vector<std::string> names,
                               const std::vector<std::pair<double, double>>& ranges,
                               const std::function<double(const std::vector<double>&)>& f,
                               int digits = 0) {
-  Rng rng(27);
-  SearchProblem p;
-  p.input_names = std::move(names);
-  p.inputs.assign(p.input_names.size(), {});
-  std::vector<double> row(p.input_names.size());
-  for (int i = 0; i < 500; ++i) {
-    for (std::size_t k = 0; k < row.size(); ++k) {
-      row[k] = uniform(rng, ranges[k].first, ranges[k].second);
-      p.inputs[k].push_back(row[k]);
-    }
-    double y = f(row);
-    if (digits > 0) {
-      char text[64];
-      std::snprintf(text, sizeof text, "%.*e", digits - 1, y);
-      y = std::strtod(text, nullptr);
-    }
-    p.target.push_back(y);
-  }
-  return p;
+  return test::drawn_problem(std::move(names), ranges, f, 27, 500, digits);
 }
 
 double coulomb_field(const std::vector<double>& v) {  // q1 r / (4 pi epsilon r^3)
@@ -473,6 +444,8 @@ TEST(Tidy, ClampsThatNeverActAreDropped) {
       {"min(q1 / (r^2 * (epsilon * 12.566370614359172)), 1e6)",
        "q1 / (r^2 * (epsilon * 12.566370614359172))"},
       {"abs(q1) / (r^2 * (epsilon * 12.566370614359172))",
+       "q1 / (r^2 * (epsilon * 12.566370614359172))"},
+      {"abs(-q1) / (r^2 * (epsilon * 12.566370614359172))",
        "q1 / (r^2 * (epsilon * 12.566370614359172))"},
   };
   for (const auto& c : cases) {
