@@ -149,6 +149,10 @@ std::vector<Op> suggested_library_operators(const SearchProblem& p) {
       {Op::Erf, -1, 1, true, inverse_erf},
   };
   std::vector<Op> out;
+  // A function of one input is what a user approximates such a function by: its exact form is
+  // the function itself, at 17 to 33 instructions, and the operator only spends the search's
+  // mutations (the yardstick's acos cases lost 3 of their wins to it).
+  if (p.inputs.size() < 2) return out;
   if (p.reference)
     for (const Candidate& c : kCandidates)
       if (program_calls(p.reference->program, c.op)) out.push_back(c.op);

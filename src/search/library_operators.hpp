@@ -1,6 +1,7 @@
 // Which of the library-function operators (asin, acos, atan, atan2, tanh, erf) `auto` adds to a
 // problem (internal; docs/search.md, "Operators"). They cost 17 to 33 GPU instructions but tanh,
-// so they join only where the problem points at them:
+// so they join only where the problem points at them, and never for a problem of one input (a
+// function of one input is what a user approximates such a function by):
 //  - a reference (SearchProblem::reference) whose program calls the function (erfc counts as
 //    erf);
 //  - data whose target is f of a simple function of the inputs: the target lies in f's range
@@ -9,7 +10,7 @@
 //    (sin, cos, tan, atanh, erf^-1; tan for atan2, whose y / x it is) is explained by a simple
 //    model of the inputs -- a linear function, or a monomial (log |z| linear in the log |x_i|) --
 //    to 1 - R^2 <= kExplained, while the target itself is not (its 1 - R^2 under the same models
-//    is at least kBetter times z's). arcsin(lambda / (n d)), tanh(m B / (k T)) and atan(x) show
+//    is at least kBetter times z's). arcsin(lambda / (n d)), tanh(m B / (k T)) and atan(x - y) show
 //    it; smooth functions that merely lie in the range do not.
 // The probe reads at most kRows rows (evenly spread) and fits a few least-squares models of
 // (inputs + 1) columns: well under a millisecond for a handful of inputs.

@@ -63,13 +63,16 @@ TEST(LibraryOperators, DataThatIsOneOfThemOfASimpleFunction) {
                 sampled({{1, 5}, {1, 5}, {1, 5}, {1, 5}},
                         [](const V& x) { return std::tanh(x[0] * x[1] / (x[2] * x[3])); }))),
             "tanh");
-  // Linear insides.
+  // Linear insides; a function of one input is left to be approximated without them.
   EXPECT_EQ(names(suggested_library_operators(
-                sampled({{-3, 3}}, [](const V& x) { return std::atan(x[0]); }))),
+                sampled({{-3, 3}, {0, 1}}, [](const V& x) { return std::atan(x[0] - x[1]); }))),
             "atan");
   EXPECT_EQ(names(suggested_library_operators(
+                sampled({{-3, 3}}, [](const V& x) { return std::atan(x[0]); }))),
+            "");
+  EXPECT_EQ(names(suggested_library_operators(
                 sampled({{-1, 1}}, [](const V& x) { return std::acos(x[0]); }))),
-            "acos");
+            "");
   EXPECT_EQ(names(suggested_library_operators(
                 sampled({{-3, 3}, {0, 1}}, [](const V& x) { return std::erf(x[0] / 2 + x[1]); }))),
             "erf");
@@ -104,15 +107,25 @@ TEST(LibraryOperators, NotForDataThatMerelyLiesInTheirRanges) {
 }
 
 TEST(LibraryOperators, ReferencesThatCallThem) {
-  SearchProblem p = sampled({{0, 1}}, [](const std::vector<double>& x) { return x[0]; });
+  SearchProblem p =
+      sampled({{0, 1}, {0, 1}}, [](const std::vector<double>& x) { return x[0] + x[1]; });
   auto f = std::make_shared<reference::ReferenceFunction>();
   f->program = reference::compile_reference(
-      {.formula = "erfc(x0) + atan2(x0, 2) * x0", .variables = {"x0"}});
-  f->domain = {reference::parse_domain_axis("x0=0:1", "domain")};
+      {.formula = "erfc(x0) + atan2(x0, 2) * x1", .variables = {"x0", "x1"}});
+  f->domain = {reference::parse_domain_axis("x0=0:1", "domain"),
+               reference::parse_domain_axis("x1=0:1", "domain")};
   p.reference = f;
   EXPECT_EQ(names(suggested_library_operators(p)), "atan2,erf");
-  f->program = reference::compile_reference({.formula = "x0 * x0", .variables = {"x0"}});
+  f->program = reference::compile_reference({.formula = "x0 * x1", .variables = {"x0", "x1"}});
   EXPECT_EQ(names(suggested_library_operators(p)), "");
+  // acos(x) in one input: approximated without acos.
+  SearchProblem one =
+      sampled({{-1, 1}}, [](const std::vector<double>& x) { return std::acos(x[0]); });
+  auto g = std::make_shared<reference::ReferenceFunction>();
+  g->program = reference::compile_reference({.formula = "acos(x0)", .variables = {"x0"}});
+  g->domain = {reference::parse_domain_axis("x0=-1:1", "domain")};
+  one.reference = g;
+  EXPECT_EQ(names(suggested_library_operators(one)), "");
 }
 
 TEST(LibraryOperators, TheProbeIsCheap) {

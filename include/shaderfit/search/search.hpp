@@ -111,8 +111,9 @@ void run_search(const SearchOptions& options, const SearchProblem& problem, Sear
 // itself; a caller that shows or records the options (the CLI's JSON) does it first.
 // The choice (docs/search.md, "Operators"): the enumeration gets + - * / ^ sqrt exp2 log2 abs
 // min max, pow when the target has a high dynamic range (max |y| > 100 median |y|), and sign
-// and copysign when an input takes both signs, asin acos atan atan2 tanh erf where a reference
-// calls them or the target is one of them of a simple function of the inputs
+// and copysign when an input takes both signs, sin and cos where the data turns like a sine
+// (search/operator_probe.hpp), asin acos atan atan2 tanh erf for problems of two inputs or more
+// where a reference calls them or the target is one of them of a simple function of the inputs
 // (search/library_operators.hpp); the evolution gets pow rsqrt saturate besides,
 // and select when an input takes both signs. "Takes both signs" is judged on the rows the search
 // will see: the half x >= 0 where it folds symmetric data (search_symmetry, symmetry.hpp).
