@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "search/row_sample.hpp"
+
 namespace shaderfit::search_detail {
 
 namespace {
@@ -158,16 +160,11 @@ std::vector<Op> suggested_library_operators(const SearchProblem& p) {
       if (program_calls(p.reference->program, c.op)) out.push_back(c.op);
 
   // At most kLibraryProbeRows rows, evenly spread.
-  const std::size_t rows = p.target.size();
-  const std::size_t n = std::min(rows, kLibraryProbeRows);
+  const SearchProblem sample = evenly_spread_rows(p, kLibraryProbeRows);
+  const std::size_t n = sample.target.size();
   if (n < 16 || p.inputs.empty()) return out;
-  std::vector<std::vector<double>> inputs(p.inputs.size());
-  std::vector<double> y(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = k * rows / n;
-    y[k] = p.target[i];
-    for (std::size_t v = 0; v < p.inputs.size(); ++v) inputs[v].push_back(p.inputs[v][i]);
-  }
+  const std::vector<std::vector<double>>& inputs = sample.inputs;
+  const std::vector<double>& y = sample.target;
   const auto [y_lo, y_hi] = std::minmax_element(y.begin(), y.end());
   const double target_score = explained_by_simple_model(inputs, y);
   if (!(target_score > 0)) return out;  // constant, or a simple model already explains it exactly

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "search/row_sample.hpp"
 #include "shaderfit/fit/linear.hpp"
 
 namespace shaderfit::search_detail {
@@ -17,21 +18,6 @@ constexpr std::int64_t kProbeCandidates = 3'000'000;
 // A clock stop as well, for machines much slower than the budget above assumes; counted runs
 // end before it.
 constexpr double kProbeTimeLimit = 5.0;
-
-SearchProblem probe_rows(const SearchProblem& p) {
-  const std::size_t rows = p.target.size();
-  const std::size_t n = std::min(rows, kProbeRows);
-  SearchProblem s;
-  s.input_names = p.input_names;
-  s.inputs.assign(p.inputs.size(), {});
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t i = k * rows / n;
-    for (std::size_t v = 0; v < p.inputs.size(); ++v) s.inputs[v].push_back(p.inputs[v][i]);
-    s.target.push_back(p.target[i]);
-    if (!p.weights.empty()) s.weights.push_back(p.weights[i]);
-  }
-  return s;
-}
 
 std::vector<FrontMember> probe_front(const SearchOptions& options, const SearchProblem& rows,
                                      const std::vector<Op>& ops) {
@@ -123,7 +109,7 @@ std::vector<Op> probe_operator_groups(const SearchOptions& options, const Search
                                       std::span<const OperatorGroup> groups) {
   std::vector<Op> out;
   if (groups.empty() || problem.target.size() < 16) return out;
-  const SearchProblem rows = probe_rows(problem);
+  const SearchProblem rows = evenly_spread_rows(problem, kProbeRows);
   // The arithmetic of `base` only: its other functions multiply the candidates of every level
   // without telling whether a group helps.
   std::vector<Op> arithmetic;
