@@ -163,7 +163,15 @@ std::vector<Op> suggested_library_operators(const SearchProblem& p) {
   const SearchProblem sample = evenly_spread_rows(p, kLibraryProbeRows);
   const std::size_t n = sample.target.size();
   if (n < 16 || p.inputs.empty()) return out;
-  const std::vector<std::vector<double>>& inputs = sample.inputs;
+  // The simple models read the inputs and their sines and cosines: arcsin(n sin(theta)).
+  std::vector<std::vector<double>> inputs = sample.inputs;
+  for (const std::vector<double>& x : sample.inputs)
+    for (double (*wave)(double) : {static_cast<double (*)(double)>(std::sin),
+                                   static_cast<double (*)(double)>(std::cos)}) {
+      std::vector<double> w(n);
+      std::transform(x.begin(), x.end(), w.begin(), wave);
+      inputs.push_back(std::move(w));
+    }
   const std::vector<double>& y = sample.target;
   const auto [y_lo, y_hi] = std::minmax_element(y.begin(), y.end());
   const double target_score = explained_by_simple_model(inputs, y);

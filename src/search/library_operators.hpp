@@ -8,12 +8,13 @@
 //    (within [-pi/2, pi/2] for asin, [0, pi] for acos, (-pi/2, pi/2) for atan, (-1, 1) for tanh
 //    and erf; within [-pi, pi] and beyond (-pi/2, pi/2) somewhere for atan2), and z = f^-1(y)
 //    (sin, cos, tan, atanh, erf^-1; tan for atan2, whose y / x it is) is explained by a simple
-//    model of the inputs -- a linear function, or a monomial (log |z| linear in the log |x_i|) --
-//    to 1 - R^2 <= kExplained, while the target itself is not (its 1 - R^2 under the same models
-//    is at least kBetter times z's). arcsin(lambda / (n d)), tanh(m B / (k T)) and atan(x - y) show
-//    it; smooth functions that merely lie in the range do not.
+//    model of the inputs and their sines and cosines -- a linear function, or a monomial (log |z|
+//    linear in the log |x_i|, log |sin x_i|, log |cos x_i|) -- to 1 - R^2 <= kExplained, while the
+//    target itself is not (its 1 - R^2 under the same models is at least kBetter times z's).
+//    arcsin(lambda / (n d)), arcsin(n sin(theta)), tanh(m B / (k T)) and atan(x - y) show it;
+//    smooth functions that merely lie in the range do not.
 // The probe reads at most kRows rows (evenly spread) and fits a few least-squares models of
-// (inputs + 1) columns: well under a millisecond for a handful of inputs.
+// (3 inputs + 1) columns: about a millisecond for a handful of inputs.
 #pragma once
 
 #include <cstddef>

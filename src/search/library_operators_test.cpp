@@ -63,6 +63,10 @@ TEST(LibraryOperators, DataThatIsOneOfThemOfASimpleFunction) {
                 sampled({{1, 5}, {1, 5}, {1, 5}, {1, 5}},
                         [](const V& x) { return std::tanh(x[0] * x[1] / (x[2] * x[3])); }))),
             "tanh");
+  // Snell's arcsin(n sin(theta)): a monomial of an input and another's sine.
+  EXPECT_EQ(names(suggested_library_operators(
+                sampled({{0, 1}, {1, 5}}, [](const V& x) { return std::asin(x[0] * std::sin(x[1])); }))),
+            "asin");
   // Linear insides; a function of one input is left to be approximated without them.
   EXPECT_EQ(names(suggested_library_operators(
                 sampled({{-3, 3}, {0, 1}}, [](const V& x) { return std::atan(x[0] - x[1]); }))),

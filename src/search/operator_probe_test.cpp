@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numbers>
 
 #include "search/drawn_problem_test_util.hpp"
 
@@ -48,6 +49,49 @@ TEST(OperatorProbe, TrigonometryWhereTheDataTurnsLikeASine) {
   with_trig.push_back(Op::Sin);
   with_trig.push_back(Op::Cos);
   EXPECT_TRUE(probe_operator_groups(o, torque, with_trig, probed_operator_groups()).empty());
+}
+
+TEST(OperatorProbe, AnglesThatArePartsOfTheTarget) {
+  const auto periodic = [](std::vector<std::string> names,
+                           std::vector<std::pair<double, double>> ranges,
+                           const std::function<double(const std::vector<double>&)>& f) {
+    return probed_operator_groups()[0].signal(
+        test::drawn_problem(std::move(names), std::move(ranges), f, 7, 2000));
+  };
+  // cos(theta) over [1, 3], less than the half period the target alone would need.
+  EXPECT_TRUE(periodic({"eps", "p", "theta", "r"}, {{1, 3}, {1, 3}, {1, 3}, {1, 3}},
+                       [](const std::vector<double>& v) {
+                         return v[1] * std::cos(v[2]) / (4 * std::numbers::pi * v[0] * v[3] * v[3]);
+                       }));
+  // An angle that is a product, and one that is a ratio with an unknown frequency.
+  EXPECT_TRUE(periodic({"U", "k", "d"}, {{1, 5}, {1, 5}, {1, 5}}, [](const std::vector<double>& v) {
+    return 2 * v[0] * (1 - std::cos(v[1] * v[2]));
+  }));
+  EXPECT_TRUE(periodic({"E", "t", "h"}, {{1, 2}, {1, 2}, {1, 4}}, [](const std::vector<double>& v) {
+    const double s = std::sin(2 * std::numbers::pi * v[0] * v[1] / v[2]);
+    return s * s;
+  }));
+  // Two harmonics of a product, beside an input that adds.
+  EXPECT_TRUE(periodic({"x1", "w", "t", "a"}, {{1, 3}, {1, 3}, {1, 3}, {1, 3}},
+                       [](const std::vector<double>& v) {
+                         const double c = std::cos(v[1] * v[2]);
+                         return v[0] * (c + v[3] * c * c);
+                       }));
+  // Smooth monotone functions over less than half a period, a pole and powers: none.
+  EXPECT_FALSE(periodic({"x", "y"}, {{-1.5, 1.5}, {1, 3}}, [](const std::vector<double>& v) {
+    return v[1] * std::atan(v[0]);
+  }));
+  EXPECT_FALSE(periodic({"n", "a"}, {{0, 1}, {0, 1}}, [](const std::vector<double>& v) {
+    return 1 + v[0] * v[1] / (1 - v[0] * v[1] / 3);
+  }));
+  EXPECT_FALSE(periodic({"m", "v", "c"}, {{1, 5}, {1, 2}, {3, 10}}, [](const std::vector<double>& v) {
+    return v[0] * v[2] * v[2] / std::sqrt(1 - v[1] * v[1] / (v[2] * v[2]));
+  }));
+  EXPECT_FALSE(periodic({"h", "w", "kb", "T"}, {{1, 5}, {1, 5}, {1, 5}, {1, 5}},
+                        [](const std::vector<double>& v) {
+                          const double hbar = v[0] / (2 * std::numbers::pi);
+                          return hbar * v[1] / (std::exp(hbar * v[1] / (v[2] * v[3])) - 1);
+                        }));
 }
 
 TEST(OperatorProbe, SameAnswerEveryTime) {
