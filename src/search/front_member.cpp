@@ -21,6 +21,7 @@ std::string_view search_phase_name(SearchPhase phase) {
     case SearchPhase::Enumeration: return "enumeration";
     case SearchPhase::Evolution: return "evolution";
     case SearchPhase::Start: return "start";
+    case SearchPhase::PowerSum: return "power_sum";
   }
   return "enumeration";
 }
@@ -29,6 +30,7 @@ std::optional<SearchPhase> search_phase_from_name(std::string_view name) {
   if (name == "enumeration") return SearchPhase::Enumeration;
   if (name == "evolution") return SearchPhase::Evolution;
   if (name == "start") return SearchPhase::Start;
+  if (name == "power_sum") return SearchPhase::PowerSum;
   return std::nullopt;
 }
 

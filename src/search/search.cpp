@@ -14,6 +14,7 @@
 #include "search/exact_json.hpp"
 #include "search/float32_check.hpp"
 #include "search/search_context.hpp"
+#include "search/power_sum.hpp"
 #include "search/start.hpp"
 #include "search/symmetry_front.hpp"
 #include "search/tidy.hpp"
@@ -200,6 +201,13 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     std::vector<Expression> seeds;
     if (ctx.ranks.leader()) {
       seeds = search_detail::offer_start_formulas(ctx, starts);
+      // An exact power sum, where the data is one, before the enumeration spends its share.
+      if (options.enumerate)
+        if (const auto sum = search_detail::exact_power_sum(problem))
+          for (Expression& e : search_detail::offer_start_formulas(
+                   ctx, {search_detail::start_over_indexed_inputs(*sum, problem.input_names)},
+                   SearchPhase::PowerSum))
+            seeds.push_back(std::move(e));
       if (options.enumerate) {
         search_detail::Enumerator enumerator(ctx, rng);
         enumerator.run();

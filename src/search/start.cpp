@@ -61,15 +61,29 @@ Expression refit_for_loss(Expression e, const SearchOptions& options,
   return e;
 }
 
+StartFormula start_over_indexed_inputs(const std::string& text,
+                                       const std::vector<std::string>& names) {
+  ParseOptions po;
+  for (std::size_t k = 0; k < names.size(); ++k) po.variables.push_back("x" + std::to_string(k));
+  po.source = "power sum";
+  StartFormula s;
+  s.written = parse_formula(text, po);
+  po.literals_as_parameters = true;
+  s.free = parse_formula(text, po);
+  s.written.variables = s.free.variables = names;
+  return s;
+}
+
 std::vector<Expression> offer_start_formulas(SearchContext& ctx,
-                                             const std::vector<StartFormula>& starts) {
+                                             const std::vector<StartFormula>& starts,
+                                             SearchPhase origin) {
   std::vector<Expression> seeds;
   for (const StartFormula& s : starts) {
     Expression fitted = refit_for_loss(s.free, ctx.options, ctx.problem);
     std::vector<const Expression*> forms = {&s.written};
     if (!fitted.parameters.empty()) forms.push_back(&fitted);
     for (const Expression* e : forms) {
-      ctx.offer(*e, loss_value(ctx.options.loss, ctx.score(*e)), SearchPhase::Start);
+      ctx.offer(*e, loss_value(ctx.options.loss, ctx.score(*e)), origin);
       ctx.candidates.fetch_add(1, std::memory_order_relaxed);
     }
     seeds.push_back(std::move(fitted));

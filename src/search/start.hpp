@@ -2,6 +2,7 @@
 // formula").
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "search/search_context.hpp"
@@ -25,11 +26,17 @@ std::vector<StartFormula> parse_start_formulas(const SearchOptions& options,
 // target). Where the fit fails, e keeps its values.
 Expression refit_for_loss(Expression e, const SearchOptions& options, const SearchProblem& problem);
 
-// Offers each start formula to ctx's front as written and refitted (origin SearchPhase::Start),
-// counting them as candidates; returns the refitted forms, which seed the evolution. A member
-// at no more than a start's cost and loss is then on the front for the rest of the search,
-// unless the start is not finite on every row (SearchContext::offer).
+// Offers each start formula to ctx's front as written and refitted (with `origin`), counting
+// them as candidates; returns the refitted forms, which seed the evolution. A member at no more
+// than a start's cost and loss is then on the front for the rest of the search, unless the start
+// is not finite on every row (SearchContext::offer).
 std::vector<Expression> offer_start_formulas(SearchContext& ctx,
-                                             const std::vector<StartFormula>& starts);
+                                             const std::vector<StartFormula>& starts,
+                                             SearchPhase origin = SearchPhase::Start);
+
+// `text` over the variables x0, x1, ... (input k is xk, as exact_power_sum in
+// search/power_sum.hpp writes it), as written and with its literals free, over `names`.
+StartFormula start_over_indexed_inputs(const std::string& text,
+                                       const std::vector<std::string>& names);
 
 }  // namespace shaderfit::search_detail
