@@ -17,19 +17,18 @@ namespace {
 constexpr std::size_t kBeam = 32;
 constexpr double kSift = 1e-6;  // 1 - R^2 by the normal equations worth a refit on the rows
 constexpr int kExponents[] = {-2, -1, 1, 2};
+// An exponent of M this far from an integer is tried at both integers beside it, for the
+// kUnsureInputs inputs farthest.
+constexpr double kUnsureExponent = 0.1;
+constexpr std::size_t kUnsureInputs = 2;
+// The transforms t = (y / M)^p tried.
+constexpr double kPowers[] = {1, -1, 2, -2, 0.5, -0.5};
 
 // A power product: exponent per input (0: absent), multiples of 1/2 for the quotient M.
 using Powers = std::vector<double>;
 
-struct Dictionary {
-  std::vector<Powers> powers;                // [0] is the constant
-  std::vector<std::vector<double>> values;   // each power product over the rows
-  std::vector<std::vector<double>> columns;  // the same scaled to unit norm
-  std::vector<std::vector<double>> gram;     // columns' inner products
-};
-
 // x^e for e a multiple of 1/2 (x > 0 where it is not whole), by products: std::pow costs the
-// seed task's short searches too much.
+// short searches too much.
 double half_power(double x, double e) {
   const double a = std::abs(e);
   const int whole = static_cast<int>(a);
@@ -46,48 +45,79 @@ double power_product(const std::vector<std::vector<double>>& x, const Powers& e,
   return v;
 }
 
-Dictionary monomials(const std::vector<std::vector<double>>& x, std::size_t rows) {
-  const std::size_t n = x.size();
-  Dictionary d;
-  d.powers.emplace_back(n, 0.0);
+// [0] the constant, then the power products of one and of two inputs with exponents from
+// kExponents.
+std::vector<Powers> monomials(std::size_t n) {
+  std::vector<Powers> out = {Powers(n, 0.0)};
   for (std::size_t i = 0; i < n; ++i)
     for (int a : kExponents) {
       Powers one(n, 0.0);
       one[i] = a;
-      d.powers.push_back(one);
+      out.push_back(one);
       for (std::size_t j = i + 1; j < n; ++j)
         for (int b : kExponents) {
           Powers two = one;
           two[j] = b;
-          d.powers.push_back(two);
+          out.push_back(two);
         }
     }
-  for (const Powers& e : d.powers) {
-    std::vector<double> c(rows);
-    double norm = 0;
-    for (std::size_t r = 0; r < rows; ++r) {
-      c[r] = power_product(x, e, r);
-      norm += c[r] * c[r];
-    }
-    norm = std::sqrt(norm);
-    d.values.push_back(c);
-    for (double& v : c) v /= norm;
-    d.columns.push_back(std::move(c));
-  }
-  const std::size_t m = d.columns.size();
-  d.gram.assign(m, std::vector<double>(m));
-  for (std::size_t a = 0; a < m; ++a)
-    for (std::size_t b = a; b < m; ++b) {
-      double s = 0;
-      for (std::size_t r = 0; r < rows; ++r) s += d.columns[a][r] * d.columns[b][r];
-      d.gram[a][b] = d.gram[b][a] = s;
-    }
-  return d;
+  return out;
 }
 
-// The Cholesky factor of the normal equations of the columns `set` (the constant, index 0,
-// always among them) and the projection z of t on them: t's residual sum of squares is
-// t.t - z.z, and a column more extends both by one row (extend()). false where singular.
+// The columns one transform t is fitted by (the monomials, [0] the constant, and for the
+// logarithm the log2 |x_k|). Their inner products, scaled to unit norm, are computed when the
+// beam first reads them.
+class Columns {
+ public:
+  Columns(std::vector<const std::vector<double>*> columns, const std::vector<double>& t)
+      : values_(std::move(columns)) {
+    const std::size_t rows = t.size();
+    norms_.resize(values_.size());
+    t_dots_.resize(values_.size());
+    for (std::size_t c = 0; c < values_.size(); ++c) {
+      double nn = 0, nt = 0;
+      for (std::size_t r = 0; r < rows; ++r) {
+        nn += (*values_[c])[r] * (*values_[c])[r];
+        nt += (*values_[c])[r] * t[r];
+      }
+      norms_[c] = std::sqrt(nn);
+      t_dots_[c] = nt / norms_[c];
+    }
+    gram_.resize(values_.size());
+  }
+
+  std::size_t size() const { return values_.size(); }
+  const std::vector<double>& values(std::size_t c) const { return *values_[c]; }
+  // t's inner product with the scaled column c.
+  double t_dot(std::size_t c) const { return t_dots_[c]; }
+  bool usable(std::size_t c) const { return norms_[c] > 0 && std::isfinite(norms_[c]); }
+  // The scaled columns' inner products with column a.
+  const std::vector<double>& gram_row(std::size_t a) {
+    std::vector<double>& g = gram_[a];
+    if (g.empty()) {
+      g.resize(values_.size());
+      const std::vector<double>& va = *values_[a];
+      for (std::size_t c = 0; c < values_.size(); ++c) {
+        const std::vector<double>& vc = *values_[c];
+        double s = 0;
+        for (std::size_t r = 0; r < va.size(); ++r) s += va[r] * vc[r];
+        g[c] = s / (norms_[a] * norms_[c]);
+      }
+    }
+    return g;
+  }
+
+ private:
+  std::vector<const std::vector<double>*> values_;
+  std::vector<double> norms_, t_dots_;
+  std::vector<std::vector<double>> gram_;
+};
+
+using Subset = std::array<std::size_t, kPowerSumTerms + 2>;  // one spare: a level's new column
+
+// The Cholesky factor of the normal equations of the scaled columns `set` (the constant, index
+// 0, always among them) and the projection z of t on them: t's residual sum of squares is
+// t.t - z.z, and a column more extends both by one row.
 struct Factor {
   std::array<std::array<double, kPowerSumTerms + 2>, kPowerSumTerms + 2> l{};
   std::array<double, kPowerSumTerms + 2> z{};
@@ -95,22 +125,19 @@ struct Factor {
   double explained = 0;  // z.z
 };
 
-using Subset = std::array<std::size_t, kPowerSumTerms + 1>;
-
-// f with the column c appended (the new row of L and of z); false where c depends on the others.
-bool extend(const Dictionary& d, const std::vector<double>& h, const Subset& set, Factor& f,
-            std::size_t c) {
+// f with the column c appended; false where c depends on the others.
+bool extend(Columns& d, const Subset& set, Factor& f, std::size_t c) {
   const std::size_t i = f.k;
-  double square = d.gram[c][c];
+  double square = 1;
   for (std::size_t j = 0; j < i; ++j) {
-    double v = d.gram[c][set[j]];
+    double v = d.gram_row(set[j])[c];
     for (std::size_t q = 0; q < j; ++q) v -= f.l[i][q] * f.l[j][q];
     f.l[i][j] = v / f.l[j][j];
     square -= f.l[i][j] * f.l[i][j];
   }
   if (!(square > 1e-12)) return false;
   f.l[i][i] = std::sqrt(square);
-  double v = h[c];
+  double v = d.t_dot(c);
   for (std::size_t q = 0; q < i; ++q) v -= f.l[i][q] * f.z[q];
   f.z[i] = v / f.l[i][i];
   f.explained += f.z[i] * f.z[i];
@@ -120,15 +147,15 @@ bool extend(const Dictionary& d, const std::vector<double>& h, const Subset& set
 
 struct Fit {
   std::vector<std::size_t> set;
-  std::vector<double> coefficients;  // for the unscaled power products
+  std::vector<double> coefficients;  // for the unscaled columns
   double unexplained = 1;            // 1 - R^2 of t
 };
 
-// 1 - R^2 of t by the unscaled power products of `set`, refitted by QR on the rows.
-Fit refit(const Dictionary& d, const std::vector<double>& t, const std::vector<std::size_t>& set) {
+// 1 - R^2 of t by the unscaled columns of `set`, refitted by QR on the rows.
+Fit refit(const Columns& d, const std::vector<double>& t, const std::vector<std::size_t>& set) {
   const std::size_t rows = t.size();
   std::vector<const double*> p;
-  for (std::size_t c : set) p.push_back(d.values[c].data());
+  for (std::size_t c : set) p.push_back(d.values(c).data());
   Fit f;
   f.set = set;
   f.coefficients = solve_least_squares(p, t);
@@ -147,15 +174,10 @@ Fit refit(const Dictionary& d, const std::vector<double>& t, const std::vector<s
   return f;
 }
 
-// The fewest terms that explain t exactly (kPowerSumExact), by a beam search.
-std::optional<Fit> sparse_exact_fit(const Dictionary& d, const std::vector<double>& t) {
-  const std::size_t m = d.columns.size();
-  std::vector<double> h(m);
-  for (std::size_t c = 0; c < m; ++c) {
-    double s = 0;
-    for (std::size_t r = 0; r < t.size(); ++r) s += d.columns[c][r] * t[r];
-    h[c] = s;
-  }
+// The fewest columns that explain t exactly (kPowerSumExact), by a beam search.
+std::optional<Fit> sparse_exact_fit(Columns& d, const std::vector<double>& t) {
+  const std::size_t m = d.size();
+  if (m > 0xfff) return std::nullopt;
   double tt = 0, mean = 0;
   for (double v : t) {
     tt += v * v;
@@ -168,24 +190,17 @@ std::optional<Fit> sparse_exact_fit(const Dictionary& d, const std::vector<doubl
   // A subset is the constant and up to kPowerSumTerms columns, packed 12 bits each in
   // ascending order into one key.
   static_assert(kPowerSumTerms * 12 <= 64);
-  // Into `set`; returns the count (the constant included).
   const auto unpack_into = [](std::uint64_t key, Subset& set) {
     std::size_t k = 1;
     set[0] = 0;
     for (; key != 0; key >>= 12) set[k++] = static_cast<std::size_t>(key & 0xfff);
     return k;
   };
-  const auto unpack = [&](std::uint64_t key) {
-    Subset s{};
-    const std::size_t k = unpack_into(key, s);
-    return std::vector<std::size_t>(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(k));
-  };
-  const auto pack = [](const std::vector<std::size_t>& set) {
+  const auto pack = [](const Subset& set, std::size_t k) {
     std::uint64_t key = 0;
-    for (std::size_t i = set.size(); i-- > 1;) key = (key << 12) | set[i];
+    for (std::size_t i = k; i-- > 1;) key = (key << 12) | set[i];
     return key;
   };
-  if (m > 0xfff) return std::nullopt;
   std::vector<std::uint64_t> beam = {0};
   std::vector<std::pair<double, std::uint64_t>> next;
   for (std::size_t level = 1; level <= kPowerSumTerms; ++level) {
@@ -195,17 +210,17 @@ std::optional<Fit> sparse_exact_fit(const Dictionary& d, const std::vector<doubl
       const std::size_t k = unpack_into(key, base);
       Factor f;
       bool regular = true;
-      for (std::size_t j = 0; j < k && regular; ++j) regular = extend(d, h, base, f, base[j]);
+      for (std::size_t j = 0; j < k && regular; ++j) regular = extend(d, base, f, base[j]);
       if (!regular) continue;
+      const auto end = base.begin() + static_cast<std::ptrdiff_t>(k);
       for (std::size_t c = 1; c < m; ++c) {
-        if (std::find(base.begin(), base.begin() + static_cast<std::ptrdiff_t>(k), c) !=
-            base.begin() + static_cast<std::ptrdiff_t>(k))
-          continue;
+        if (!d.usable(c) || std::find(base.begin(), end, c) != end) continue;
         Factor g = f;
-        if (!extend(d, h, base, g, c)) continue;
-        std::vector<std::size_t> set(base.begin(), base.begin() + static_cast<std::ptrdiff_t>(k));
-        set.insert(std::upper_bound(set.begin() + 1, set.end(), c), c);
-        next.emplace_back(tt - g.explained, pack(set));
+        if (!extend(d, base, g, c)) continue;
+        Subset s = base;
+        s[k] = c;
+        std::sort(s.begin() + 1, s.begin() + static_cast<std::ptrdiff_t>(k + 1));
+        next.emplace_back(tt - g.explained, pack(s, k + 1));
       }
     }
     std::sort(next.begin(), next.end(),
@@ -220,7 +235,9 @@ std::optional<Fit> sparse_exact_fit(const Dictionary& d, const std::vector<doubl
     // hides 1 - R^2 below about 1e-8).
     for (std::size_t i = 0; i < keep; ++i) {
       if (i < 3 && next[i].first <= kSift * spread) {
-        Fit f = refit(d, t, unpack(next[i].second));
+        Subset s{};
+        const std::size_t k = unpack_into(next[i].second, s);
+        Fit f = refit(d, t, std::vector<std::size_t>(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(k)));
         if (f.unexplained <= kPowerSumExact) return f;
       }
       beam.push_back(next[i].second);
@@ -256,6 +273,22 @@ std::string powers_text(const Powers& e) {
   return (num.empty() ? "1" : num) + " / (" + den + ")";
 }
 
+// The fitted sum as a formula in parentheses (the columns' texts in `texts`).
+std::string sum_text(const Fit& f, const std::vector<std::string>& texts) {
+  double largest = 0;
+  for (double c : f.coefficients) largest = std::max(largest, std::abs(c));
+  std::string sum;
+  for (std::size_t j = 0; j < f.set.size(); ++j) {
+    const double c = f.coefficients[j];
+    if (f.set[j] == 0) {
+      if (std::abs(c) > 1e-13 * largest) sum += (sum.empty() ? "" : " + ") + number(c);
+      continue;
+    }
+    sum += (sum.empty() ? "" : " + ") + ("(" + number(c) + ") * " + texts[f.set[j]]);
+  }
+  return "(" + (sum.empty() ? std::string("0") : sum) + ")";
+}
+
 }  // namespace
 
 std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
@@ -283,56 +316,97 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
   for (const auto& c : logs) lc.push_back(c.data());
   const std::vector<double> b = solve_least_squares(lc, log_y);
   Powers halves(n), wholes(n);
+  std::vector<std::size_t> unsure;  // the inputs whose exponents are farthest from integers
   for (std::size_t k = 0; k < n; ++k) {
     halves[k] = positive ? std::round(2 * b[k + 1]) / 2 : std::round(b[k + 1]);
     wholes[k] = std::round(b[k + 1]);
+    if (std::abs(b[k + 1] - wholes[k]) > kUnsureExponent) unsure.push_back(k);
   }
+  std::stable_sort(unsure.begin(), unsure.end(), [&](std::size_t i, std::size_t j) {
+    return std::abs(b[i + 1] - wholes[i]) > std::abs(b[j + 1] - wholes[j]);
+  });
+  if (unsure.size() > kUnsureInputs) unsure.resize(kUnsureInputs);
   std::vector<Powers> quotients = {Powers(n, 0.0)};
-  for (const Powers& m : {halves, wholes})
+  const auto add = [&](const Powers& m) {
     if (std::find(quotients.begin(), quotients.end(), m) == quotients.end()) quotients.push_back(m);
+  };
+  add(halves);
+  add(wholes);
+  // Where a part of y that is no power product tilts an exponent (w^4 / (w^2 - w0^2)^2 over
+  // w0 > w fits w^4.7 w0^-4.8), both integers either side.
+  for (std::size_t mask = 0; mask < (std::size_t{1} << unsure.size()); ++mask) {
+      Powers m = wholes;
+      for (std::size_t u = 0; u < unsure.size(); ++u)
+        m[unsure[u]] = (mask >> u & 1) ? std::ceil(b[unsure[u] + 1]) : std::floor(b[unsure[u] + 1]);
+      add(m);
+    }
 
-  const Dictionary d = monomials(s.inputs, rows);
   std::optional<Fit> best;
   std::string best_text;
+  // Keeps f, which writes y as `text`, when it has fewer terms than the best so far.
+  const auto consider = [&](std::optional<Fit> f, const std::string& text) {
+    if (!f || (best && f->set.size() >= best->set.size())) return;
+    best = std::move(f);
+    best_text = text;
+  };
+  const std::vector<Powers> powers = monomials(n);
+  std::vector<std::vector<double>> values(powers.size(), std::vector<double>(rows));
+  std::vector<std::string> texts;
+  for (std::size_t c = 0; c < powers.size(); ++c) {
+    for (std::size_t r = 0; r < rows; ++r) values[c][r] = power_product(s.inputs, powers[c], r);
+    texts.push_back(powers_text(powers[c]));
+  }
+  std::vector<const std::vector<double>*> all;
+  for (const std::vector<double>& v : values) all.push_back(&v);
+
   for (const Powers& m : quotients)
-    for (int p : {1, -1, 2, -2}) {
+    for (double p : kPowers) {
       std::vector<double> q(rows);
       for (std::size_t r = 0; r < rows; ++r) q[r] = s.target[r] / power_product(s.inputs, m, r);
-      const double sign = q[0] < 0 ? -1 : 1;
-      if ((p == 2 || p == -2) && !std::all_of(q.begin(), q.end(), [&](double v) {
-            return v * sign > 0;
-          }))
+      // Even and half powers read |q|, so q must keep one sign; odd ones keep it.
+      const bool odd = p == 1 || p == -1;
+      const double sign = odd || q[0] > 0 ? 1 : -1;
+      if (!odd && !std::all_of(q.begin(), q.end(), [&](double v) { return v * sign > 0; }))
         continue;
       std::vector<double> t(rows);
       for (std::size_t r = 0; r < rows; ++r) t[r] = half_power(sign * q[r], p);
-      if (p == 1 || p == -1)
-        for (std::size_t r = 0; r < rows; ++r) t[r] *= sign;
       if (!std::all_of(t.begin(), t.end(), [](double v) { return std::isfinite(v); })) continue;
+      Columns d(all, t);
       std::optional<Fit> f = sparse_exact_fit(d, t);
-      if (!f || (best && f->set.size() >= best->set.size())) continue;
-      // The sum, then M and the power around it.
-      std::string sum;
-      double largest = 0;
-      for (double c : f->coefficients) largest = std::max(largest, std::abs(c));
-      for (std::size_t j = 0; j < f->set.size(); ++j) {
-        const double c = f->coefficients[j];
-        if (j == 0 && std::abs(c) <= 1e-13 * largest) continue;  // a constant at rounding level
-        const std::string term = f->set[j] == 0 ? number(c)
-                                                : "(" + number(c) + ") * " + powers_text(d.powers[f->set[j]]);
-        sum += (sum.empty() ? "" : " + ") + term;
-      }
+      if (!f) continue;
+      // y = sign M g(t), g undoing the power.
+      const std::string tq = sum_text(*f, texts);
       std::string text;
-      switch (p) {
-        case 1: text = "(" + sum + ")"; break;
-        case -1: text = "1 / (" + sum + ")"; break;
-        case 2: text = "sqrt(" + sum + ")"; break;
-        default: text = "rsqrt(" + sum + ")"; break;
-      }
-      if (p == 2 || p == -2) text = number(sign) + " * " + text;
-      text = "(" + powers_text(m) + ") * " + text;
-      best = std::move(f);
-      best_text = std::move(text);
+      if (p == 1) text = tq;
+      else if (p == -1) text = "1 / " + tq;
+      else if (p == 2) text = "sqrt" + tq;
+      else if (p == -2) text = "rsqrt" + tq;
+      else if (p == 0.5) text = tq + "^2";
+      else text = "1 / " + tq + "^2";
+      if (!odd) text = number(sign) + " * " + text;
+      consider(std::move(f), "(" + powers_text(m) + ") * (" + text + ")");
     }
+  // The logarithm: log2 |y| = sum e_k log2 |x_k| + c0 + sum a_k m_k, so y = sign exp2(...):
+  // exp(-(theta / sigma)^2 / 2) / sigma, whose M no rounding of the fit finds.
+  const double sign = s.target[0] > 0 ? 1 : -1;
+  if (std::all_of(s.target.begin(), s.target.end(), [&](double v) { return v * sign > 0; })) {
+    std::vector<double> t(rows);
+    for (std::size_t r = 0; r < rows; ++r) t[r] = std::log2(sign * s.target[r]);
+    std::vector<std::vector<double>> logs2(n, std::vector<double>(rows));
+    std::vector<const std::vector<double>*> with_logs = all;
+    std::vector<std::string> with_logs_texts = texts;
+    for (std::size_t k = 0; k < n; ++k) {
+      for (std::size_t r = 0; r < rows; ++r) logs2[k][r] = std::log2(std::abs(s.inputs[k][r]));
+      with_logs.push_back(&logs2[k]);
+      with_logs_texts.push_back("log2(abs(x" + std::to_string(k) + "))");
+    }
+    Columns d(with_logs, t);
+    std::optional<Fit> f = sparse_exact_fit(d, t);
+    if (f) {
+      const std::string tq = sum_text(*f, with_logs_texts);
+      consider(std::move(f), number(sign) + " * exp2" + tq);
+    }
+  }
   if (!best) return std::nullopt;
   return best_text;
 }

@@ -201,13 +201,6 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     std::vector<Expression> seeds;
     if (ctx.ranks.leader()) {
       seeds = search_detail::offer_start_formulas(ctx, starts);
-      // An exact power sum, where the data is one, before the enumeration spends its share.
-      if (options.enumerate)
-        if (const auto sum = search_detail::exact_power_sum(problem))
-          for (Expression& e : search_detail::offer_start_formulas(
-                   ctx, {search_detail::start_over_indexed_inputs(*sum, problem.input_names)},
-                   SearchPhase::PowerSum))
-            seeds.push_back(std::move(e));
       if (options.enumerate) {
         search_detail::Enumerator enumerator(ctx, rng);
         enumerator.run();
@@ -215,6 +208,17 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
         s.enumeration_cost_completed = enumerator.cost_completed();
         if (options.evolve)
           for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
+        // An exact power sum where the data is one and the search goes on (a target the
+        // enumeration reached ends it first): seeds after the user's starts.
+        if (!ctx.should_stop())
+          if (const auto sum = search_detail::exact_power_sum(problem)) {
+            std::vector<Expression> found = search_detail::offer_start_formulas(
+                ctx, {search_detail::start_over_indexed_inputs(*sum, problem.input_names)},
+                SearchPhase::PowerSum);
+            seeds.insert(seeds.begin() + static_cast<std::ptrdiff_t>(starts.size()),
+                         std::make_move_iterator(found.begin()),
+                         std::make_move_iterator(found.end()));
+          }
       }
       if (resumed)
         for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));
