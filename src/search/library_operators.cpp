@@ -166,8 +166,8 @@ std::vector<Op> suggested_library_operators(const SearchProblem& p) {
   // The simple models read the inputs and their sines and cosines: arcsin(n sin(theta)).
   std::vector<std::vector<double>> inputs = sample.inputs;
   for (const std::vector<double>& x : sample.inputs)
-    for (double (*wave)(double) : {static_cast<double (*)(double)>(std::sin),
-                                   static_cast<double (*)(double)>(std::cos)}) {
+    for (double (*wave)(double) :
+         {static_cast<double (*)(double)>(std::sin), static_cast<double (*)(double)>(std::cos)}) {
       std::vector<double> w(n);
       std::transform(x.begin(), x.end(), w.begin(), wave);
       inputs.push_back(std::move(w));

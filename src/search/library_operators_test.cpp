@@ -64,8 +64,8 @@ TEST(LibraryOperators, DataThatIsOneOfThemOfASimpleFunction) {
                         [](const V& x) { return std::tanh(x[0] * x[1] / (x[2] * x[3])); }))),
             "tanh");
   // Snell's arcsin(n sin(theta)): a monomial of an input and another's sine.
-  EXPECT_EQ(names(suggested_library_operators(
-                sampled({{0, 1}, {1, 5}}, [](const V& x) { return std::asin(x[0] * std::sin(x[1])); }))),
+  EXPECT_EQ(names(suggested_library_operators(sampled(
+                {{0, 1}, {1, 5}}, [](const V& x) { return std::asin(x[0] * std::sin(x[1])); }))),
             "asin");
   // Linear insides; a function of one input is left to be approximated without them.
   EXPECT_EQ(names(suggested_library_operators(

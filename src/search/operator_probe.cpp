@@ -80,7 +80,8 @@ double residual(const std::vector<std::vector<double>>& columns, const SearchPro
 // a smooth monotone function (atan over less than half a period) passes none.
 constexpr double kTrigStrong = 1e-3;
 constexpr double kTrigPeriod = 0.4;
-constexpr double kTrigTail = 8;  // the most z may span, in interquartile ranges, for the period test
+// The most z may span, in interquartile ranges, for the period test.
+constexpr double kTrigTail = 8;
 constexpr double kTrigPeriodShare = 0.5;
 constexpr double kTrigRatio = 0.99;
 constexpr double kTrigShare = 0.3;

@@ -78,15 +78,15 @@ TEST(OperatorProbe, AnglesThatArePartsOfTheTarget) {
                          return v[0] * (c + v[3] * c * c);
                        }));
   // Smooth monotone functions over less than half a period, a pole and powers: none.
-  EXPECT_FALSE(periodic({"x", "y"}, {{-1.5, 1.5}, {1, 3}}, [](const std::vector<double>& v) {
-    return v[1] * std::atan(v[0]);
-  }));
+  EXPECT_FALSE(periodic({"x", "y"}, {{-1.5, 1.5}, {1, 3}},
+                        [](const std::vector<double>& v) { return v[1] * std::atan(v[0]); }));
   EXPECT_FALSE(periodic({"n", "a"}, {{0, 1}, {0, 1}}, [](const std::vector<double>& v) {
     return 1 + v[0] * v[1] / (1 - v[0] * v[1] / 3);
   }));
-  EXPECT_FALSE(periodic({"m", "v", "c"}, {{1, 5}, {1, 2}, {3, 10}}, [](const std::vector<double>& v) {
-    return v[0] * v[2] * v[2] / std::sqrt(1 - v[1] * v[1] / (v[2] * v[2]));
-  }));
+  EXPECT_FALSE(
+      periodic({"m", "v", "c"}, {{1, 5}, {1, 2}, {3, 10}}, [](const std::vector<double>& v) {
+        return v[0] * v[2] * v[2] / std::sqrt(1 - v[1] * v[1] / (v[2] * v[2]));
+      }));
   EXPECT_FALSE(periodic({"h", "w", "kb", "T"}, {{1, 5}, {1, 5}, {1, 5}, {1, 5}},
                         [](const std::vector<double>& v) {
                           const double hbar = v[0] / (2 * std::numbers::pi);

@@ -1,11 +1,11 @@
 #include "search/power_sum.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
-
-#include <fmt/format.h>
 
 #include "search/row_sample.hpp"
 #include "shaderfit/fit/linear.hpp"
@@ -237,7 +237,8 @@ std::optional<Fit> sparse_exact_fit(Columns& d, const std::vector<double>& t) {
       if (i < 3 && next[i].first <= kSift * spread) {
         Subset s{};
         const std::size_t k = unpack_into(next[i].second, s);
-        Fit f = refit(d, t, std::vector<std::size_t>(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(k)));
+        Fit f = refit(
+            d, t, std::vector<std::size_t>(s.begin(), s.begin() + static_cast<std::ptrdiff_t>(k)));
         if (f.unexplained <= kPowerSumExact) return f;
       }
       beam.push_back(next[i].second);
@@ -335,11 +336,11 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
   // Where a part of y that is no power product tilts an exponent (w^4 / (w^2 - w0^2)^2 over
   // w0 > w fits w^4.7 w0^-4.8), both integers either side.
   for (std::size_t mask = 0; mask < (std::size_t{1} << unsure.size()); ++mask) {
-      Powers m = wholes;
-      for (std::size_t u = 0; u < unsure.size(); ++u)
-        m[unsure[u]] = (mask >> u & 1) ? std::ceil(b[unsure[u] + 1]) : std::floor(b[unsure[u] + 1]);
-      add(m);
-    }
+    Powers m = wholes;
+    for (std::size_t u = 0; u < unsure.size(); ++u)
+      m[unsure[u]] = (mask >> u & 1) ? std::ceil(b[unsure[u] + 1]) : std::floor(b[unsure[u] + 1]);
+    add(m);
+  }
 
   std::optional<Fit> best;
   std::string best_text;
@@ -377,12 +378,18 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
       // y = sign M g(t), g undoing the power.
       const std::string tq = sum_text(*f, texts);
       std::string text;
-      if (p == 1) text = tq;
-      else if (p == -1) text = "1 / " + tq;
-      else if (p == 2) text = "sqrt" + tq;
-      else if (p == -2) text = "rsqrt" + tq;
-      else if (p == 0.5) text = tq + "^2";
-      else text = "1 / " + tq + "^2";
+      if (p == 1)
+        text = tq;
+      else if (p == -1)
+        text = "1 / " + tq;
+      else if (p == 2)
+        text = "sqrt" + tq;
+      else if (p == -2)
+        text = "rsqrt" + tq;
+      else if (p == 0.5)
+        text = tq + "^2";
+      else
+        text = "1 / " + tq + "^2";
       if (!odd) text = number(sign) + " * " + text;
       consider(std::move(f), "(" + powers_text(m) + ") * (" + text + ")");
     }

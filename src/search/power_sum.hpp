@@ -1,19 +1,18 @@
 // Exact power sums (internal; docs/search.md, "Exact power sums"): after the enumeration, unless
 // the search is over, it tries whether the target is, to float64 rounding,
 //
-//   y = M * t^(1/p),  t = (c0 + sum a_k m_k) / (1 + sum b_j m_j),  p in {1, -1, 2, -2, 1/2, -1/2},
+//   y = M * t^(1/p),  t = c0 + sum a_k m_k,  p in {1, -1, 2, -2, 1/2, -1/2},
 //
-// or y = s exp2(c0 + sum e_k log2 |x_k| + sum a_k m_k) (a Gaussian over its width),
-// with at most kPowerSumTerms terms a_k m_k and b_j m_j, where M is a power product of the
-// inputs (exponents fitted to log |y| and rounded to halves or to integers, or M = 1) and each
-// m a power product of at most two inputs (three, for up to four inputs) with exponents in
-// {-2, -1, 1, 2}. rho / sqrt(1 - v^2 / c^2) (p = -2, M = rho, m1 = v^2 / c^2),
-// mom sqrt(Bx^2 + By^2 + Bz^2), sqrt(w^2 / c^2 - pi^2 / d^2) and the velocity sum
-// (u + v) / (1 + u v / c^2) are such sums; the evolution rarely assembles them (needles of cost
-// 5 or more among formulas of 3 or 4 inputs). t = N / D is fitted as t = N - t (D - 1), linear in
-// the columns m and -t m. The terms are chosen by a beam search over the normal equations (at
-// most kPowerSumRows rows, evenly spread) and the best subsets are refitted by QR on the rows;
-// one counts only when its 1 - R^2 in t is at most kPowerSumExact, so nothing is added where the
+// or y = s exp2(c0 + sum e_k log2 |x_k| + sum a_k m_k) (s = +-1; a Gaussian over its width),
+// with at most kPowerSumTerms terms, where M is a power product of the inputs (exponents fitted
+// to log |y| and rounded to halves or to integers, the two farthest from integers also to the
+// integers either side; or M = 1) and each m a power product of at most two inputs with
+// exponents in {-2, -1, 1, 2}. rho / sqrt(1 - v^2 / c^2) (p = -2, M = rho, m1 = v^2 / c^2),
+// mom sqrt(Bx^2 + By^2 + Bz^2), sqrt(w^2 / c^2 - pi^2 / d^2) and w^4 / (w^2 - w0^2)^2 are such
+// sums; the evolution rarely assembles them (needles of cost 5 or more among formulas of 3 or
+// more inputs). The terms are chosen by a beam search over the normal equations (at most
+// kPowerSumRows rows, evenly spread) and the best subsets are refitted by QR on the rows; one
+// counts only when its 1 - R^2 in t is at most kPowerSumExact, so nothing is added where the
 // data is not such a sum (or is noisy). The formula found is offered to the front and seeds the
 // evolution, as a start formula does (origin SearchPhase::PowerSum).
 #pragma once

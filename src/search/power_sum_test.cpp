@@ -40,16 +40,15 @@ double worst_relative(const std::string& text, const SearchProblem& p) {
 }
 
 TEST(PowerSum, FoundWhereTheTargetIsOne) {
-  const std::vector<std::pair<std::vector<std::pair<double, double>>, std::function<double(const V&)>>>
+  const std::vector<
+      std::pair<std::vector<std::pair<double, double>>, std::function<double(const V&)>>>
       cases = {
           // rho / sqrt(1 - v^2 / c^2): M = rho, p = -2.
           {{{1, 5}, {1, 2}, {3, 10}},
            [](const V& x) { return x[0] / std::sqrt(1 - x[1] * x[1] / (x[2] * x[2])); }},
           // mom sqrt(Bx^2 + By^2 + Bz^2): three terms under a square root.
           {{{1, 5}, {1, 5}, {1, 5}, {1, 5}},
-           [](const V& x) {
-             return x[0] * std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]);
-           }},
+           [](const V& x) { return x[0] * std::sqrt(x[1] * x[1] + x[2] * x[2] + x[3] * x[3]); }},
           // Schlick's G1 with k = alpha / 2, times an input: 1 / y is linear in 1, alpha and
           // alpha / n over M = l.
           {{{0.05, 1}, {0.01, 1}, {0.1, 1}},
@@ -90,25 +89,31 @@ TEST(PowerSum, NothingWhereItIsNot) {
   // One of them with noise of 1e-5 relative: not exact.
   const std::vector<std::pair<double, double>> box = {{1, 5}, {1, 2}, {3, 10}};
   Rng rng(3);
-  EXPECT_FALSE(exact_power_sum(test::drawn_problem({"rho", "v", "c"}, box, [&](const V& x) {
-                 const double y = x[0] / std::sqrt(1 - x[1] * x[1] / (x[2] * x[2]));
-                 return y * (1 + 1e-5 * uniform(rng, -1, 1));
-               }, 11, 2000)).has_value());
+  EXPECT_FALSE(exact_power_sum(test::drawn_problem(
+                                   {"rho", "v", "c"}, box,
+                                   [&](const V& x) {
+                                     const double y =
+                                         x[0] / std::sqrt(1 - x[1] * x[1] / (x[2] * x[2]));
+                                     return y * (1 + 1e-5 * uniform(rng, -1, 1));
+                                   },
+                                   11, 2000))
+                   .has_value());
   // An input that is 0 on a row, too few rows, and one input (the enumeration's).
   EXPECT_FALSE(exact_power_sum(drawn({{0, 0}, {1, 2}, {1, 2}}, [](const V& x) {
                  return x[1] * x[2];
                })).has_value());
-  EXPECT_FALSE(exact_power_sum(drawn({{1, 2}, {1, 2}, {1, 2}}, [](const V& x) {
-                 return 1 / (x[0] + x[1] * x[2]);
-               }, 40)).has_value());
+  EXPECT_FALSE(exact_power_sum(drawn(
+                                   {{1, 2}, {1, 2}, {1, 2}},
+                                   [](const V& x) { return 1 / (x[0] + x[1] * x[2]); }, 40))
+                   .has_value());
   EXPECT_FALSE(
       exact_power_sum(drawn({{1, 2}}, [](const V& x) { return 1 / (x[0] + 1); })).has_value());
 }
 
 TEST(PowerSum, TenInputsStayCheap) {
   std::vector<std::pair<double, double>> box(10, {0.5, 2.0});
-  const SearchProblem p =
-      drawn(box, [](const V& x) { return std::exp(x[0] - x[9]) + x[1]; }, 100000);
+  const SearchProblem p = drawn(
+      box, [](const V& x) { return std::exp(x[0] - x[9]) + x[1]; }, 100000);
   const auto t0 = std::chrono::steady_clock::now();
   EXPECT_FALSE(exact_power_sum(p).has_value());
   const double ms =
