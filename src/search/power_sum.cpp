@@ -217,9 +217,11 @@ std::optional<Fit> sparse_exact_fit(Columns& d, const std::vector<double>& t) {
         if (!d.usable(c) || std::find(base.begin(), end, c) != end) continue;
         Factor g = f;
         if (!extend(d, base, g, c)) continue;
+        // base with c in its place (base[1..k) ascending).
         Subset s = base;
-        s[k] = c;
-        std::sort(s.begin() + 1, s.begin() + static_cast<std::ptrdiff_t>(k + 1));
+        std::size_t at = k;
+        for (; at > 1 && s[at - 1] > c; --at) s[at] = s[at - 1];
+        s[at] = c;
         next.emplace_back(tt - g.explained, pack(s, k + 1));
       }
     }
