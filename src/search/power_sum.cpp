@@ -21,6 +21,7 @@ constexpr int kExponents[] = {-2, -1, 1, 2};
 // kUnsureInputs inputs farthest.
 constexpr double kUnsureExponent = 0.1;
 constexpr std::size_t kUnsureInputs = 2;
+constexpr double kMostQuotientPower = 8;
 // The transforms t = (y / M)^p tried.
 constexpr double kPowers[] = {1, -1, 2, -2, 0.5, -0.5};
 
@@ -330,8 +331,13 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
   });
   if (unsure.size() > kUnsureInputs) unsure.resize(kUnsureInputs);
   std::vector<Powers> quotients = {Powers(n, 0.0)};
+  // A quotient with an exponent beyond kMostQuotientPower is no physical power law (a steep
+  // function over a narrow range fits one) and would not print as `x^k`.
   const auto add = [&](const Powers& m) {
-    if (std::find(quotients.begin(), quotients.end(), m) == quotients.end()) quotients.push_back(m);
+    const bool modest =
+        std::all_of(m.begin(), m.end(), [](double e) { return std::abs(e) <= kMostQuotientPower; });
+    if (modest && std::find(quotients.begin(), quotients.end(), m) == quotients.end())
+      quotients.push_back(m);
   };
   add(halves);
   add(wholes);

@@ -110,6 +110,17 @@ TEST(PowerSum, NothingWhereItIsNot) {
       exact_power_sum(drawn({{1, 2}}, [](const V& x) { return 1 / (x[0] + 1); })).has_value());
 }
 
+TEST(PowerSum, SteepFunctions) {
+  // The log fit's exponent for x0 is about 30 here: no quotient is made of it (it would not
+  // print as x0^k), and the logarithm's form is found and parses.
+  const SearchProblem p = drawn({{1, 2}, {1, 2}, {1, 2}}, [](const V& x) {
+    return std::exp(20 * x[0]) * x[1] * x[1] * x[2];
+  });
+  const auto found = exact_power_sum(p);
+  ASSERT_TRUE(found.has_value());
+  EXPECT_LT(worst_relative(*found, p), 1e-10) << *found;
+}
+
 TEST(PowerSum, TenInputsStayCheap) {
   std::vector<std::pair<double, double>> box(10, {0.5, 2.0});
   const SearchProblem p = drawn(
