@@ -368,10 +368,10 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
   std::vector<const std::vector<double>*> all;
   for (const std::vector<double>& v : values) all.push_back(&v);
 
-  for (const Powers& m : quotients)
+  std::vector<double> q(rows);
+  for (const Powers& m : quotients) {
+    for (std::size_t r = 0; r < rows; ++r) q[r] = s.target[r] / power_product(s.inputs, m, r);
     for (double p : kPowers) {
-      std::vector<double> q(rows);
-      for (std::size_t r = 0; r < rows; ++r) q[r] = s.target[r] / power_product(s.inputs, m, r);
       // Even and half powers read |q|, so q must keep one sign; odd ones keep it.
       const bool odd = p == 1 || p == -1;
       const double sign = odd || q[0] > 0 ? 1 : -1;
@@ -401,6 +401,7 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
       if (!odd) text = number(sign) + " * " + text;
       consider(std::move(f), "(" + powers_text(m) + ") * (" + text + ")");
     }
+  }
   // The logarithm: log2 |y| = sum e_k log2 |x_k| + c0 + sum a_k m_k, so y = sign exp2(...):
   // exp(-(theta / sigma)^2 / 2) / sigma, whose M no rounding of the fit finds.
   const double sign = s.target[0] > 0 ? 1 : -1;
