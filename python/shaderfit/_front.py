@@ -60,14 +60,14 @@ class Member:
     Attributes: ``formula`` (full precision; ``str(member)`` shows constants as float32 needs
     them), ``cost`` (see Cost), ``loss`` (the search's loss), each metric (``mse``, ``rmse``,
     ``max_abs``, ``max_rel``, ``rel``, ``log``), ``nodes``, ``time_s`` (when it was found),
-    ``origin`` ("enumeration", "evolution", "start" or "power_sum"), ``float32_stable``,
-    ``float32_max_abs_diff``, ``float32_max_abs`` and ``float32_max_rel`` (the error computed in
-    float32 as a shader does), ``parameters`` (fitted constants by name), ``inputs``, and
-    ``json`` (the member as the CLI's JSON writes it). With a reference: ``max_abs`` includes
-    the errors found between the samples (``checked_between_samples``, ``worst_point``), and
-    with ``certify=True`` ``certified_max_abs`` bounds the error on the whole domain (None when
-    not certified, inf when no finite bound was found) and ``certified_converged`` says whether
-    the bound met its tolerance.
+    ``origin`` ("enumeration", "evolution", "start", "power_sum" or "polynomial"),
+    ``float32_stable``, ``float32_max_abs_diff``, ``float32_max_abs`` and ``float32_max_rel``
+    (the error computed in float32 as a shader does), ``parameters`` (fitted constants by name),
+    ``inputs``, and ``json`` (the member as the CLI's JSON writes it). With a reference:
+    ``max_abs`` includes the errors found between the samples (``checked_between_samples``,
+    ``worst_point``), and with ``certify=True`` ``certified_max_abs`` bounds the error on the
+    whole domain (None when not certified, inf when no finite bound was found) and
+    ``certified_converged`` says whether the bound met its tolerance.
     """
 
     def __init__(self, document: dict, formula: _shaderfit.Formula):

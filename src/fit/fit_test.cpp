@@ -61,6 +61,36 @@ TEST(LinearLeastSquares, SolvesAndToleratesRankDeficiency) {
   EXPECT_NEAR(d[0] + d[2], 2.0, 1e-9);
 }
 
+// The best line to x^2 on [0, 1] is x - 1/8 (error +-1/8 at 0, 1/2 and 1); Lawson's iteration
+// approaches it linearly, so within 0.5% after its default 60 solves.
+TEST(LinearMinimax, NearTheBestLineAndWeighs) {
+  std::vector<double> x, one, y;
+  for (int i = 0; i <= 1000; ++i) {
+    x.push_back(i / 1000.0);
+    one.push_back(1);
+    y.push_back(x.back() * x.back());
+  }
+  const double* cols[] = {one.data(), x.data()};
+  const auto worst = [&](const std::vector<double>& c, double upto) {
+    double e = 0;
+    for (std::size_t i = 0; i < x.size(); ++i)
+      if (x[i] <= upto) e = std::max(e, std::abs(c[0] + c[1] * x[i] - y[i]));
+    return e;
+  };
+  const auto c = solve_minimax_linear(cols, y);
+  EXPECT_NEAR(c[1], 1.0, 1e-3);
+  EXPECT_LT(worst(c, 1), 0.125 * 1.005);
+  EXPECT_LT(worst(solve_minimax_linear(cols, y, {}, 400), 1), 0.125 * 1.0001);
+  // Least squares (-1/6, 1) is worse: the minimax is not just the first solve.
+  EXPECT_GT(worst(solve_least_squares(cols, y), 1), 0.16);
+  // Zero weight on the rows above 1/2: the best line on [0, 1/2], x / 2 - 1/32.
+  std::vector<double> w(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) w[i] = x[i] <= 0.5 ? 1 : 0;
+  const auto h = solve_minimax_linear(cols, y, w);
+  EXPECT_NEAR(h[1], 0.5, 1e-3);
+  EXPECT_LT(worst(h, 0.5), 1.0 / 32 * 1.005);
+}
+
 TEST(Fit, LinearInParametersDetection) {
   EXPECT_TRUE(is_linear_in_parameters(parse("a * x + b", {"a", "b"}, {})));
   EXPECT_TRUE(is_linear_in_parameters(parse("r0 + (x - r0 * a) * x^4 / 2 - b", {"a", "b"}, {})));

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fit/fixed_form_internal.hpp"
+
 namespace shaderfit {
 
 LinearScaling fit_linear_scaling(std::span<const double> f, std::span<const double> y,
@@ -55,6 +57,37 @@ std::vector<double> solve_least_squares(std::span<const double* const> columns,
   Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(a);
   const Eigen::VectorXd c = qr.solve(b);
   return {c.data(), c.data() + c.size()};
+}
+
+std::vector<double> solve_minimax_linear(std::span<const double* const> columns,
+                                         std::span<const double> y, std::span<const double> weights,
+                                         int iterations) {
+  const std::size_t rows = y.size();
+  std::vector<double> w(rows, 1.0);
+  if (!weights.empty()) w.assign(weights.begin(), weights.end());
+  std::vector<double> c, best;
+  fit_detail::LawsonSteps steps;
+  steps.solve = [&](std::span<const double> eff) {
+    c = solve_least_squares(columns, y, eff);
+    for (double v : c)
+      if (!std::isfinite(v)) return fit_detail::Failure{fit_detail::FailureKind::nonfinite, ""};
+    return fit_detail::Failure{};
+  };
+  steps.residuals = [&](std::vector<double>* r) {
+    for (std::size_t i = 0; i < rows; ++i) {
+      double g = 0;
+      for (std::size_t j = 0; j < columns.size(); ++j) g += c[j] * columns[j][i];
+      (*r)[i] = std::abs(g - y[i]);
+    }
+  };
+  steps.keep = [&] { best = c; };
+  steps.restore = [&] { c = best; };
+  std::string termination;
+  if (fit_detail::lawson(w, iterations, steps, &termination) || best.empty()) {
+    // The first solve failed: the plain least-squares solution, as solve_least_squares gives it.
+    return solve_least_squares(columns, y, weights);
+  }
+  return best;
 }
 
 }  // namespace shaderfit

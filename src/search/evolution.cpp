@@ -331,9 +331,14 @@ bool Evolution::generation(Island& island, const Snapshot& front) {
 }
 
 void Evolution::polish_front() {
+  // A polished member keeps the strategy that found it.
   std::vector<Expression> todo;
+  std::vector<SearchPhase> origins;
   for (const FrontMember& m : ctx_.front.members())
-    if (!m.expression.parameters.empty()) todo.push_back(m.expression);
+    if (!m.expression.parameters.empty()) {
+      todo.push_back(m.expression);
+      origins.push_back(m.origin);
+    }
   std::vector<Candidate> done(todo.size());
   parallel_for(
       todo.size(), 1,
@@ -348,8 +353,8 @@ void Evolution::polish_front() {
         }
       },
       ctx_.threads);
-  for (Candidate& c : done)
-    ctx_.offer(std::move(c.expr), loss_value(ctx_.options.loss, c.metrics), SearchPhase::Evolution);
+  for (std::size_t i = 0; i < done.size(); ++i)
+    ctx_.offer(std::move(done[i].expr), loss_value(ctx_.options.loss, done[i].metrics), origins[i]);
 }
 
 void Evolution::restart_island() {

@@ -22,6 +22,7 @@ std::string_view search_phase_name(SearchPhase phase) {
     case SearchPhase::Evolution: return "evolution";
     case SearchPhase::Start: return "start";
     case SearchPhase::PowerSum: return "power_sum";
+    case SearchPhase::Polynomial: return "polynomial";
   }
   return "enumeration";
 }
@@ -31,6 +32,7 @@ std::optional<SearchPhase> search_phase_from_name(std::string_view name) {
   if (name == "evolution") return SearchPhase::Evolution;
   if (name == "start") return SearchPhase::Start;
   if (name == "power_sum") return SearchPhase::PowerSum;
+  if (name == "polynomial") return SearchPhase::Polynomial;
   return std::nullopt;
 }
 

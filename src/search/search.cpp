@@ -13,6 +13,7 @@
 #include "search/evolution.hpp"
 #include "search/exact_json.hpp"
 #include "search/float32_check.hpp"
+#include "search/polynomial_starts.hpp"
 #include "search/power_sum.hpp"
 #include "search/search_context.hpp"
 #include "search/start.hpp"
@@ -157,6 +158,26 @@ void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
   }
 }
 
+// The formulas derived from the data, not found by search: an exact power sum
+// (search/power_sum.hpp) or the polynomials of a one-input problem
+// (search/polynomial_starts.hpp), offered to ctx's front; returns their refitted forms.
+std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
+                                             const SearchProblem& problem,
+                                             const std::optional<DataSymmetry>& symmetry) {
+  using search_detail::start_over_indexed_inputs;
+  const std::vector<std::string>& names = problem.input_names;
+  if (const auto sum = search_detail::exact_power_sum(problem))
+    return search_detail::offer_start_formulas(
+        ctx, {start_over_indexed_inputs(*sum, names, "power sum")}, SearchPhase::PowerSum);
+  std::vector<search_detail::StartFormula> polynomials;
+  for (const std::string& text :
+       search_detail::polynomial_starts(problem, symmetry, ctx.options.loss)) {
+    polynomials.push_back(start_over_indexed_inputs(text, names, "polynomial"));
+    polynomials.back().fitted = true;
+  }
+  return search_detail::offer_start_formulas(ctx, polynomials, SearchPhase::Polynomial);
+}
+
 // The search proper, on `problem`: the data, or its half when `symmetry` is set.
 void search_on(const SearchOptions& options, const SearchProblem& problem,
                const std::vector<search_detail::StartFormula>& starts,
@@ -208,17 +229,15 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
         s.enumeration_cost_completed = enumerator.cost_completed();
         if (options.evolve)
           for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
-        // An exact power sum where the data is one and the search goes on (a target the
-        // enumeration reached ends it first): seeds after the user's starts.
-        if (!ctx.should_stop())
-          if (const auto sum = search_detail::exact_power_sum(problem)) {
-            std::vector<Expression> found = search_detail::offer_start_formulas(
-                ctx, {search_detail::start_over_indexed_inputs(*sum, problem.input_names)},
-                SearchPhase::PowerSum);
-            seeds.insert(seeds.begin() + static_cast<std::ptrdiff_t>(starts.size()),
-                         std::make_move_iterator(found.begin()),
-                         std::make_move_iterator(found.end()));
-          }
+        // An exact power sum where the data is one, or the polynomials of a one-input problem,
+        // where the search goes on (a target the enumeration reached ends it first): seeds
+        // after the user's starts.
+        if (!ctx.should_stop()) {
+          std::vector<Expression> found = offer_derived_starts(ctx, problem, symmetry);
+          seeds.insert(seeds.begin() + static_cast<std::ptrdiff_t>(starts.size()),
+                       std::make_move_iterator(found.begin()),
+                       std::make_move_iterator(found.end()));
+        }
       }
       if (resumed)
         for (FrontMember& m : resumed->front) ctx.front.offer(std::move(m));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <thread>
 
 #include "search/checkpoint.hpp"
@@ -169,6 +170,14 @@ bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin
   m.cost = expression_cost(e, options.cost);
   m.loss = loss_estimate;
   if (!std::isfinite(m.loss) || !front.would_enter(m.cost, m.loss)) return false;
+  // On a symmetric half, the cost of the cheapest form on every row (whole_data_forms), which is
+  // what the whole data's front will show: at least e's own, so checked only where that enters.
+  if (symmetry) {
+    m.cost = std::numeric_limits<double>::infinity();
+    for (const Expression& f : whole_data_forms(e, *symmetry, problem.input_names, false))
+      m.cost = std::min(m.cost, expression_cost(f, options.cost));
+    if (!front.would_enter(m.cost, m.loss)) return false;
+  }
   // What the front shows is what was scored: e itself, in float64, on every row. (Only
   // formulas that would enter get this far, so the extra evaluation is rare.)
   std::vector<double> prediction(rows);

@@ -62,10 +62,11 @@ Expression refit_for_loss(Expression e, const SearchOptions& options,
 }
 
 StartFormula start_over_indexed_inputs(const std::string& text,
-                                       const std::vector<std::string>& names) {
+                                       const std::vector<std::string>& names,
+                                       const std::string& source) {
   ParseOptions po;
   for (std::size_t k = 0; k < names.size(); ++k) po.variables.push_back("x" + std::to_string(k));
-  po.source = "power sum";
+  po.source = source;
   StartFormula s;
   s.written = parse_formula(text, po);
   po.literals_as_parameters = true;
@@ -79,9 +80,10 @@ std::vector<Expression> offer_start_formulas(SearchContext& ctx,
                                              SearchPhase origin) {
   std::vector<Expression> seeds;
   for (const StartFormula& s : starts) {
-    Expression fitted = refit_for_loss(s.free, ctx.options, ctx.problem);
-    std::vector<const Expression*> forms = {&s.written};
-    if (!fitted.parameters.empty()) forms.push_back(&fitted);
+    Expression fitted = s.fitted ? s.free : refit_for_loss(s.free, ctx.options, ctx.problem);
+    // A fitted start with its constants free, so that the front's polish may refine them.
+    std::vector<const Expression*> forms = {s.fitted ? &s.free : &s.written};
+    if (!s.fitted && !fitted.parameters.empty()) forms.push_back(&fitted);
     for (const Expression* e : forms) {
       ctx.offer(*e, loss_value(ctx.options.loss, ctx.score(*e)), origin);
       ctx.candidates.fetch_add(1, std::memory_order_relaxed);

@@ -610,6 +610,79 @@ std::optional<Expression> factored_expression(const Expression& g, const DataSym
   return unreflected_expression(e, symmetry);
 }
 
+namespace {
+
+// A subexpression's parity in x: Even includes not depending on x at all.
+enum class Parity { Even, Odd, None };
+
+// The parity of an operator's result from its operands' (not all Even).
+Parity parity_of(const Node& n, std::span<const Parity> a) {
+  const auto product = [](Parity p, Parity q) {
+    if (p == Parity::None || q == Parity::None) return Parity::None;
+    return (p == Parity::Odd) != (q == Parity::Odd) ? Parity::Odd : Parity::Even;
+  };
+  const auto sum = [](Parity p, Parity q) {
+    return p == Parity::Odd && q == Parity::Odd ? Parity::Odd : Parity::None;
+  };
+  switch (n.op) {
+    case Op::Neg: return a[0];
+    case Op::Add:
+    case Op::Sub: return sum(a[0], a[1]);
+    case Op::Mul:
+    case Op::Div: return product(a[0], a[1]);
+    case Op::Fma: return sum(product(a[0], a[1]), a[2]);
+    case Op::IPow:
+      return a[0] == Parity::Odd ? (n.index % 2 == 0 ? Parity::Even : Parity::Odd) : Parity::None;
+    case Op::Abs: return a[0] == Parity::Odd ? Parity::Even : Parity::None;
+    case Op::Cos: return a[0] == Parity::Odd ? Parity::Even : Parity::None;
+    // Odd functions: f(-t) = -f(t).
+    case Op::Rcp:
+    case Op::Sin:
+    case Op::Asin:
+    case Op::Atan:
+    case Op::Tanh:
+    case Op::Erf:
+    case Op::Sign: return a[0];
+    case Op::CopySign:  // |a| carries the sign of b
+      if (a[0] == Parity::None) return Parity::None;
+      return a[1];
+    default: return Parity::None;
+  }
+}
+
+}  // namespace
+
+bool symmetric_as_written(const Expression& g, const DataSymmetry& symmetry) {
+  if (symmetry.kind == SymmetryKind::Point) return false;
+  std::vector<Parity> stack;
+  for (const Node& n : g.nodes) {
+    const auto k = static_cast<std::size_t>(n.arity);
+    if (k == 0) {
+      const bool x = n.op == Op::Var &&
+                     g.variables.at(static_cast<std::size_t>(n.index)) == symmetry.input_name;
+      stack.push_back(x ? Parity::Odd : Parity::Even);
+      continue;
+    }
+    const std::span<const Parity> operands(stack.data() + stack.size() - k, k);
+    const bool even =
+        std::all_of(operands.begin(), operands.end(), [](Parity p) { return p == Parity::Even; });
+    const Parity p = even ? Parity::Even : parity_of(n, operands);
+    stack.resize(stack.size() - k);
+    stack.push_back(p);
+  }
+  const Parity want = symmetry.kind == SymmetryKind::Odd ? Parity::Odd : Parity::Even;
+  return stack.size() == 1 && stack[0] == want;
+}
+
+std::vector<Expression> whole_data_forms(const Expression& g, const DataSymmetry& symmetry,
+                                         const std::vector<std::string>& input_names, bool scored) {
+  std::vector<Expression> forms = {reflect_expression(g, symmetry, input_names)};
+  if (auto f = factored_expression(g, symmetry, input_names)) forms.push_back(std::move(*f));
+  if (scored || symmetric_as_written(g, symmetry))
+    forms.push_back(unreflected_expression(g, symmetry));
+  return forms;
+}
+
 std::string describe_symmetry(const DataSymmetry& symmetry) {
   const std::string& x = symmetry.input_name;
   switch (symmetry.kind) {

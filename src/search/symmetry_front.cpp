@@ -50,12 +50,8 @@ void SymmetricFront::finish(const std::vector<StartFormula>& starts, SearchSumma
   // When and by which strategy each formula was found, to keep in the whole data's front.
   std::map<std::string, std::pair<double, SearchPhase>> found;
   for (const FrontMember& half : summary->front) {
-    std::vector<Expression> forms = {
-        reflect_expression(half.expression, symmetry_, whole_.problem.input_names),
-        unreflected_expression(half.expression, symmetry_)};
-    if (auto f = factored_expression(half.expression, symmetry_, whole_.problem.input_names))
-      forms.push_back(std::move(*f));
-    for (Expression& e : forms) {
+    for (Expression& e : whole_data_forms(half.expression, symmetry_, whole_.problem.input_names,
+                                          /*scored=*/true)) {
       const std::string formula = to_infix(e, {.substitute_parameters = true});
       found.emplace(formula, std::make_pair(half.time_s, half.origin));
       // Loss 0 as the estimate: every form is scored on the whole data before it may enter.

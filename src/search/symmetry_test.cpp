@@ -221,6 +221,32 @@ TEST(Symmetry, FactoredExpression) {
   EXPECT_DOUBLE_EQ(v[1], -v[0]);
 }
 
+TEST(Symmetry, SymmetricAsWritten) {
+  const std::vector<std::string> names = {"r", "x"};
+  const DataSymmetry odd{1, "x", SymmetryKind::Odd, 0}, even{1, "x", SymmetryKind::Even, 0};
+  auto is = [&](const char* g, const DataSymmetry& s) {
+    return symmetric_as_written(parse_formula(g, {.variables = names}), s);
+  };
+  for (const char* g :
+       {"x", "x^3 * r", "x * (r + x^2 * (2 + x^2))", "sin(x) + atan(r * x)", "x / (1 + x^2)",
+        "-tanh(x) / cos(x)", "copysign(r + x^2, x)", "fma(x, x^2, x)", "erf(x) * exp(-x^2)"})
+    EXPECT_TRUE(is(g, odd)) << g;
+  for (const char* g : {"x + 1", "x^2", "r", "x * abs(x) + r", "sqrt(x)", "exp(x)", "x + x^2",
+                        "pow(x, 2.5)", "min(x, r)"})
+    EXPECT_FALSE(is(g, odd)) << g;
+  for (const char* g : {"r", "x^2 + r", "cos(x) * abs(x)", "exp(-x^2)", "x * sin(x)", "sqrt(x^2)"})
+    EXPECT_TRUE(is(g, even)) << g;
+  for (const char* g : {"x", "x + x^2", "cos(x + 1)"}) EXPECT_FALSE(is(g, even)) << g;
+  EXPECT_FALSE(is("x", {1, "x", SymmetryKind::Point, 0.5}));
+  // The forms on every row: reflected and factored always, as written where the rules say so
+  // or the caller scores it.
+  const Expression poly = parse_formula("x * (r + x^2)", {.variables = names});
+  EXPECT_EQ(whole_data_forms(poly, odd, names, false).size(), 3U);
+  const Expression other = parse_formula("x + x^2", {.variables = names});
+  EXPECT_EQ(whole_data_forms(other, odd, names, false).size(), 1U);
+  EXPECT_EQ(whole_data_forms(other, odd, names, true).size(), 2U);
+}
+
 TEST(Symmetry, MirroredPairsSayTheirEvidence) {
   const auto odd = detect_symmetry(on_grid([](double x) { return std::atan(x); }));
   ASSERT_TRUE(odd);
@@ -483,6 +509,38 @@ TEST(SymmetrySearch, UnmirroredAcosIsFoldedAndSaysHow) {
   EXPECT_EQ(sy.at("noise").get<double>(), s.symmetry->evidence.noise);
   for (const FrontMember& m : s.front)
     EXPECT_EQ(metrics_on(m.expression, p).max_abs, m.metrics.max_abs) << m.formula;
+}
+
+// atan at uniform random points: the half's front is ranked by what each member costs on every
+// row, so the odd polynomials (search/polynomial_starts.hpp), which need no copysign, reach the
+// whole front and beat Eberly's published degree-11 form at its cost (7).
+TEST(SymmetrySearch, UnmirroredAtanGetsOddPolynomials) {
+  const SearchProblem p = uniform_random([](double x) { return std::atan(x); }, 8, -1, 1, 4000);
+  SearchOptions o = test::seed_task_options();
+  o.threads = 1;
+  o.time_limit_s = 60;
+  o.max_enumeration_cost = 2;  // so that the count budget reaches the polynomials
+  o.max_candidates = 20000;
+  o.loss = Loss::MaxAbs;
+  SearchSummary s;
+  run_search(o, p, &s);
+  ASSERT_TRUE(s.symmetry);
+  EXPECT_EQ(s.symmetry->kind, SymmetryKind::Odd);
+  const Expression eberly = parse_formula(
+      "x*(1 + x^2*(-0.33294527685374087 + x^2*(0.19498657165383548 + x^2*(-0.11921576270475498 + "
+      "x^2*(0.05506335136696805 - 0.012490720064867844*x^2)))))",
+      {.variables = {"x"}});
+  const double published = metrics_on(eberly, p).max_abs,
+               published_cost = expression_cost(eberly, o.cost);
+  const FrontMember* best = nullptr;
+  for (const FrontMember& m : s.front) {
+    EXPECT_EQ(metrics_on(m.expression, p).max_abs, m.metrics.max_abs) << m.formula;
+    if (m.cost <= published_cost && (best == nullptr || m.loss < best->loss)) best = &m;
+  }
+  ASSERT_NE(best, nullptr);
+  EXPECT_LT(best->metrics.max_abs, published) << best->formula;
+  EXPECT_EQ(best->origin, SearchPhase::Polynomial) << best->formula;
+  EXPECT_EQ(best->formula.find("copysign"), std::string::npos) << best->formula;
 }
 
 TEST(SymmetrySearch, StartFormulasJoinTheWholeFront) {

@@ -3,6 +3,7 @@
 //   LinearScaling s = fit_linear_scaling(f, y);      // best a * f + b, in closed form
 //   double e = s.mse;
 //   std::vector<double> c = solve_least_squares(design_columns, y);  // y ~ sum_j c_j column_j
+//   std::vector<double> m = solve_minimax_linear(design_columns, y);  // the same, minimax
 #pragma once
 
 #include <span>
@@ -28,5 +29,13 @@ LinearScaling fit_linear_scaling(std::span<const double> f, std::span<const doub
 std::vector<double> solve_least_squares(std::span<const double* const> columns,
                                         std::span<const double> y,
                                         std::span<const double> weights = {});
+
+// The coefficients c minimising max_i w_i |sum_j c_j columns[j][i] - y_i| (weights empty: all 1;
+// rows of weight 0 do not count), by Lawson's reweighted least squares (the same iteration as
+// solve_fixed_form's minimax) from the least-squares solution: at most `iterations` solves, the
+// best coefficients seen returned. Every column has y.size() rows.
+std::vector<double> solve_minimax_linear(std::span<const double* const> columns,
+                                         std::span<const double> y,
+                                         std::span<const double> weights = {}, int iterations = 60);
 
 }  // namespace shaderfit

@@ -22,9 +22,11 @@ namespace shaderfit {
 // The two strategies of a search, in the order they run: the phase a search is in, and the one
 // that found a front member.
 // Start: the user's formulas (SearchOptions::start), as written and refitted.
-// PowerSum: the exact power sum the search tries before the enumeration (docs/search.md).
-enum class SearchPhase { Enumeration, Evolution, Start, PowerSum };
-// "enumeration", "evolution", "start", "power_sum" (and back; nullopt for anything else).
+// PowerSum: the exact power sum the search tries after the enumeration (docs/search.md).
+// Polynomial: a least-squares polynomial of a one-input problem, tried there too.
+enum class SearchPhase { Enumeration, Evolution, Start, PowerSum, Polynomial };
+// "enumeration", "evolution", "start", "power_sum", "polynomial" (and back; nullopt for anything
+// else).
 std::string_view search_phase_name(SearchPhase phase);
 std::optional<SearchPhase> search_phase_from_name(std::string_view name);
 

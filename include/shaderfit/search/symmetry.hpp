@@ -141,6 +141,18 @@ Expression unreflected_expression(const Expression& g, const DataSymmetry& symme
 std::optional<Expression> factored_expression(const Expression& g, const DataSymmetry& symmetry,
                                               const std::vector<std::string>& input_names);
 
+// Whether g, as written, is odd (Odd data) or even (Even data) in the symmetric input by the
+// rules of its operators alone (x^3, x * (c + x^2), sin(x), x / (1 + x^2) are odd; cos(x),
+// exp(-x^2) even); never for point-symmetric data. Where it holds, g is its own symmetric
+// extension: unreflected_expression(g) equals reflect_expression(g) on every row.
+bool symmetric_as_written(const Expression& g, const DataSymmetry& symmetry);
+
+// The forms of a half's formula g on every row: reflect_expression's, factored_expression's
+// where there is one, and unreflected_expression's where symmetric_as_written or `scored` (the
+// caller scores each form on every row, so a g the rules miss still gets its chance).
+std::vector<Expression> whole_data_forms(const Expression& g, const DataSymmetry& symmetry,
+                                         const std::vector<std::string>& input_names, bool scored);
+
 // "odd in x", "even in x", "point-symmetric in x about 1.5707963267948966".
 std::string describe_symmetry(const DataSymmetry& symmetry);
 
