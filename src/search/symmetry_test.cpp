@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -391,13 +392,19 @@ ErrorMetrics metrics_on(const Expression& e, const SearchProblem& p) {
   return error_metrics(f, p.target, {}, p.weights);
 }
 
-TEST(SymmetrySearch, OddDataGivesReflectedMembers) {
-  const SearchProblem p = on_grid([](double x) { return std::atan(x); }, 257);
+// The seed task's options on one thread, max_abs, ending after `candidates` (deterministic).
+SearchOptions counted_max_abs(std::int64_t candidates) {
   SearchOptions o = test::seed_task_options();
   o.threads = 1;
   o.time_limit_s = 60;
-  o.max_candidates = 20000;
+  o.max_candidates = candidates;
   o.loss = Loss::MaxAbs;
+  return o;
+}
+
+TEST(SymmetrySearch, OddDataGivesReflectedMembers) {
+  const SearchProblem p = on_grid([](double x) { return std::atan(x); }, 257);
+  SearchOptions o = counted_max_abs(20000);
   SearchSummary s;
   run_search(o, p, &s);
   ASSERT_TRUE(s.symmetry);
@@ -464,11 +471,7 @@ TEST(SymmetrySearch, EvenAndSignChangingOddData) {
        {std::tuple{+[](double x) { return std::cos(3 * x) + x * x; }, SymmetryKind::Even, 1},
         std::tuple{+[](double x) { return std::sin(6 * x); }, SymmetryKind::Odd, 0}}) {
     const SearchProblem p = on_grid(f, 129);
-    SearchOptions o = test::seed_task_options();
-    o.threads = 1;
-    o.time_limit_s = 60;
-    o.max_candidates = 5000;
-    o.loss = Loss::MaxAbs;
+    SearchOptions o = counted_max_abs(5000);
     SearchSummary s;
     run_search(o, p, &s);
     ASSERT_TRUE(s.symmetry);
@@ -488,11 +491,7 @@ TEST(SymmetrySearch, EvenAndSignChangingOddData) {
 // acos at uniform random points: folded as on mirrored pairs; the report and the JSON say how.
 TEST(SymmetrySearch, UnmirroredAcosIsFoldedAndSaysHow) {
   const SearchProblem p = uniform_random([](double x) { return std::acos(x); }, 5, -1, 1, 4000);
-  SearchOptions o = test::seed_task_options();
-  o.threads = 1;
-  o.time_limit_s = 60;
-  o.max_candidates = 3000;
-  o.loss = Loss::MaxAbs;
+  SearchOptions o = counted_max_abs(3000);
   SearchSummary s;
   run_search(o, p, &s);
   ASSERT_TRUE(s.symmetry);
@@ -516,12 +515,8 @@ TEST(SymmetrySearch, UnmirroredAcosIsFoldedAndSaysHow) {
 // whole front and beat Eberly's published degree-11 form at its cost (7).
 TEST(SymmetrySearch, UnmirroredAtanGetsOddPolynomials) {
   const SearchProblem p = uniform_random([](double x) { return std::atan(x); }, 8, -1, 1, 4000);
-  SearchOptions o = test::seed_task_options();
-  o.threads = 1;
-  o.time_limit_s = 60;
+  SearchOptions o = counted_max_abs(20000);
   o.max_enumeration_cost = 2;  // so that the count budget reaches the polynomials
-  o.max_candidates = 20000;
-  o.loss = Loss::MaxAbs;
   SearchSummary s;
   run_search(o, p, &s);
   ASSERT_TRUE(s.symmetry);
@@ -545,11 +540,7 @@ TEST(SymmetrySearch, UnmirroredAtanGetsOddPolynomials) {
 
 TEST(SymmetrySearch, StartFormulasJoinTheWholeFront) {
   const SearchProblem p = on_grid([](double x) { return std::atan(x); }, 129);
-  SearchOptions o = test::seed_task_options();
-  o.threads = 1;
-  o.time_limit_s = 60;
-  o.max_candidates = 3000;
-  o.loss = Loss::MaxAbs;
+  SearchOptions o = counted_max_abs(3000);
   o.start = {"0.7853981633974483*x - x*(abs(x) - 1)*(0.2447 + 0.0663*abs(x))"};
   SearchSummary s;
   run_search(o, p, &s);
