@@ -93,6 +93,7 @@ constexpr FieldFlag kFlags[] = {
     {"CodegenOptions::name", "--name"},
     {"Expression::variables", "--inputs"},
     {"Expression::parameters", "--params"},
+    {"UniformInputs", "--uniform"},
     {"SphereScene::roughness", "--roughness"},
     {"SphereScene::f0", "--f0"},
     {"SphereScene::light", "--light"},
@@ -177,6 +178,14 @@ void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
       ->delimiter(',')
       ->allow_extra_args(false);
   cmd->add_option("--params", params, "names that are free parameters (comma-separated)")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+}
+
+void add_uniform_option(CLI::App* cmd, std::vector<std::string>& uniform) {
+  cmd->add_option("--uniform", uniform,
+                  "inputs constant per material (comma-separated): what reads only them is "
+                  "computed once per material, and the cost is per pixel")
       ->delimiter(',')
       ->allow_extra_args(false);
 }

@@ -53,6 +53,10 @@ std::string search_option_flag(std::string_view field_name);
 void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
                       std::vector<std::string>& params);
 
+// --uniform: the per-material inputs (cost/per_material.hpp), for cost, codegen, eval and report
+// (search takes it from its option table).
+void add_uniform_option(CLI::App* cmd, std::vector<std::string>& uniform);
+
 // --choose for search and report: "knee" (the default), "cost=N" or "error=E" (the rule in
 // shaderfit/search/choice.hpp); the help text, and the closing lines that name the chosen
 // formula, how it was chosen (with the flag that changes it) and why.

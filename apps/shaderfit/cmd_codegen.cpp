@@ -9,7 +9,7 @@
 #include "shaderfit/cli.hpp"
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/search/front_member.hpp"
@@ -22,18 +22,15 @@ struct CodegenArgs {
   std::string lang;
   std::string name = "shaderfit_formula";
   std::string formula, front_path;
-  std::vector<std::string> inputs, params;
+  std::vector<std::string> inputs, params, uniform;
 };
 
 // The comment above the function: the formula for people (parameters by name, as the code
-// names them) and its cost.
-std::vector<std::string> describe(const Expression& e) {
+// names them) and its cost (per pixel and per material with uniform inputs).
+std::vector<std::string> describe(const Expression& e, const std::vector<std::string>& uniform) {
   PrintOptions print = PrintOptions::for_people();
   print.substitute_parameters = false;
-  return {to_infix(e, print), fmt::format("cost model: {} SASS, {} PTX, {} generic instructions",
-                                          instruction_count(e, InstructionTarget::Sass),
-                                          instruction_count(e, InstructionTarget::Ptx),
-                                          instruction_count(e, InstructionTarget::Generic))};
+  return {to_infix(e, print), cost_comment(e, uniform)};
 }
 
 void run_codegen(const CodegenArgs& a, Context& ctx) {
@@ -52,16 +49,22 @@ void run_codegen(const CodegenArgs& a, Context& ctx) {
     po.variables = a.inputs;
     po.parameters = a.params;
     SourceFunction f{parse_formula(a.formula, po), {}};
+    check_uniform_inputs(a.uniform, f.expression.variables);
     f.options.name = a.name;
-    f.options.comment = describe(f.expression);
+    f.options.uniform = a.uniform;
+    f.options.comment = describe(f.expression, a.uniform);
     functions.push_back(std::move(f));
   } else {
     const FrontFile file = read_front_file(a.front_path, {a.inputs, a.params});
+    // The file's per-material inputs (a search's), unless --uniform names others.
+    const std::vector<std::string>& uniform = a.uniform.empty() ? file.uniform : a.uniform;
+    if (!file.inputs.empty()) check_uniform_inputs(uniform, file.inputs);
     for (std::size_t i = 0; i < file.front.size(); ++i) {
       SourceFunction f{file.front[i].member.expression, {}};
       f.options.name = fmt::format("{}_{}", a.name, i);
       f.options.bake_parameters = file.front[i].parameters_have_values;
-      f.options.comment = describe(f.expression);
+      f.options.uniform = uniform;
+      f.options.comment = describe(f.expression, uniform);
       functions.push_back(std::move(f));
     }
   }
@@ -80,6 +83,7 @@ void register_codegen_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--name", args->name,
                   "function name (a front's members get NAME_0, NAME_1, ...)");
   add_name_options(cmd, args->inputs, args->params);
+  add_uniform_option(cmd, args->uniform);
   cmd->add_option("--front", args->front_path,
                   "a JSON file with a \"front\" list of {\"formula\": ...} members");
   cmd->add_option(

@@ -4,11 +4,13 @@
 
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <ostream>
 
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/report/command_json.hpp"
@@ -20,7 +22,7 @@ namespace {
 struct CostArgs {
   std::string formula;
   std::string target = "sass";
-  std::vector<std::string> inputs, params;
+  std::vector<std::string> inputs, params, uniform;
   std::string json_path;
 };
 
@@ -36,11 +38,21 @@ void run_cost(const CostArgs& a, Context& ctx) {
   po.variables = a.inputs;
   po.parameters = a.params;
   const Expression e = parse_formula(a.formula, po);
+  check_uniform_inputs(a.uniform, e.variables);
+  // With uniform inputs the counts are the per-pixel part's, the per-material ones beside them.
+  std::optional<MaterialCosts> material;
+  if (!a.uniform.empty()) material = MaterialCosts{a.uniform, split_per_material(e, a.uniform), {}};
+  const Expression& counted = material ? material->split.per_pixel : e;
   std::vector<InstructionCost> costs;
-  for (InstructionTarget t : kTargets) costs.push_back(instruction_cost(e, t));
-  const InstructionCost& shown = costs[static_cast<std::size_t>(*target)];
+  for (InstructionTarget t : kTargets) {
+    costs.push_back(instruction_cost(counted, t));
+    if (material) material->material.push_back(material_instruction_cost(material->split, t));
+  }
+  const auto shown_index = static_cast<std::size_t>(*target);
+  const InstructionCost& shown = costs[shown_index];
+  const MaterialCosts* m = material ? &*material : nullptr;
   if (a.json_path == "-") {
-    ctx.out << cost_json(e, costs, shown) << '\n';
+    ctx.out << cost_json(e, costs, shown, m) << '\n';
     return;
   }
   PrintOptions print = PrintOptions::for_people();  // parameters by name, as the listing
@@ -49,20 +61,36 @@ void run_cost(const CostArgs& a, Context& ctx) {
   ctx.out << "inputs: " << fmt::format("{}", fmt::join(e.variables, ", "));
   if (!e.parameters.empty())
     ctx.out << "; parameters: " << fmt::format("{}", fmt::join(e.parameters, ", "));
-  ctx.out << fmt::format("\n\n{:<8} {:>12} {:>5} {:>7} {:>5} {:>9}\n", "target", "instructions",
-                         "fp32", "minmax", "mufu", "weighted");
-  for (const InstructionCost& c : costs) {
-    ctx.out << fmt::format("{:<8} {:>12} {:>5} {:>7} {:>5} {:>9g}\n",
+  if (m != nullptr) {
+    ctx.out << "; uniform: " << fmt::format("{}", fmt::join(a.uniform, ", "));
+    ctx.out << "\nper material:";
+    for (const MaterialValue& v : m->split.values)
+      ctx.out << (&v == &m->split.values.front() ? " " : "; ") << v.name << " = "
+              << to_infix(v.value, print);
+    ctx.out << "\nper pixel: " << to_infix(m->split.per_pixel, print);
+  }
+  ctx.out << fmt::format("\n\n{:<8} {:>12} {:>5} {:>7} {:>5} {:>9}", "target",
+                         m ? "per pixel" : "instructions", "fp32", "minmax", "mufu", "weighted");
+  ctx.out << (m ? fmt::format(" {:>12}\n", "per material") : "\n");
+  for (std::size_t k = 0; k < costs.size(); ++k) {
+    const InstructionCost& c = costs[k];
+    ctx.out << fmt::format("{:<8} {:>12} {:>5} {:>7} {:>5} {:>9g}",
                            instruction_target_name(c.target), c.instructions, c.fp32, c.minmax,
                            c.mufu, c.weighted);
+    ctx.out << (m ? fmt::format(" {:>12}\n", m->material[k].instructions) : "\n");
+  }
+  if (m != nullptr) {
+    ctx.out << "\n"
+            << instruction_target_name(shown.target) << " listing, per material:\n"
+            << format_listing(m->material[shown_index]);
   }
   ctx.out << "\n"
-          << instruction_target_name(shown.target) << " listing:\n"
+          << instruction_target_name(shown.target) << (m ? " listing, per pixel:\n" : " listing:\n")
           << format_listing(shown);
   if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
-    f << cost_json(e, costs, shown) << '\n';
+    f << cost_json(e, costs, shown, m) << '\n';
   }
 }
 
@@ -78,9 +106,12 @@ void register_cost_command(CLI::App& app, Context& ctx) {
       ->required();
   cmd->add_option("--target", args->target, "listing to print: sass (default), ptx or generic");
   add_name_options(cmd, args->inputs, args->params);
+  add_uniform_option(cmd, args->uniform);
   cmd->add_option("--json", args->json_path,
                   "write the counts and listing as JSON to PATH ('-' for stdout)");
-  cmd->footer("Example:\n  shaderfit cost 'r0 + (1 - r0) * (1 - cos_theta)^5'");
+  cmd->footer(
+      "Examples:\n  shaderfit cost 'r0 + (1 - r0) * (1 - cos_theta)^5'\n"
+      "  shaderfit cost --uniform alpha '1/(3.14159*alpha^2) * pow(NoH, 2/alpha^2 - 2)'");
   cmd->callback([args, &ctx] { run_cost(*args, ctx); });
 }
 

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <regex>
 #include <set>
 #include <span>
@@ -14,6 +15,7 @@
 #include "cost/dag.hpp"
 #include "cost/erf_helper.hpp"
 #include "cost/program.hpp"
+#include "shaderfit/cost/per_material.hpp"
 
 namespace shaderfit {
 
@@ -30,10 +32,20 @@ struct Text {
   int level = 4;
 };
 
+// How a function of a two-part formula (cost/per_material.hpp) reads or returns the values.
+struct MaterialParts {
+  std::string type;                 // the struct: NAME_material
+  std::string object = "m";         // its argument (per pixel) or local (per material)
+  std::size_t first_field = 0;      // per pixel: variables from here on are its fields
+  std::vector<std::string> fields;  // per material: the program's results, in order
+};
+
 class FunctionPrinter {
  public:
-  FunctionPrinter(const Expression& e, const CodegenOptions& o, const Program& p)
-      : e_(e), o_(o), p_(p), lang_(o.language), texts_(p.steps.size()) {}
+  FunctionPrinter(const Expression& e, const CodegenOptions& o, const Program& p,
+                  const MaterialParts* parts = nullptr, bool fills = false)
+      : e_(e), o_(o), p_(p), lang_(o.language), texts_(p.steps.size()), parts_(parts),
+        fills_(fills) {}
 
   std::string print() {
     std::string body;
@@ -58,11 +70,20 @@ class FunctionPrinter {
       if (p_.steps[i].uses > 1 || named[i]) t = {temporary(t.s), 4};
       texts_[i] = std::move(t);
     }
-    body_ += "  return " + operand(p_.result, 0) + ";\n";
+    if (fills_) {
+      body_ += fmt::format("  {} {};\n", parts_->type, parts_->object);
+      for (std::size_t k = 0; k < parts_->fields.size(); ++k)
+        body_ += fmt::format("  {}.{} = {};\n", parts_->object, parts_->fields[k],
+                             operand(p_.results[k], 0));
+      body_ += "  return " + parts_->object + ";\n";
+    } else {
+      body_ += "  return " + operand(p_.results.front(), 0) + ";\n";
+    }
     body += body_;
 
     std::string out;
-    for (const std::string& line : o_.comment) out += "// " + line + "\n";
+    if (!fills_)
+      for (const std::string& line : o_.comment) out += "// " + line + "\n";
     out += signature() + " {\n" + body + "}\n";
     return out;
   }
@@ -92,15 +113,22 @@ class FunctionPrinter {
 
   std::string signature() const {
     std::string args;
-    auto add = [&](const std::string& n) { args += (args.empty() ? "float " : ", float ") + n; };
-    for (const std::string& v : e_.variables) add(v);
+    auto add = [&](const std::string& type, const std::string& n) {
+      args += (args.empty() ? "" : ", ") + type + " " + n;
+    };
+    const bool reads_parts = parts_ != nullptr && !fills_;
+    for (std::size_t v = 0; v < e_.variables.size(); ++v)
+      if (!reads_parts || v < parts_->first_field) add("float", e_.variables[v]);
+    if (reads_parts) add(parts_->type, parts_->object);
     if (!o_.bake_parameters)
-      for (const std::string& v : e_.parameters) add(v);
+      for (const std::string& v : e_.parameters) add("float", v);
+    const std::string type = fills_ ? parts_->type : "float";
+    const std::string name = fills_ ? material_function_name(o_.name) : o_.name;
     switch (lang_) {
-      case Language::Cuda: return "__device__ __forceinline__ float " + o_.name + "(" + args + ")";
+      case Language::Cuda: return "__device__ __forceinline__ " + type + " " + name + "(" + args + ")";
       case Language::Cpp:
-      case Language::Metal: return "inline float " + o_.name + "(" + args + ")";
-      default: return "float " + o_.name + "(" + args + ")";
+      case Language::Metal: return "inline " + type + " " + name + "(" + args + ")";
+      default: return type + " " + name + "(" + args + ")";
     }
   }
 
@@ -110,7 +138,12 @@ class FunctionPrinter {
     Text t;
     switch (o.kind) {
       case Operand::Kind::Const: t = {lit(o.value), o.value < 0 ? 3 : 4}; break;
-      case Operand::Kind::Var: t = {e_.variables[static_cast<std::size_t>(o.index)], 4}; break;
+      case Operand::Kind::Var: {
+        const auto v = static_cast<std::size_t>(o.index);
+        const bool field = parts_ != nullptr && !fills_ && v >= parts_->first_field;
+        t = {field ? parts_->object + "." + e_.variables[v] : e_.variables[v], 4};
+        break;
+      }
       case Operand::Kind::Param: t = {e_.parameters[static_cast<std::size_t>(o.index)], 4}; break;
       default: t = texts_[static_cast<std::size_t>(o.index)]; break;
     }
@@ -232,16 +265,18 @@ class FunctionPrinter {
   std::vector<Text> texts_;
   std::string body_;  // the statements after the baked parameters
   int temps_ = 0;
+  const MaterialParts* parts_;
+  bool fills_;
 };
 
 }  // namespace
 
 namespace {
 
-// The name checks, and the program the cost model counts for this language.
-Program checked_program(const Expression& e, const CodegenOptions& options) {
+void check_names(const Expression& e, const CodegenOptions& options,
+                 std::vector<std::string> seen) {
   codegen::check_name(options.name, "function name", SourceLocation{"CodegenOptions::name"});
-  std::vector<std::string> seen = {options.name};
+  seen.push_back(options.name);
   for (const auto* names : {&e.variables, &e.parameters}) {
     const bool params = names == &e.parameters;
     for (const std::string& n : *names) {
@@ -256,8 +291,106 @@ Program checked_program(const Expression& e, const CodegenOptions& options) {
       seen.push_back(n);
     }
   }
-  const bool fused = options.language != Language::Glsl && options.language != Language::Hlsl;
-  return lowering::build_program(lowering::lower_expression(e), fused);
+}
+
+bool fused_language(Language language) {
+  return language != Language::Glsl && language != Language::Hlsl;
+}
+
+// v over new tables: the named variables and parameters (each of v's read ones among them).
+Expression over_tables(const Expression& v, const std::vector<std::string>& variables,
+                       const std::vector<std::string>& parameters, const std::vector<double>& values) {
+  Expression out = v;
+  out.variables = variables;
+  out.parameters = parameters;
+  out.parameter_values = values;
+  auto index_of = [](const std::vector<std::string>& names, const std::string& n) {
+    return static_cast<std::int16_t>(std::find(names.begin(), names.end(), n) - names.begin());
+  };
+  for (Node& n : out.nodes) {
+    if (n.op == Op::Var) n.index = index_of(variables, v.variables[static_cast<std::size_t>(n.index)]);
+    if (n.op == Op::Param) n.index = index_of(parameters, v.parameters[static_cast<std::size_t>(n.index)]);
+  }
+  return out;
+}
+
+// A function as it is printed: one formula, or the two parts of a formula that reads per-material
+// inputs (CodegenOptions::uniform).
+struct Prepared {
+  Expression pixel;  // the formula, or its per-pixel part
+  Program pixel_program;
+  std::optional<MaterialParts> parts;
+  Expression material;  // the tables of the per-material function: uniform inputs, parameters
+  Program material_program;
+
+  [[nodiscard]] std::vector<const Program*> programs() const {
+    if (!parts) return {&pixel_program};
+    return {&material_program, &pixel_program};
+  }
+};
+
+Prepared prepare(const Expression& e, const CodegenOptions& options) {
+  const bool fused = fused_language(options.language);
+  Prepared p;
+  if (!reads_uniform(e, options.uniform)) {
+    check_names(e, options, {});
+    p.pixel = e;
+    p.pixel_program = lowering::build_program(lowering::lower_expression(e), fused);
+    return p;
+  }
+  check_names(e, options, {material_type_name(options.name), material_function_name(options.name)});
+  MaterialSplit split = split_per_material(e, options.uniform);
+  MaterialParts parts;
+  parts.type = material_type_name(options.name);
+  parts.first_field = split.per_pixel.variables.size() - split.values.size();
+  for (bool clash = true; clash;) {
+    clash = false;
+    for (const auto* names : {&split.per_pixel.variables, &split.per_pixel.parameters})
+      clash = clash || std::find(names->begin(), names->end(), parts.object) != names->end();
+    if (clash) parts.object = "_" + parts.object;
+  }
+  // The per-material function reads the uniform inputs (in the formula's order) and the
+  // parameters its values read.
+  std::vector<std::string> uniform_inputs, params;
+  std::vector<double> values;
+  for (const std::string& v : e.variables)
+    if (std::find(options.uniform.begin(), options.uniform.end(), v) != options.uniform.end())
+      uniform_inputs.push_back(v);
+  for (std::size_t k = 0; k < e.parameters.size(); ++k) {
+    const bool read = std::any_of(split.values.begin(), split.values.end(), [&](const MaterialValue& m) {
+      return std::any_of(m.value.nodes.begin(), m.value.nodes.end(), [&](const Node& n) {
+        return n.op == Op::Param && static_cast<std::size_t>(n.index) == k;
+      });
+    });
+    if (!read) continue;
+    params.push_back(e.parameters[k]);
+    values.push_back(k < e.parameter_values.size() ? e.parameter_values[k] : 0.0);
+  }
+  std::vector<Expression> computed;
+  for (const MaterialValue& m : split.values) {
+    parts.fields.push_back(m.name);
+    computed.push_back(over_tables(m.value, uniform_inputs, params, values));
+  }
+  p.material = computed.front();
+  p.material_program = lowering::build_program(lowering::lower_expressions(computed), fused);
+  p.pixel = std::move(split.per_pixel);
+  p.pixel_program = lowering::build_program(lowering::lower_expression(p.pixel), fused);
+  p.parts = std::move(parts);
+  return p;
+}
+
+std::string print(const Prepared& p, const CodegenOptions& options) {
+  if (!p.parts) return FunctionPrinter(p.pixel, options, p.pixel_program).print();
+  std::string fields;
+  for (const std::string& f : p.parts->fields) fields += "  float " + f + ";\n";
+  std::string out;
+  for (const std::string& line : options.comment) out += "// " + line + "\n";
+  out += fmt::format("struct {} {{\n{}}};\n", p.parts->type, fields);
+  out += FunctionPrinter(p.material, options, p.material_program, &*p.parts, true).print();
+  CodegenOptions pixel = options;
+  pixel.comment.clear();
+  out += FunctionPrinter(p.pixel, pixel, p.pixel_program, &*p.parts).print();
+  return out;
 }
 
 // The C++ headers a printed program needs: <cmath> for every function it calls (fma, sqrt, the
@@ -280,10 +413,13 @@ void add_cpp_headers(const Program& p, std::set<std::string_view>* headers) {
 
 // Whether the printed program calls the erf helper (cost/erf_helper.hpp): GLSL, HLSL and Metal have
 // no erf of their own.
-bool needs_erf_helper(const Program& p, Language language) {
+bool needs_erf_helper(const Prepared& p, Language language) {
   if (language == Language::Cuda || language == Language::Cpp) return false;
-  return std::any_of(p.steps.begin(), p.steps.end(),
-                     [](const Step& st) { return st.op == StepOp::Erf; });
+  for (const Program* program : p.programs())
+    if (std::any_of(program->steps.begin(), program->steps.end(),
+                    [](const Step& st) { return st.op == StepOp::Erf; }))
+      return true;
+  return false;
 }
 
 // The erf helper in `language`, operation for operation as lowering::erf_helper computes it.
@@ -324,11 +460,10 @@ std::string erf_helper_source(Language language) {
 }  // namespace
 
 std::string generate_function(const Expression& e, const CodegenOptions& options) {
-  const Program program = checked_program(e, options);
-  const std::string f = FunctionPrinter(e, options, program).print();
-  return needs_erf_helper(program, options.language)
-             ? erf_helper_source(options.language) + "\n" + f
-             : f;
+  const Prepared p = prepare(e, options);
+  const std::string f = print(p, options);
+  return needs_erf_helper(p, options.language) ? erf_helper_source(options.language) + "\n" + f
+                                               : f;
 }
 
 std::string generate_source(std::span<const SourceFunction> functions, Language language) {
@@ -338,10 +473,11 @@ std::string generate_source(std::span<const SourceFunction> functions, Language 
   for (const SourceFunction& f : functions) {
     CodegenOptions o = f.options;
     o.language = language;
-    const Program program = checked_program(f.expression, o);
-    if (language == Language::Cpp) add_cpp_headers(program, &headers);
-    erf_helper = erf_helper || needs_erf_helper(program, language);
-    body += (body.empty() ? "" : "\n") + FunctionPrinter(f.expression, o, program).print();
+    const Prepared p = prepare(f.expression, o);
+    if (language == Language::Cpp)
+      for (const Program* program : p.programs()) add_cpp_headers(*program, &headers);
+    erf_helper = erf_helper || needs_erf_helper(p, language);
+    body += (body.empty() ? "" : "\n") + print(p, o);
   }
   if (erf_helper) body = erf_helper_source(language) + "\n" + body;
   std::string head;
@@ -355,6 +491,31 @@ std::string generate_source(std::span<const SourceFunction> functions, Language 
     case Language::Hlsl: break;
   }
   return head.empty() || body.empty() ? head + body : head + "\n" + body;
+}
+
+std::string cost_comment(const Expression& e, std::span<const std::string> uniform) {
+  constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx,
+                                            InstructionTarget::Generic};
+  if (!reads_uniform(e, uniform)) {
+    return fmt::format("cost model: {} SASS, {} PTX, {} generic instructions",
+                       instruction_count(e, kTargets[0]), instruction_count(e, kTargets[1]),
+                       instruction_count(e, kTargets[2]));
+  }
+  SplitCost c[3];
+  for (int k = 0; k < 3; ++k) c[k] = split_instruction_count(e, uniform, kTargets[k]);
+  return fmt::format(
+      "cost model: per pixel {} SASS, {} PTX, {} generic; per material {} SASS, {} PTX, {} "
+      "generic instructions",
+      c[0].per_pixel, c[1].per_pixel, c[2].per_pixel, c[0].per_material, c[1].per_material,
+      c[2].per_material);
+}
+
+std::string material_type_name(const std::string& function_name) {
+  return function_name + "_material";
+}
+
+std::string material_function_name(const std::string& function_name) {
+  return function_name + "_material_values";
 }
 
 }  // namespace shaderfit

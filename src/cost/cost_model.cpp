@@ -1,6 +1,7 @@
 #include "shaderfit/cost/cost_model.hpp"
 
 #include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 
 namespace shaderfit {
 
@@ -11,6 +12,12 @@ double expression_cost(const Expression& e, CostTarget target) {
       return static_cast<double>(instruction_count(e, InstructionTarget::Sass));
   }
   return 0.0;
+}
+
+double expression_cost(const Expression& e, CostTarget target,
+                       std::span<const std::string> uniform) {
+  if (!reads_uniform(e, uniform)) return expression_cost(e, target);
+  return expression_cost(split_per_material(e, uniform).per_pixel, target);
 }
 
 std::optional<CostTarget> cost_target_from_name(std::string_view name) {

@@ -269,7 +269,7 @@ DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
 
 void count_uses(Dag& dag) {
   dag.uses.assign(dag.nodes.size(), 0);
-  dag.uses[static_cast<std::size_t>(dag.root.id)] = 1;
+  for (const DagRef& r : dag.roots) ++dag.uses[static_cast<std::size_t>(r.id)];
   for (std::size_t i = dag.nodes.size(); i-- > 0;) {
     if (dag.uses[i] == 0) continue;
     for (const DagRef& c : {dag.nodes[i].a, dag.nodes[i].b, dag.nodes[i].c})
@@ -279,30 +279,36 @@ void count_uses(Dag& dag) {
 
 }  // namespace
 
-Dag lower_expression(const Expression& e) {
-  if (e.nodes.empty()) throw Error("empty expression");
+Dag lower_expression(const Expression& e) { return lower_expressions({&e, 1}); }
+
+Dag lower_expressions(std::span<const Expression> values) {
+  if (values.empty()) throw Error("empty expression");
   Dag dag;
-  dag.variables = e.variables;
-  dag.parameters = e.parameters;
+  dag.variables = values.front().variables;
+  dag.parameters = values.front().parameters;
   Builder builder(dag);
   std::vector<DagRef> stack;
-  stack.reserve(e.nodes.size());
-  for (const Node& n : e.nodes) {
-    const int a = arity(n.op);
-    if (static_cast<int>(stack.size()) < a) throw Error("malformed expression: an operator lacks operands");
-    if ((n.op == Op::Var && (n.index < 0 || static_cast<std::size_t>(n.index) >= e.variables.size())) ||
-        (n.op == Op::Param && (n.index < 0 || static_cast<std::size_t>(n.index) >= e.parameters.size()))) {
-      throw Error("malformed expression: a variable or parameter index is out of range");
+  for (const Expression& e : values) {
+    if (e.nodes.empty()) throw Error("empty expression");
+    stack.clear();
+    stack.reserve(e.nodes.size());
+    for (const Node& n : e.nodes) {
+      const int a = arity(n.op);
+      if (static_cast<int>(stack.size()) < a) throw Error("malformed expression: an operator lacks operands");
+      if ((n.op == Op::Var && (n.index < 0 || static_cast<std::size_t>(n.index) >= dag.variables.size())) ||
+          (n.op == Op::Param && (n.index < 0 || static_cast<std::size_t>(n.index) >= dag.parameters.size()))) {
+        throw Error("malformed expression: a variable or parameter index is out of range");
+      }
+      DagRef args[3];
+      for (int k = a - 1; k >= 0; --k) {
+        args[k] = stack.back();
+        stack.pop_back();
+      }
+      stack.push_back(lower_node(n, args, builder));
     }
-    DagRef args[3];
-    for (int k = a - 1; k >= 0; --k) {
-      args[k] = stack.back();
-      stack.pop_back();
-    }
-    stack.push_back(lower_node(n, args, builder));
+    if (stack.size() != 1) throw Error("malformed expression: not a single tree");
+    dag.roots.push_back(stack.back());
   }
-  if (stack.size() != 1) throw Error("malformed expression: not a single tree");
-  dag.root = stack.back();
   count_uses(dag);
   return dag;
 }

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -47,8 +48,8 @@ struct DagNode {
 
 struct Dag {
   std::vector<DagNode> nodes;
-  DagRef root;
-  std::vector<int> uses;  // per node: references from live nodes, +1 for the root
+  std::vector<DagRef> roots;  // the values computed: one, or several sharing their nodes
+  std::vector<int> uses;      // per node: references from live nodes, +1 per root
   std::vector<std::string> variables, parameters;
 
   [[nodiscard]] const DagNode& node(int id) const { return nodes[static_cast<std::size_t>(id)]; }
@@ -58,6 +59,9 @@ struct Dag {
 
 // Throws shaderfit::Error for an empty or malformed expression.
 Dag lower_expression(const Expression& e);
+// Several values lowered into one DAG, equal subexpressions shared across them (one root each,
+// in order); all over the first expression's variable and parameter tables.
+Dag lower_expressions(std::span<const Expression> values);
 
 // Infix text of a DAG value for listings: names from the expression, at most `max_chars`
 // characters (longer text is cut with "...").

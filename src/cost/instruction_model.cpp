@@ -10,23 +10,33 @@
 
 namespace shaderfit {
 
-namespace {
+namespace lowering {
 
-using lowering::TargetInstruction;
-
-std::vector<TargetInstruction> select(const Expression& e, InstructionTarget target, bool with_text) {
-  const lowering::Dag dag = lowering::lower_expression(e);
-  const bool fused = target != InstructionTarget::Generic;
-  const lowering::Program program = lowering::build_program(dag, fused);
+std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target, bool with_text) {
+  const Program program = build_program(dag, target != InstructionTarget::Generic);
   switch (target) {
-    case InstructionTarget::Sass: return lowering::select_sass(dag, program, with_text);
-    case InstructionTarget::Ptx: return lowering::select_ptx(dag, program, with_text);
-    case InstructionTarget::Generic: return lowering::select_generic(dag, program, with_text);
+    case InstructionTarget::Sass: return select_sass(dag, program, with_text);
+    case InstructionTarget::Ptx: return select_ptx(dag, program, with_text);
+    case InstructionTarget::Generic: return select_generic(dag, program, with_text);
   }
   return {};
 }
 
-}  // namespace
+InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTarget target) {
+  InstructionCost cost;
+  cost.target = target;
+  for (TargetInstruction& ins : instructions) {
+    ++cost.instructions;
+    cost.fp32 += ins.unit == InstructionUnit::Fp32;
+    cost.minmax += ins.unit == InstructionUnit::MinMax;
+    cost.mufu += ins.unit == InstructionUnit::Mufu;
+    cost.weighted += throughput_weight(target, ins.unit);
+    cost.listing.push_back({std::move(ins.text), std::move(ins.comment), ins.unit});
+  }
+  return cost;
+}
+
+}  // namespace lowering
 
 // Throughput weights: issue slots per instruction relative to an FP32 FMA, i.e. (FP32 FMA results
 // per clock per SM) / (the unit's results per clock per SM).
@@ -52,21 +62,11 @@ double throughput_weight(InstructionTarget /*target*/, InstructionUnit unit) {
 }
 
 InstructionCost instruction_cost(const Expression& e, InstructionTarget target) {
-  InstructionCost cost;
-  cost.target = target;
-  for (TargetInstruction& ins : select(e, target, true)) {
-    ++cost.instructions;
-    cost.fp32 += ins.unit == InstructionUnit::Fp32;
-    cost.minmax += ins.unit == InstructionUnit::MinMax;
-    cost.mufu += ins.unit == InstructionUnit::Mufu;
-    cost.weighted += throughput_weight(target, ins.unit);
-    cost.listing.push_back({std::move(ins.text), std::move(ins.comment), ins.unit});
-  }
-  return cost;
+  return lowering::tally(lowering::select_for(lowering::lower_expression(e), target, true), target);
 }
 
 int instruction_count(const Expression& e, InstructionTarget target) {
-  return static_cast<int>(select(e, target, false).size());
+  return static_cast<int>(lowering::select_for(lowering::lower_expression(e), target, false).size());
 }
 
 std::string format_listing(const InstructionCost& cost) {

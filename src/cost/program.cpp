@@ -34,7 +34,7 @@ class ProgramBuilder {
 
   Program build() {
     if (fused_) choose_fusions();
-    want_[static_cast<std::size_t>(dag_.root.id)][dag_.root.neg ? 1 : 0]++;
+    for (const DagRef& r : dag_.roots) want_[static_cast<std::size_t>(r.id)][r.neg ? 1 : 0]++;
     for (std::size_t i = n_; i-- > 0;) plan_node(static_cast<int>(i));
     return emit();
   }
@@ -296,13 +296,13 @@ class ProgramBuilder {
         value_[i][s ? 0 : 1] = {Operand::Kind::Step, push(ng), 0.0f};
       }
     }
-    const DagRef root = dag_.root;
-    prog_.result = resolve(want(root.id, root.neg));
+    for (const DagRef& root : dag_.roots) prog_.results.push_back(resolve(want(root.id, root.neg)));
     for (Step& st : prog_.steps) {
       for (int k = 0; k < st.arity; ++k)
         if (st.args[k].kind == Operand::Kind::Step) ++prog_.steps[static_cast<std::size_t>(st.args[k].index)].uses;
     }
-    if (prog_.result.kind == Operand::Kind::Step) ++prog_.steps[static_cast<std::size_t>(prog_.result.index)].uses;
+    for (const Operand& r : prog_.results)
+      if (r.kind == Operand::Kind::Step) ++prog_.steps[static_cast<std::size_t>(r.index)].uses;
     return std::move(prog_);
   }
 

@@ -49,7 +49,7 @@ struct Step {
 
 struct Program {
   std::vector<Step> steps;
-  Operand result;
+  std::vector<Operand> results;  // one per DAG root, in order
   bool fused = true;
 };
 

@@ -21,4 +21,9 @@ std::vector<TargetInstruction> select_sass(const Dag& dag, const Program& progra
 std::vector<TargetInstruction> select_ptx(const Dag& dag, const Program& program, bool with_text);
 std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& program, bool with_text);
 
+// The program of `dag` for the target (fused for Sass and Ptx), selected.
+std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target, bool with_text);
+// The instructions counted per unit, weighted and listed.
+InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTarget target);
+
 }  // namespace shaderfit::lowering

@@ -22,6 +22,7 @@
 //    costs its FADD; acos of a negated product is the product, its negation and acosf).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <deque>
 #include <map>
@@ -64,7 +65,11 @@ class SassSelector {
   }
 
  private:
-  bool is_result(int s) const { return p_.result.kind == Operand::Kind::Step && p_.result.index == s; }
+  bool is_result(int s) const {
+    return std::any_of(p_.results.begin(), p_.results.end(), [&](const Operand& r) {
+      return r.kind == Operand::Kind::Step && r.index == s;
+    });
+  }
   bool all_alu(int s, bool neg_ok = false) const {
     if (is_result(s)) return false;
     for (int c : consumers_[static_cast<std::size_t>(s)]) {

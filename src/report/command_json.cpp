@@ -137,27 +137,50 @@ std::string eval_json(const EvalReport& report) {
   return j.dump(2);
 }
 
+namespace {
+
+json unit_counts(const InstructionCost& c) {
+  return {{"instructions", c.instructions},
+          {"fp32", c.fp32},
+          {"minmax", c.minmax},
+          {"mufu", c.mufu},
+          {"weighted", c.weighted}};
+}
+
+json listing_json(const InstructionCost& c) {
+  json lines = json::array();
+  for (const ListingLine& l : c.listing)
+    lines.push_back({{"instruction", l.instruction},
+                     {"comment", l.comment},
+                     {"unit", instruction_unit_name(l.unit)}});
+  return {{"target", instruction_target_name(c.target)}, {"lines", lines}};
+}
+
+}  // namespace
+
 std::string cost_json(const Expression& e, std::span<const InstructionCost> costs,
-                      const InstructionCost& shown) {
+                      const InstructionCost& shown, const MaterialCosts* material) {
   json j;
   j["schema"] = "shaderfit.cost/1";
   j["formula"] = to_infix(e);
   j["inputs"] = e.variables;
   j["parameters"] = e.parameters;
-  for (const InstructionCost& c : costs) {
-    j["targets"][std::string(instruction_target_name(c.target))] = {
-        {"instructions", c.instructions},
-        {"fp32", c.fp32},
-        {"minmax", c.minmax},
-        {"mufu", c.mufu},
-        {"weighted", c.weighted}};
+  for (std::size_t k = 0; k < costs.size(); ++k) {
+    json& t = j["targets"][std::string(instruction_target_name(costs[k].target))];
+    t = unit_counts(costs[k]);
+    if (material != nullptr) t["per_material"] = unit_counts(material->material[k]);
   }
-  json lines = json::array();
-  for (const ListingLine& l : shown.listing)
-    lines.push_back({{"instruction", l.instruction},
-                     {"comment", l.comment},
-                     {"unit", instruction_unit_name(l.unit)}});
-  j["listing"] = {{"target", instruction_target_name(shown.target)}, {"lines", lines}};
+  j["listing"] = listing_json(shown);
+  if (material != nullptr) {
+    j["uniform"] = material->uniform;
+    j["per_pixel"] = to_infix(material->split.per_pixel);
+    json values = json::array();
+    for (const MaterialValue& v : material->split.values)
+      values.push_back({{"name", v.name}, {"formula", to_infix(v.value)}});
+    j["material_values"] = values;
+    for (const InstructionCost& c : material->material)
+      if (c.target == shown.target) j["material_listing"] = listing_json(c);
+  }
   return j.dump(2);
 }
 

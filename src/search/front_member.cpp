@@ -303,6 +303,14 @@ FrontFile front_file_from_json(const json& doc, const std::string& path,
       out.inputs.push_back(n.get<std::string>());
     }
   }
+  if (doc.contains("uniform")) {
+    if (!doc["uniform"].is_array())
+      throw Error("\"uniform\" must be a list of names", SourceLocation{path});
+    for (const auto& n : doc["uniform"]) {
+      if (!n.is_string()) throw Error("\"uniform\" must be a list of names", SourceLocation{path});
+      out.uniform.push_back(n.get<std::string>());
+    }
+  }
   const auto& front = doc["front"];
   for (std::size_t i = 0; i < front.size(); ++i) {
     const std::string where = path + ": front[" + std::to_string(i) + "]";

@@ -44,7 +44,21 @@ struct CodegenOptions {
   bool bake_parameters = false;
   // Comment lines printed above the function (without the comment marker), e.g. the formula.
   std::vector<std::string> comment;
+  // Per-material inputs (cost/per_material.hpp). A formula that reads one is printed in two
+  // parts, as the cost model splits it: `struct NAME_material { float m0; ... };`, the function
+  // `NAME_material NAME_material_values(uniform inputs)` that computes the hoisted values once
+  // per material, and `float NAME(varying inputs, NAME_material m)` per pixel.
+  std::vector<std::string> uniform;
 };
+
+// The comment line that gives what a function costs under the model: "cost model: 5 SASS, 5 PTX,
+// 6 generic instructions", or with per-material inputs read "cost model: per pixel 3 SASS, 3 PTX,
+// 4 generic; per material 6 SASS, 6 PTX, 6 generic instructions".
+std::string cost_comment(const Expression& e, std::span<const std::string> uniform = {});
+
+// The names of a two-part formula's struct and per-material function.
+std::string material_type_name(const std::string& function_name);      // NAME_material
+std::string material_function_name(const std::string& function_name);  // NAME_material_values
 
 // One function, ending in a newline; in GLSL, HLSL and Metal, which have no erf, a formula with
 // erf is preceded by the helper function it calls (`sf_erf`, max error 1.32 ulp in float32

@@ -15,9 +15,15 @@
 // its SASS listings.
 //
 // `Nodes` is the number of nodes of the postfix expression (leaves included).
+//
+// With per-material (uniform) inputs (cost/per_material.hpp), the cost is the per-pixel part's:
+// the subexpressions that read only uniform inputs, literals and parameters are computed once per
+// material and are free operands here.
 #pragma once
 
 #include <optional>
+#include <span>
+#include <string>
 #include <string_view>
 
 #include "shaderfit/expr/expression.hpp"
@@ -28,6 +34,8 @@ enum class CostTarget { Nodes, Instructions };
 
 // Never negative; 0 only for an expression that is a single leaf (Instructions).
 double expression_cost(const Expression& e, CostTarget target);
+double expression_cost(const Expression& e, CostTarget target,
+                       std::span<const std::string> uniform);
 
 // "nodes" / "instructions"; nullopt for any other name.
 std::optional<CostTarget> cost_target_from_name(std::string_view name);

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/fit/setup.hpp"
@@ -40,9 +41,18 @@ struct EvalReport {
 // shaderfit.eval/1; metrics of candidates carry their change against the baseline.
 std::string eval_json(const EvalReport& report);
 
-// shaderfit.cost/1: the counts per target and the listing of `shown`.
+// With per-material inputs: the split, and the per-material counts per target (the order of
+// `costs`, which then count the per-pixel part).
+struct MaterialCosts {
+  std::vector<std::string> uniform;
+  MaterialSplit split;
+  std::vector<InstructionCost> material;
+};
+
+// shaderfit.cost/1: the counts per target and the listing of `shown` (with `material`, the
+// per-pixel counts and listing, and the per-material ones beside them).
 std::string cost_json(const Expression& formula, std::span<const InstructionCost> costs,
-                      const InstructionCost& shown);
+                      const InstructionCost& shown, const MaterialCosts* material = nullptr);
 
 // shaderfit.rational/1.
 std::string rational_json(const rational::RationalReport& report);
