@@ -247,8 +247,10 @@ void add_search_option(CLI::App* cmd, SearchArgs& a, const SearchOptionField& f)
         } else if constexpr (std::is_arithmetic_v<T> || std::is_same_v<T, std::string>) {
           cmd->add_option(flag, a.options.*m, help);
         } else if constexpr (std::is_same_v<T, std::vector<std::string>>) {
-          // Repeatable, one formula per flag (formulas hold commas).
-          cmd->add_option(flag, a.options.*m, help)->allow_extra_args(false);
+          // Names: comma-separated or repeated; formulas: repeatable, one per flag (they hold
+          // commas).
+          CLI::Option* o = cmd->add_option(flag, a.options.*m, help)->allow_extra_args(false);
+          if (f.names) o->delimiter(',');
         } else if constexpr (std::is_same_v<T, std::optional<std::int64_t>>) {
           cmd->add_option(flag, a.integers[f.name], help);
         } else {

@@ -29,6 +29,7 @@
 
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/cost/cost_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/parse.hpp"
@@ -219,7 +220,23 @@ struct Case {
   std::string notes;      // sign-symmetric halves, pieces left out, conventions
   std::vector<std::string> inputs;
   std::function<Samples()> sample;
+  // Inputs constant per material that the published form hoists (cost/per_material.hpp): its
+  // cost is then per pixel, and the search is run with --uniform.
+  std::vector<std::string> uniform = {};
 };
+
+// Rows of `s` whose ref is at least `floor` (a function that spans many decades, sampled where a
+// pixel shows it).
+Samples at_least(Samples s, double floor) {
+  Samples out;
+  out.columns.resize(s.columns.size());
+  for (std::size_t r = 0; r < s.ref.size(); ++r) {
+    if (!(s.ref[r] >= floor)) continue;
+    for (std::size_t k = 0; k < s.columns.size(); ++k) out.columns[k].push_back(s.columns[k][r]);
+    out.ref.push_back(s.ref[r]);
+  }
+  return out;
+}
 
 std::vector<Case> make_cases() {
   std::vector<Case> c;
@@ -610,6 +627,65 @@ std::vector<Case> make_cases() {
       {"erf_", -4, 4, "[-4,4)", erf_series},
       {"sin_parabolic", -kPi, kPi, "[-pi,pi)", [](double x) { return std::sin(x); }},
   };
+  // Per-material variants: the cases whose published form computes part of itself once per
+  // material, with that input uniform (the same data unless said).
+  struct MaterialVariant {
+    std::string name;
+    std::vector<std::string> uniform;
+    std::string hoisted;  // what the published form computes per material
+  };
+  const std::vector<MaterialVariant> material = {
+      {"fresnel_schlick", {"r0"}, "1 - r0"},
+      {"v_ggx_schlick", {"alpha"}, "k = alpha/2 and 1 - k"},
+      {"phong_lobe_sg", {"n"}, "n + 0.775"},
+      {"oren_nayar_qualitative", {"sigma"}, "A and B from sigma^2"},
+  };
+  std::vector<Case> per_material;
+  for (const Case& k : c) {
+    for (const MaterialVariant& m : material) {
+      if (k.name != m.name) continue;
+      Case u = k;
+      u.name = k.name + "_material";
+      u.uniform = m.uniform;
+      u.notes = "`" + k.name + "` with " + m.uniform.front() + " per material (hoisted: " +
+                m.hoisted + ")" + (k.notes.empty() ? "" : "; " + k.notes);
+      per_material.push_back(std::move(u));
+    }
+  }
+  // Blinn-Phong for Beckmann as issue 28 sets it: alpha per material in [0.05, 0.5], NoH in
+  // [0.01, 1] where D >= 0.01 (four decades).
+  per_material.push_back(
+      {"d_blinn_phong_beckmann_material",
+       "Walter et al., EGSR 2007 (Blinn-Phong exponent 2/alpha^2 - 2, normalised (n+2)/(2 pi))",
+       "Beckmann D, closed form (here)",
+       "nh 64 in [0.01,1] x alpha 16 in [0.05,0.5], rows with D >= 0.01",
+       "pow(nh, 2/alpha^2 - 2)/(pi*alpha^2)",
+       "alpha per material (hoisted: the exponent and log2(pi alpha^2)); D from 0.01 to 127",
+       {"nh", "alpha"},
+       [] {
+         return at_least(grid({linspace(0.01, 1, 64), linspace(0.05, 0.5, 16)},
+                              [](const auto& p) { return beckmann_d(p[0], p[1]); }),
+                         0.01);
+       },
+       {"alpha"}});
+  // Walter's G1 in (nv, alpha) rather than a: 1/alpha per material.
+  per_material.push_back(
+      {"g1_beckmann_walter_material",
+       "Walter et al., Microfacet Models for Refraction through Rough Surfaces, EGSR 2007, eq. 27",
+       "Smith G1 for Beckmann, erf by series (here)",
+       "nv 64 in [0.05,0.99] x alpha 16 in [0.05,0.5]",
+       "select(nv/alpha*rsqrt(1 - nv^2) - 1.6 >= 0, 1, (3.535*(nv/alpha*rsqrt(1 - nv^2)) + "
+       "2.181*(nv/alpha*rsqrt(1 - nv^2))^2)/(1 + 2.276*(nv/alpha*rsqrt(1 - nv^2)) + "
+       "2.577*(nv/alpha*rsqrt(1 - nv^2))^2))",
+       "a = nv/(alpha sqrt(1 - nv^2)) with 1/alpha per material; both pieces (the select)",
+       {"nv", "alpha"},
+       [] {
+         return grid({linspace(0.05, 0.99, 64), linspace(0.05, 0.5, 16)},
+                     [](const auto& p) { return beckmann_g1(p[0], p[1]); });
+       },
+       {"alpha"}});
+  c.insert(c.end(), per_material.begin(), per_material.end());
+
   constexpr int kUniformRows = 20000;
   constexpr std::uint64_t kUniformSeed = 27;
   std::vector<Case> variants;
@@ -683,6 +759,8 @@ nlohmann::json write_cases(const std::filesystem::path& dir) {
     std::vector<double> pred(n);
     shaderfit::evaluate(e, cols, pred, {.threads = 1});
     shaderfit::ErrorMetrics m = shaderfit::error_metrics(pred, s.ref);
+    const shaderfit::SplitCost split =
+        shaderfit::split_instruction_count(e, k.uniform, shaderfit::InstructionTarget::Sass);
     all.push_back({{"name", k.name},
                    {"source", k.source},
                    {"reference", k.reference},
@@ -691,7 +769,9 @@ nlohmann::json write_cases(const std::filesystem::path& dir) {
                    {"notes", k.notes},
                    {"inputs", k.inputs},
                    {"rows", n},
-                   {"cost", shaderfit::expression_cost(e, shaderfit::CostTarget::Instructions)},
+                   {"uniform", k.uniform},
+                   {"cost", split.per_pixel},
+                   {"material_cost", split.per_material},
                    {"max_abs", m.max_abs},
                    {"max_rel", m.max_rel},
                    {"rmse", m.rmse},

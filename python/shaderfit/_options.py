@@ -76,6 +76,12 @@ def option_text(keyword: str, field: Mapping[str, Any], v: Any) -> str:
             if ";" in f:
                 raise ValueError(f"{keyword}: a formula may not hold ';': {f!r}")
         return ";".join(formulas)
+    if kind == "names":
+        names = [v] if isinstance(v, str) else list(v)
+        for n in names:
+            if not isinstance(n, str):
+                raise _type_error(keyword, "input names (text)", n)
+        return ",".join(names)
     if kind == "operators":
         if isinstance(v, str):
             return v

@@ -42,6 +42,7 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"target", d.target},
                 {"load_time_s", d.load_time_s}}},
               {"problem", d.problem ? problem_source_json(*d.problem) : json(nullptr)},
+              {"uniform", o.uniform},
               {"options", search_options_json(o)},
               {"summary",
                {{"termination", termination_name(s.termination)},

@@ -7,8 +7,9 @@ namespace {
 
 class Builder {
  public:
-  Builder(const ClassStore& store, std::span<const double> literals)
-      : store_(store), literals_(literals) {}
+  Builder(const ClassStore& store, std::span<const double> literals,
+          std::span<const Expression> terminals, std::size_t inputs)
+      : store_(store), literals_(literals), terminals_(terminals), inputs_(inputs) {}
 
   // Appends the postfix nodes of class id, negated when `neg`.
   void build(std::uint32_t id, bool neg) {
@@ -16,7 +17,12 @@ class Builder {
     const bool neg_b = r.has(ClassRecord::kNegB);
     switch (r.kind) {
       case EKind::Var:
-        nodes.push_back(Node::variable(r.k));
+        if (static_cast<std::size_t>(r.k) >= inputs_) {
+          const Expression& t = terminals_[static_cast<std::size_t>(r.k) - inputs_];
+          nodes.insert(nodes.end(), t.nodes.begin(), t.nodes.end());
+        } else {
+          nodes.push_back(Node::variable(r.k));
+        }
         if (neg) nodes.push_back(Node::op_node(Op::Neg));
         return;
       case EKind::Literal: {
@@ -103,6 +109,8 @@ class Builder {
 
   const ClassStore& store_;
   std::span<const double> literals_;
+  std::span<const Expression> terminals_;
+  std::size_t inputs_;
 };
 
 Expression finish(std::vector<Node> nodes, const std::vector<std::string>& variables) {
@@ -118,9 +126,10 @@ Expression finish(std::vector<Node> nodes, const std::vector<std::string>& varia
 Expression build_fused_expression(const ClassStore& store, std::uint32_t m, std::uint32_t leaf,
                                   bool neg_leaf, bool negate,
                                   const std::vector<std::string>& variables,
-                                  std::span<const double> literals) {
+                                  std::span<const double> literals,
+                                  std::span<const Expression> terminals) {
   // As build() does for FusedAdd records: m + c, m - c, -(m + c) = -m - c, -(m - c) = c - m.
-  Builder b(store, literals);
+  Builder b(store, literals, terminals, variables.size());
   if (!negate) {
     b.build(m, false);
     b.build(leaf, false);
@@ -139,8 +148,9 @@ Expression build_fused_expression(const ClassStore& store, std::uint32_t m, std:
 
 Expression build_class_expression(const ClassStore& store, std::uint32_t id, bool negate,
                                   const std::vector<std::string>& variables,
-                                  std::span<const double> literals) {
-  Builder b(store, literals);
+                                  std::span<const double> literals,
+                                  std::span<const Expression> terminals) {
+  Builder b(store, literals, terminals, variables.size());
   b.build(id, negate);
   return finish(std::move(b.nodes), variables);
 }

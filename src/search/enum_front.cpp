@@ -34,6 +34,12 @@ void Enumerator::setup_full_rows() {
     return out;
   };
   for (const auto& c : p.inputs) f.inputs.push_back(padded(c));
+  // The uniform terminals' columns, past the inputs (their Var leaves' k).
+  std::vector<double> values(rows);
+  for (const Expression& t : ctx_.terminals) {
+    ctx_.predict(t, values);
+    f.inputs.push_back(padded(values));
+  }
   for (double v : ctx_.options.literals) f.literals.emplace_back(f.n, static_cast<float>(v));
   f.y = padded(p.target);
   f.w.assign(f.n, 0.0f);
@@ -111,9 +117,10 @@ void Enumerator::consider_for_front(std::uint32_t id, const ColumnStats& stats, 
   if (!leaf && !passes_full_rows(full_column(id), level)) return;
   const auto& names = ctx_.problem.input_names;
   const auto& lits = ctx_.options.literals;
-  Expression e = build_class_expression(*store_, id, false, names, lits);
+  const auto& terms = ctx_.terminals;
+  Expression e = build_class_expression(*store_, id, false, names, lits, terms);
   offer_scored(
-      e, [&] { return build_class_expression(*store_, id, true, names, lits); }, loss);
+      e, [&] { return build_class_expression(*store_, id, true, names, lits, terms); }, loss);
 }
 
 void Enumerator::consider_fused_for_front(std::uint32_t m, const FusedBest& best, int level) {
@@ -126,9 +133,14 @@ void Enumerator::consider_fused_for_front(std::uint32_t m, const FusedBest& best
   if (!passes_full_rows(sum, level)) return;
   const auto& names = ctx_.problem.input_names;
   const auto& lits = ctx_.options.literals;
-  Expression e = build_fused_expression(*store_, m, leaf, best.neg_leaf, false, names, lits);
+  const auto& terms = ctx_.terminals;
+  Expression e =
+      build_fused_expression(*store_, m, leaf, best.neg_leaf, false, names, lits, terms);
   offer_scored(
-      e, [&] { return build_fused_expression(*store_, m, leaf, best.neg_leaf, true, names, lits); },
+      e,
+      [&] {
+        return build_fused_expression(*store_, m, leaf, best.neg_leaf, true, names, lits, terms);
+      },
       best.loss);
 }
 
@@ -148,9 +160,9 @@ void Enumerator::offer_scored(Expression e, Negated negated, float screen_loss) 
     for (double& v : f) v = -v;
   if (negate) e = negated();
   Expression tidy = simplify(e);
-  if (expression_cost(tidy, ctx_.options.cost) <= expression_cost(e, ctx_.options.cost))
+  if (formula_cost(tidy, ctx_.options) <= formula_cost(e, ctx_.options))
     e = std::move(tidy);
-  const double cost = expression_cost(e, ctx_.options.cost);
+  const double cost = formula_cost(e, ctx_.options);
   if (!ctx_.front.would_enter(cost, std::min(pos, neg))) return;  // every metric only for entrants
   if (ctx_.offer(std::move(e), std::min(pos, neg), SearchPhase::Enumeration))
     screen_front_.emplace_back(cost, screen_loss);
@@ -179,7 +191,7 @@ std::vector<Expression> Enumerator::seeds(std::size_t count) const {
       const std::uint32_t id = lv[rank].id;
       if (store_->record(id).kind == EKind::Literal) continue;
       out.push_back(build_class_expression(*store_, id, lv[rank].negate, ctx_.problem.input_names,
-                                           ctx_.options.literals));
+                                           ctx_.options.literals, ctx_.terminals));
     }
     if (!any) break;
   }

@@ -113,6 +113,16 @@ void Enumerator::add_leaves() {
     var_ids_.push_back(id);
     level_ids_[static_cast<std::size_t>(costs_->leaf)].push_back(id);
   }
+  // The uniform terminals: leaves past the inputs, free per pixel like them.
+  for (std::size_t t = 0; t < ctx_.terminals.size(); ++t) {
+    const float* full = full_.inputs[p.inputs.size() + t].data();
+    for (std::size_t i = 0; i < screen_rows_; ++i) col[i] = full[screen_rows_picked_[i]];
+    ClassRecord rec = make_record(EKind::Var, static_cast<std::uint16_t>(costs_->leaf));
+    rec.k = static_cast<std::int8_t>(p.inputs.size() + t);
+    const std::uint32_t id = insert_leaf(rec);
+    var_ids_.push_back(id);
+    level_ids_[static_cast<std::size_t>(costs_->leaf)].push_back(id);
+  }
   const auto& lits = ctx_.options.literals;
   for (std::size_t l = 0; l < lits.size(); ++l) {
     std::fill(col.begin(), col.end(), static_cast<float>(lits[l]));

@@ -151,14 +151,17 @@ class Enumerator {
   double cpu_start_s_ = 0;
 };
 
-// The formula of class `id` (negated when `negate`), over `variables`.
+// The formula of class `id` (negated when `negate`), over `variables`. A Var leaf k stands for
+// input k, or for terminals[k - variables.size()] past the inputs (uniform_terminals.hpp).
 Expression build_class_expression(const ClassStore& store, std::uint32_t id, bool negate,
                                   const std::vector<std::string>& variables,
-                                  std::span<const double> literals);
+                                  std::span<const double> literals,
+                                  std::span<const Expression> terminals = {});
 // The formula m +- c (c a leaf class), negated when `negate`.
 Expression build_fused_expression(const ClassStore& store, std::uint32_t m, std::uint32_t leaf,
                                   bool neg_leaf, bool negate,
                                   const std::vector<std::string>& variables,
-                                  std::span<const double> literals);
+                                  std::span<const double> literals,
+                                  std::span<const Expression> terminals = {});
 
 }  // namespace shaderfit::search_detail

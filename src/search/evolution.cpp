@@ -88,6 +88,10 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
   limits_.literals = o.literals;
   limits_.max_nodes = o.max_nodes;
   limits_.max_parameters = o.max_parameters;
+  // The uniform terminals are building blocks from the start (the front's parts join them).
+  std::vector<const Expression*> terminals;
+  for (const Expression& t : ctx.terminals) terminals.push_back(&t);
+  limits_.blocks = subtree_blocks(terminals);
 
   // The fit rows: a uniform sample without replacement (all rows when there are few).
   const std::size_t rows = ctx.rows;
@@ -177,7 +181,7 @@ bool Evolution::evaluate(Individual& ind, Island& island, std::vector<double>& v
   shaderfit::evaluate(e, fit_pointers_, values, {.threads = 1});
   ctx_.node_evaluations.fetch_add(e.size() * fit_target_.size(), std::memory_order_relaxed);
   ind.raw_loss = ind.loss = loss_of(ctx_.options.loss, values, fit_target_, fit_weights_);
-  ind.raw_cost = ind.cost = expression_cost(e, ctx_.options.cost);
+  ind.raw_cost = ind.cost = formula_cost(e, ctx_.options);
   ind.hash = structural_hash(e);
   ind.scaled = false;
   // The scaled form p0 * e + p1 has 4 more nodes; it must still fit in max_nodes.
@@ -547,7 +551,7 @@ void Evolution::evolve() {
       for (Candidate* c : found) {
         Expression tidy = simplify(c->expr);
         ctx_.offer(
-            expression_cost(tidy, ctx_.options.cost) <= expression_cost(c->expr, ctx_.options.cost)
+            formula_cost(tidy, ctx_.options) <= formula_cost(c->expr, ctx_.options)
                 ? tidy
                 : c->expr,
             loss_value(ctx_.options.loss, c->metrics), SearchPhase::Evolution);
@@ -556,6 +560,7 @@ void Evolution::evolve() {
       // The front's parts, for the mutations (the same on every rank: the front is).
       const std::vector<FrontMember> members = ctx_.front.members();
       std::vector<const Expression*> parts;
+      for (const Expression& t : ctx_.terminals) parts.push_back(&t);
       for (const FrontMember& m : members) parts.push_back(&m.expression);
       limits_.blocks = subtree_blocks(parts);
       ctx_.candidates.fetch_add(evaluated, std::memory_order_relaxed);
@@ -582,7 +587,7 @@ void Evolution::evolve() {
     for (const FrontMember& m : ctx_.front.members()) front.emplace_back(m.cost, m.loss);
     for (const Island& is : islands_)
       for (const Candidate& c : is.found)
-        front.emplace_back(expression_cost(c.expr, ctx_.options.cost),
+        front.emplace_back(formula_cost(c.expr, ctx_.options),
                            loss_value(ctx_.options.loss, c.metrics));
     std::vector<char> complete(owned_.size(), 1);
     parallel_for(

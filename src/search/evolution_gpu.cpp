@@ -28,7 +28,7 @@ void Evolution::evaluate_on_gpu(std::vector<Individual>& batch, Island& island) 
   for (std::size_t i = 0; i < batch.size(); ++i) {
     Individual& ind = batch[i];
     ind.raw_loss = ind.loss = raw[i].loss;
-    ind.raw_cost = ind.cost = expression_cost(ind.expr, ctx_.options.cost);
+    ind.raw_cost = ind.cost = formula_cost(ind.expr, ctx_.options);
     ind.hash = structural_hash(ind.expr);
     ind.scaled = false;
     if (!ctx_.options.linear_scaling || !std::isfinite(ind.loss)) continue;

@@ -23,6 +23,7 @@ std::string_view search_phase_name(SearchPhase phase) {
     case SearchPhase::Start: return "start";
     case SearchPhase::PowerSum: return "power_sum";
     case SearchPhase::Polynomial: return "polynomial";
+    case SearchPhase::Material: return "material";
   }
   return "enumeration";
 }
@@ -33,6 +34,7 @@ std::optional<SearchPhase> search_phase_from_name(std::string_view name) {
   if (name == "start") return SearchPhase::Start;
   if (name == "power_sum") return SearchPhase::PowerSum;
   if (name == "polynomial") return SearchPhase::Polynomial;
+  if (name == "material") return SearchPhase::Material;
   return std::nullopt;
 }
 
@@ -106,6 +108,7 @@ std::string code_for(const FrontMember& m, Language lang) {
     o.language = lang;
     o.name = "shaderfit_formula";
     o.bake_parameters = true;
+    o.uniform = m.uniform;
     return generate_function(m.expression, o);
   } catch (const std::exception&) {
     return {};
@@ -142,6 +145,10 @@ json front_member_json(const FrontMember& m, FrontJson style) {
             {"float32_stable", m.float32_stable},
             {"float32_max_abs", number(m.float32_max_abs)},
             {"float32_max_rel", number(m.float32_max_rel)}};
+  if (!m.uniform.empty()) {
+    j["uniform"] = m.uniform;
+    j["material_cost"] = number(m.material_cost);
+  }
   if (m.checked_between_samples) {
     j["max_abs_checked"] = "between samples";
     j["worst_point"] = m.worst_point;
@@ -178,6 +185,10 @@ FrontMember exact_member_from(const json& j) {
   m.expression = search_detail::exact_expression_from(j.at("expression"));
   m.formula = j.at("formula").get<std::string>();
   m.cost = exact_number_from(j.at("cost"));
+  if (j.contains("uniform")) {
+    m.uniform = j.at("uniform").get<std::vector<std::string>>();
+    m.material_cost = exact_number_from(j.at("material_cost"));
+  }
   m.nodes = search_detail::exact_integer_from<std::size_t>(j.at("nodes"), "nodes");
   m.loss = exact_number_from(j.at("loss"));
   m.metrics.mse = exact_number_from(j.at("mse"));
@@ -239,6 +250,11 @@ ReadFrontMember front_member_from_json(const json& m, const std::vector<std::str
   f.expression = parse_formula(f.formula, po);
   f.nodes = f.expression.size();
   f.cost = result_number(m, "cost", where);
+  if (m.contains("uniform") && m["uniform"].is_array()) {
+    for (const auto& n : m["uniform"])
+      if (n.is_string()) f.uniform.push_back(n.get<std::string>());
+    f.material_cost = result_number(m, "material_cost", where);
+  }
   f.loss = result_number(m, "loss", where);
   f.metrics.mse = result_number(m, "mse", where);
   f.metrics.rmse = result_number(m, "rmse", where);

@@ -154,6 +154,21 @@ const SearchOptionField kFields[] = {
      .role = Role::Search,
      .help = "when the data is even, odd or point-symmetric in an input, search the half where "
              "it is >= 0 and add the reflection"},
+    {.name = "uniform",
+     .member = &O::uniform,
+     .role = Role::Search,
+     .help = "inputs constant per material (comma-separated): what reads only them is computed "
+             "once per material, and the cost is per pixel",
+     .may_be_empty = true,
+     .names = true,
+     .check =
+         [](const O& o) {
+           for (std::size_t k = 0; k < o.uniform.size(); ++k)
+             if (std::find(o.uniform.begin(), o.uniform.begin() + static_cast<std::ptrdiff_t>(k),
+                           o.uniform[k]) != o.uniform.begin() + static_cast<std::ptrdiff_t>(k))
+               return "uniform input '" + o.uniform[k] + "' is given twice";
+           return std::string();
+         }},
     {.name = "max_power",
      .member = &O::max_power,
      .role = Role::Search,
@@ -342,6 +357,7 @@ const SearchOptionField* find_search_option(std::string_view name) {
 }
 
 OptionKind search_option_kind(const SearchOptionField& field) {
+  if (field.names) return OptionKind::Names;
   return std::visit(
       Overloaded{[](double O::*) { return OptionKind::Real; },
                  [](bool O::*) { return OptionKind::Bool; },
@@ -366,6 +382,7 @@ std::string_view option_kind_name(OptionKind kind) {
     case OptionKind::StopTarget: return "stop target";
     case OptionKind::Reals: return "reals";
     case OptionKind::Formulas: return "formulas";
+    case OptionKind::Names: return "names";
     case OptionKind::Operators: return "operators";
     case OptionKind::Choice: return "choice";
   }
@@ -395,7 +412,8 @@ std::string search_option_text(const SearchOptions& o, const SearchOptionField& 
                  },
                  [&](std::vector<std::string> O::*m) {
                    std::string s;
-                   for (const std::string& f : o.*m) s += (s.empty() ? "" : "; ") + f;
+                   for (const std::string& f : o.*m)
+                     s += (s.empty() ? "" : (field.names ? "," : "; ")) + f;
                    return s;
                  },
                  [&](std::vector<Op> O::*m) { return operator_list_name(o.*m); },
@@ -442,7 +460,7 @@ void set_search_option(SearchOptions& o, const SearchOptionField& f, std::string
           },
           [&](std::vector<std::string> O::*m) {
             std::vector<std::string> v;
-            for (std::string_view s : split(text, ';')) v.emplace_back(s);
+            for (std::string_view s : split(text, f.names ? ',' : ';')) v.emplace_back(s);
             o.*m = std::move(v);
           },
           [&](std::vector<Op> O::*m) {

@@ -19,7 +19,9 @@
 #include "search/start.hpp"
 #include "search/symmetry_front.hpp"
 #include "search/tidy.hpp"
+#include "search/uniform_starts.hpp"
 #include "search/verify_front.hpp"
+#include "shaderfit/cost/per_material.hpp"
 
 namespace shaderfit {
 
@@ -169,13 +171,22 @@ std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
   if (const auto sum = search_detail::exact_power_sum(problem))
     return search_detail::offer_start_formulas(
         ctx, {start_over_indexed_inputs(*sum, names, "power sum")}, SearchPhase::PowerSum);
+  std::vector<search_detail::StartFormula> material;
+  for (const std::string& text : search_detail::uniform_starts(problem, ctx.options, ctx.terminals)) {
+    material.push_back(start_over_indexed_inputs(text, names, "per-material start"));
+    material.back().fitted = true;
+  }
+  std::vector<Expression> seeds =
+      search_detail::offer_start_formulas(ctx, material, SearchPhase::Material);
   std::vector<search_detail::StartFormula> polynomials;
   for (const std::string& text :
        search_detail::polynomial_starts(problem, symmetry, ctx.options.loss)) {
     polynomials.push_back(start_over_indexed_inputs(text, names, "polynomial"));
     polynomials.back().fitted = true;
   }
-  return search_detail::offer_start_formulas(ctx, polynomials, SearchPhase::Polynomial);
+  for (Expression& e : search_detail::offer_start_formulas(ctx, polynomials, SearchPhase::Polynomial))
+    seeds.push_back(std::move(e));
+  return seeds;
 }
 
 // The search proper, on `problem`: the data, or its half when `symmetry` is set.
@@ -305,6 +316,7 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});
 
+  check_uniform_inputs(options.uniform, problem.input_names, {"SearchOptions::uniform"});
   const std::vector<search_detail::StartFormula> starts =
       search_detail::parse_start_formulas(options, problem);
 
@@ -346,6 +358,14 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
   // Where the function behind the rows is known, the errors between them too (and bounds).
   summary->front =
       search_detail::verify_front(options, problem, std::move(summary->front), summary);
+  if (!options.uniform.empty()) {
+    for (FrontMember& m : summary->front) {
+      m.uniform = options.uniform;
+      m.material_cost =
+          split_instruction_count(m.expression, options.uniform, InstructionTarget::Sass)
+              .per_material;
+    }
+  }
 }
 
 }  // namespace shaderfit

@@ -1,5 +1,7 @@
 #include "search/search_context.hpp"
 
+#include "search/uniform_terminals.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -30,6 +32,7 @@ SearchContext::SearchContext(const SearchOptions& opts, const SearchProblem& pro
       start_(std::chrono::steady_clock::now()) {
   for (const auto& c : problem.inputs) columns.push_back(c.data());
   rows = problem.target.size();
+  terminals = uniform_terminals(problem, options);
   threads = options.threads > 0
                 ? options.threads
                 : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
@@ -167,7 +170,7 @@ bool SearchContext::finite_everywhere(const Expression& e) {
 
 bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin) {
   FrontMember m;
-  m.cost = expression_cost(e, options.cost);
+  m.cost = formula_cost(e, options);
   m.loss = loss_estimate;
   if (!std::isfinite(m.loss) || !front.would_enter(m.cost, m.loss)) return false;
   // On a symmetric half, the cost of the cheapest form on every row (whole_data_forms), which is
@@ -175,7 +178,7 @@ bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin
   if (symmetry) {
     m.cost = std::numeric_limits<double>::infinity();
     for (const Expression& f : whole_data_forms(e, *symmetry, problem.input_names, false))
-      m.cost = std::min(m.cost, expression_cost(f, options.cost));
+      m.cost = std::min(m.cost, formula_cost(f, options));
     if (!front.would_enter(m.cost, m.loss)) return false;
   }
   // What the front shows is what was scored: e itself, in float64, on every row. (Only

@@ -26,6 +26,11 @@ class Checkpointer;
 // of non-zero weight alike, and max_rel is max_abs with weights 1/|y| (rows with y = 0 do not
 // count, as in the metric).
 Loss screen_loss(Loss loss);
+
+// The cost the front ranks: expression_cost for options.cost, per pixel with options.uniform.
+inline double formula_cost(const Expression& e, const SearchOptions& options) {
+  return expression_cost(e, options.cost, options.uniform);
+}
 double screen_weight(Loss loss, double w, double y);
 
 class SearchContext {
@@ -35,6 +40,9 @@ class SearchContext {
   const SearchOptions& options;
   const SearchProblem& problem;
   std::vector<const double*> columns;  // the input columns, in problem order
+  // The per-material values offered as free terminals (uniform_terminals.hpp); empty without
+  // uniform inputs.
+  std::vector<Expression> terminals;
   std::size_t rows = 0;
   int threads = 1;
   ComputeDevice device = ComputeDevice::Cpu;  // options.device resolved (Auto decided)

@@ -32,7 +32,7 @@ FrontMember SymmetricFront::reflected(const FrontMember& half) {
   FrontMember m = half;
   m.expression = reflect_expression(half.expression, symmetry_, whole_.problem.input_names);
   m.formula = to_infix(m.expression, {.substitute_parameters = true});
-  m.cost = expression_cost(m.expression, options_.cost);
+  m.cost = formula_cost(m.expression, options_);
   m.nodes = m.expression.size();
   std::vector<double> prediction(whole_.rows);
   whole_.predict(m.expression, prediction);

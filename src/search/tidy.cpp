@@ -99,11 +99,9 @@ Expression lifted(Expression e, const Expression& original) {
 class Tidier {
  public:
   Tidier(const SearchOptions& options, const SearchProblem& problem)
-      : ctx_(options, problem), cost_target_(options.cost), noise_rmse_(noise_level_rmse(problem)) {
+      : ctx_(options, problem), options_(options), noise_rmse_(noise_level_rmse(problem)) {
     simplify_options_.regroup_constants = true;
-    simplify_options_.cost = [this](const Expression& e) {
-      return expression_cost(e, cost_target_);
-    };
+    simplify_options_.cost = [this](const Expression& e) { return formula_cost(e, options_); };
     std::vector<double> noisy(problem.target.begin(), problem.target.end());
     for (double& y : noisy) y += kTidyRoundingNoise * std::abs(y);
     floor_ = loss_value(options.loss, ctx_.metrics_of(noisy));
@@ -147,7 +145,7 @@ class Tidier {
   // within the limit.
   bool keep(Expression candidate) {
     if (candidate == current_) return false;
-    const double cost = expression_cost(lifted(candidate, *original_), cost_target_);
+    const double cost = formula_cost(lifted(candidate, *original_), options_);
     if (!(cost <= cost_)) return false;
     std::vector<double> prediction(ctx_.rows);
     ctx_.predict(candidate, prediction);
@@ -266,7 +264,7 @@ class Tidier {
   }
 
   SearchContext ctx_;
-  CostTarget cost_target_;
+  const SearchOptions& options_;
   SimplifyOptions simplify_options_;
   double noise_rmse_ = 0;
   double floor_ = 0;

@@ -24,9 +24,11 @@ namespace shaderfit {
 // Start: the user's formulas (SearchOptions::start), as written and refitted.
 // PowerSum: the exact power sum the search tries after the enumeration (docs/search.md).
 // Polynomial: a least-squares polynomial of a one-input problem, tried there too.
-enum class SearchPhase { Enumeration, Evolution, Start, PowerSum, Polynomial };
-// "enumeration", "evolution", "start", "power_sum", "polynomial" (and back; nullopt for anything
-// else).
+// Material: a form with coefficients that are functions of the per-material inputs, tried there
+// too (search/uniform_starts.hpp).
+enum class SearchPhase { Enumeration, Evolution, Start, PowerSum, Polynomial, Material };
+// "enumeration", "evolution", "start", "power_sum", "polynomial", "material" (and back; nullopt
+// for anything else).
 std::string_view search_phase_name(SearchPhase phase);
 std::optional<SearchPhase> search_phase_from_name(std::string_view name);
 
@@ -34,7 +36,11 @@ std::optional<SearchPhase> search_phase_from_name(std::string_view name);
 struct FrontMember {
   Expression expression;  // variables: the problem's input names; parameters hold fitted values
   std::string formula;    // infix that parse_formula reads (fitted constants written as numbers)
-  double cost = 0;        // expression_cost(expression, options.cost)
+  double cost = 0;        // expression_cost(expression, options.cost, options.uniform)
+  // With per-material inputs (SearchOptions::uniform): their names, and the SASS instructions
+  // computed once per material (cost/per_material.hpp); `cost` is then the per-pixel part's.
+  std::vector<std::string> uniform;
+  double material_cost = 0;
   std::size_t nodes = 0;  // expression.size()
   ErrorMetrics metrics;   // on every row of the problem
   double loss = 0;        // the metric options.loss names

@@ -97,6 +97,12 @@ struct SearchOptions {
   // rows), search the half where it is >= 0 and report each formula with the reflection added
   // and costed (docs/search.md, "Symmetric data"). False: search the data as it is.
   bool symmetry = true;
+  // Per-material inputs (cost/per_material.hpp): inputs constant over a draw's pixels. The cost
+  // the front ranks is then the per-pixel count: what reads only these inputs, literals and fitted
+  // constants is computed once per material, and the search offers such values (1/alpha^2,
+  // log2(alpha), ...) as free terminals. run_search throws Error located at
+  // "SearchOptions::uniform" for a name that is not an input or when every input is uniform.
+  std::vector<std::string> uniform;
 
   // Enumeration. `screen_rows` random rows are cached per distinct candidate (float32) and used
   // to deduplicate and to screen; candidates that pass are scored on every row.
@@ -189,6 +195,7 @@ enum class OptionKind {
   StopTarget,  // std::optional<SearchTarget>
   Reals,       // a list of numbers
   Formulas,    // a list of formulas (std::vector<std::string>)
+  Names,       // a list of input names (std::vector<std::string> with `names` set)
   Operators,   // a list of operators
   Choice,      // one of `choices`
 };
@@ -201,6 +208,7 @@ struct SearchOptionField {
   std::string_view default_note;  // follows the default where the help shows it ("; 0: ...")
   std::string_view choices;       // Choice: the names, "mse, rmse, max_abs, rel, log"
   bool may_be_empty = false;      // an optional value, or an operator list that may be empty
+  bool names = false;             // a std::vector<std::string> of names, comma-separated
   // Why the value is not acceptable (without the field's name), or "" when it is.
   std::string (*check)(const SearchOptions&) = nullptr;
 };
@@ -216,7 +224,7 @@ std::string_view option_kind_name(OptionKind kind);  // "real", "integer", ...
 std::string search_option_location(const SearchOptionField& field);
 
 // The value as text: numbers shortest round-trip, booleans true/false, lists comma-separated
-// ("+,-,*,/,^", "0.5,1,2"; formulas, which hold commas, separated by "; "), choices by name, an
+// ("+,-,*,/,^", "0.5,1,2", "alpha,f0"; formulas, which hold commas, separated by "; "), choices by name, an
 // unset optional as "", kAutoOperators as "auto". set_search_option reads it back (and "none" for
 // an empty operator list); it
 // throws Error located at the field for text that does not parse. The checkpoint records Search
