@@ -10,6 +10,7 @@
 #include "data_source.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -23,7 +24,7 @@ namespace {
 
 struct EvalArgs {
   DataSource data;
-  std::vector<std::string> groups;
+  std::vector<std::string> groups, uniform;
   bool groups_given = false;
   std::string baseline;
   std::vector<std::string> formulas;
@@ -60,6 +61,11 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
     out << '\n'
         << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number))
         << to_infix(r.expression, print) << '\n';
+    if (!a.uniform.empty()) {
+      const SplitCost c = split_instruction_count(r.expression, a.uniform, InstructionTarget::Sass);
+      out << fmt::format("  cost: {} per pixel, {} per material (SASS instructions)\n",
+                         c.per_pixel, c.per_material);
+    }
     out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE",
                        "RMSE", "max abs", "max rel",
                        base && !r.baseline ? "  MSE vs baseline" : "");
@@ -93,7 +99,8 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
 }
 
 EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, const Problem& p) {
-  return {p.description, p.data.rows(), p.target, a.float32, a.groups, std::move(results)};
+  return {p.description, p.data.rows(), p.target, a.float32, a.groups, a.uniform,
+          std::move(results)};
 }
 
 // With a reference: the errors between the samples too, and a certified bound when asked.
@@ -142,6 +149,13 @@ void run_eval(EvalArgs& a, Context& ctx) {
       if (d.find(g)) a.groups.push_back(g);
   }
   for (const std::string& g : a.groups) (void)d.column(g);
+  if (!a.uniform.empty()) {
+    std::vector<std::string> inputs;
+    for (const std::string& n : d.names())
+      if (n != p.target && d.column(n).numeric()) inputs.push_back(n);
+    check_uniform_inputs(a.uniform, inputs);
+    check_uniform_in_groups(d, a.uniform, a.groups);
+  }
 
   std::vector<EvalFormulaResult> results;
   if (!a.baseline.empty()) {
@@ -181,6 +195,7 @@ void register_eval_command(CLI::App& app, Context& ctx) {
       ->allow_extra_args(false)
       ->each([args](const std::string&) { args->groups_given = true; });
   cmd->add_option("--baseline", args->baseline, "formula the others are compared with");
+  add_uniform_option(cmd, args->uniform);
   cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
   cmd->add_flag("--float32", args->float32, "evaluate in float32, as a shader would");
   cmd->add_flag("--certify", args->certify,

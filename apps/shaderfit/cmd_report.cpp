@@ -25,7 +25,7 @@ using nlohmann::json;
 struct ReportArgs {
   std::string run_path, output, title, choose, figures;
   DataSource data;
-  std::vector<std::string> baselines;
+  std::vector<std::string> baselines, uniform;
 };
 
 ReportChoice search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
@@ -36,6 +36,7 @@ ReportChoice search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
   else
     o.formula = a.choose;
   o.figure_directory = a.figures;
+  o.uniform = a.uniform;
   // The data: as the options say, else as the run recorded it (a reference is sampled again).
   std::optional<Problem> problem;
   if (a.data.given())
@@ -101,6 +102,7 @@ void register_report_command(CLI::App& app, Context& ctx) {
   cmd->add_option("run", a->run_path, "the JSON a run wrote (--json)")->required();
   cmd->add_option("-o,--output", a->output, "HTML file to write")->required();
   cmd->add_option("--title", a->title, "page title");
+  add_uniform_option(cmd, a->uniform);
   cmd->add_option("--choose", a->choose,
                   std::string(kChooseHelp) + ", or a formula to show instead");
   cmd->add_option("--figures", a->figures,

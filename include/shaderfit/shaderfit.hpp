@@ -10,6 +10,7 @@
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/data/csv.hpp"
 #include "shaderfit/data/dataset.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"

@@ -44,17 +44,19 @@ def evaluate(text: str, X, *, inputs: Sequence[str] | None = None, params=None) 
 
 
 def cost(text: str, *, inputs: Sequence[str] | None = None, params=None,
-         target: str = "sass") -> dict:
+         target: str = "sass", uniform: Sequence[str] = ()) -> dict:
     """Instruction counts per target (sass, ptx, generic) and the listing for ``target``: the
-    shaderfit.cost/1 document of ``shaderfit cost --json`` (docs/cost-model.md)."""
-    return json.loads(formula(text, inputs, params).cost_json(target))
+    shaderfit.cost/1 document of ``shaderfit cost --json`` (docs/cost-model.md). With
+    ``uniform`` (per-material inputs) the counts are per pixel, with ``per_material`` beside."""
+    return json.loads(formula(text, inputs, params).cost_json(target, list(uniform)))
 
 
 def codegen(text: str, lang: str = "glsl", *, name: str = "shaderfit_formula",
-            inputs: Sequence[str] | None = None, params=None) -> str:
+            inputs: Sequence[str] | None = None, params=None, uniform: Sequence[str] = ()) -> str:
     """The formula as a source file in glsl, hlsl, cuda, cpp or metal that compiles as printed;
-    parameters given with values are baked in as constants."""
-    return formula(text, inputs, params).code(lang, name)
+    parameters given with values are baked in as constants. With ``uniform`` (per-material
+    inputs) the code is in two parts: the values computed once per material, then the pixel."""
+    return formula(text, inputs, params).code(lang, name, list(uniform))
 
 
 def latex(text: str, *, inputs: Sequence[str] | None = None, params=None, digits: int = 0) -> str:

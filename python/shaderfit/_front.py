@@ -21,17 +21,18 @@ class Cost(float):
 
     _formula: _shaderfit.Formula
 
-    def __new__(cls, value: float, formula: _shaderfit.Formula):
+    def __new__(cls, value: float, formula: _shaderfit.Formula, uniform: Sequence[str] = ()):
         self = super().__new__(cls, value)
         self._formula = formula
+        self._uniform = list(uniform)  # per-material inputs: the count is per pixel
         return self
 
     def __call__(self, target: str = "sass") -> int:
-        doc = json.loads(self._formula.cost_json(target))
+        doc = json.loads(self._formula.cost_json(target, self._uniform))
         return int(doc["targets"][target]["instructions"])
 
     def __reduce__(self):
-        return (Cost, (float(self), self._formula))
+        return (Cost, (float(self), self._formula, self._uniform))
 
 
 def _columns_for(formula: _shaderfit.Formula, X, inputs: Sequence[str] | None):
@@ -75,7 +76,11 @@ class Member:
         self._formula = formula
         self.formula: str = document["formula"]
         self.formula_display: str = document.get("formula_display", self.formula)
-        self.cost = Cost(_number(document.get("cost")), formula)
+        # With per-material inputs (search's uniform=): cost is per pixel, material_cost (SASS)
+        # once per material.
+        self.uniform: list = list(document.get("uniform") or [])
+        self.material_cost = _number(document.get("material_cost", 0))
+        self.cost = Cost(_number(document.get("cost")), formula, self.uniform)
         self.loss = _number(document.get("loss"))
         for m in METRICS:
             setattr(self, m, _number(document.get(m)))
@@ -108,8 +113,9 @@ class Member:
 
     def code(self, lang: str = "glsl", name: str = "shaderfit_formula") -> str:
         """A source file with the formula as one function (glsl, hlsl, cuda, cpp or metal), its
-        constants baked in, that the language's compiler accepts as printed."""
-        return self._formula.code(lang, name)
+        constants baked in, that the language's compiler accepts as printed (in two parts with
+        per-material inputs)."""
+        return self._formula.code(lang, name, self.uniform)
 
     def latex(self, digits: int = 0) -> str:
         return self._formula.latex(digits)

@@ -26,6 +26,7 @@
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/data/problem.hpp"
 #include "shaderfit/eval/evaluate.hpp"
@@ -92,15 +93,24 @@ struct Formula {
   }
 
   // The shaderfit.cost/1 document of `shaderfit cost` (docs/cost-model.md), for `shown`.
-  std::string cost_json_text(const std::string& shown) const {
+  // With per-material inputs the counts are per pixel, the per-material ones beside them.
+  std::string cost_json_text(const std::string& shown,
+                             const std::vector<std::string>& uniform) const {
     const auto target = instruction_target_from_name(shown);
     if (!target)
       throw Error("unknown target '" + shown + "' (known: sass, ptx, generic)", {"target"});
+    check_uniform_inputs(uniform, expression.variables, {"uniform"});
+    std::optional<MaterialCosts> material;
+    if (!uniform.empty())
+      material = MaterialCosts{uniform, split_per_material(expression, uniform), {}};
     std::vector<InstructionCost> costs;
     for (InstructionTarget t :
-         {InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic})
-      costs.push_back(instruction_cost(expression, t));
-    return cost_json(expression, costs, costs[static_cast<std::size_t>(*target)]);
+         {InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic}) {
+      costs.push_back(instruction_cost(material ? material->split.per_pixel : expression, t));
+      if (material) material->material.push_back(material_instruction_cost(material->split, t));
+    }
+    return cost_json(expression, costs, costs[static_cast<std::size_t>(*target)],
+                     material ? &*material : nullptr);
   }
 
   double search_cost(const std::string& cost) const {
@@ -110,7 +120,8 @@ struct Formula {
   }
 
   // A source file that compiles as printed (generate_source), parameters baked in.
-  std::string code(const std::string& language, const std::string& name) const {
+  std::string code(const std::string& language, const std::string& name,
+                   const std::vector<std::string>& uniform) const {
     const auto lang = language_from_name(language);
     if (!lang)
       throw Error("unknown language '" + language + "' (known: glsl, hlsl, cuda, cpp, metal)",
@@ -118,7 +129,10 @@ struct Formula {
     SourceFunction f{expression, {}};
     f.options.name = name;
     f.options.bake_parameters = true;
-    f.options.comment = {to_infix(expression, PrintOptions::for_people())};
+    check_uniform_inputs(uniform, expression.variables, {"uniform"});
+    f.options.uniform = uniform;
+    f.options.comment = {to_infix(expression, PrintOptions::for_people()),
+                         cost_comment(expression, uniform)};
     return generate_source(std::span<const SourceFunction>(&f, 1), *lang);
   }
 };
@@ -563,9 +577,11 @@ NB_MODULE(_shaderfit, m) {
       .def("infix", &Formula::infix, nb::arg("digits") = 0, nb::arg("exact") = false)
       .def("latex", &Formula::latex, nb::arg("digits") = 0)
       .def("evaluate", &Formula::evaluate, nb::arg("columns"))
-      .def("cost_json", &Formula::cost_json_text, nb::arg("target") = "sass")
+      .def("cost_json", &Formula::cost_json_text, nb::arg("target") = "sass",
+           nb::arg("uniform") = std::vector<std::string>{})
       .def("search_cost", &Formula::search_cost, nb::arg("cost") = "instructions")
-      .def("code", &Formula::code, nb::arg("language"), nb::arg("name"))
+      .def("code", &Formula::code, nb::arg("language"), nb::arg("name"),
+           nb::arg("uniform") = std::vector<std::string>{})
       // Pickled as its exact infix with parameters by name, and their values: parse_formula
       // reads that back to a formula that evaluates equal on every input.
       .def("__getstate__",

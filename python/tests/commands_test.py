@@ -134,3 +134,35 @@ def test_rational_on_reference_language_targets(tmp_path):
         shaderfit.rational(target="acoss(x)", forms=["1/0"])
     assert e.value.source == "target"
     assert e.value.column == 1
+
+
+BLINN_PHONG = "1/(3.14159*alpha^2) * pow(NoH, 2/alpha^2 - 2)"
+
+
+def test_uniform_inputs_split_the_cost_and_the_code(cli):
+    doc = shaderfit.cost(BLINN_PHONG, uniform=["alpha"])
+    assert doc["targets"]["sass"]["instructions"] == 3
+    assert doc["targets"]["sass"]["per_material"]["instructions"] == 6
+    out = subprocess.run([cli, "cost", "--uniform", "alpha", "--json", "-", BLINN_PHONG],
+                         capture_output=True, text=True, check=True)
+    assert json.loads(out.stdout) == doc
+    code = shaderfit.codegen(BLINN_PHONG, "glsl", name="d", uniform=["alpha"])
+    assert "d_material d_material_values(float alpha)" in code
+    assert "float d(float NoH, d_material m)" in code
+    with pytest.raises(ValueError, match="uniform input 'beta' is not an input"):
+        shaderfit.cost(BLINN_PHONG, uniform=["beta"])
+
+
+def test_search_with_uniform_inputs_ranks_the_per_pixel_cost():
+    nh, alpha = np.meshgrid(np.linspace(0.1, 1, 24), np.linspace(0.1, 0.5, 8))
+    nh, alpha = nh.ravel(), alpha.ravel()
+    d = np.exp((nh**2 - 1) / (alpha**2 * nh**2)) / (np.pi * alpha**2 * nh**4)
+    keep = d >= 0.01
+    X = np.column_stack([nh[keep], alpha[keep]])
+    front = shaderfit.search(X, d[keep], inputs=["NoH", "alpha"], uniform=["alpha"],
+                             loss="max_rel", max_candidates=200000, threads=1, time=60,
+                             progress=False)
+    cheap = [m for m in front if m.cost <= 3]
+    assert cheap and all(m.uniform == ["alpha"] for m in front)
+    assert min(m.max_rel for m in cheap) < 1.5  # Blinn-Phong's on these rows is above
+    assert "_material_values(float alpha)" in cheap[-1].code("glsl")

@@ -19,6 +19,41 @@ Expression parse_formula_on(std::string_view text, const Dataset& data, const st
 
 namespace {
 
+// A grouping column's values as group labels (numbers as format_number writes them).
+std::vector<std::string> group_labels(const Dataset& data, const std::string& group) {
+  const Column& col = data.column(group);
+  std::vector<std::string> labels(data.rows());
+  for (std::size_t i = 0; i < data.rows(); ++i)
+    labels[i] = col.numeric() ? format_number(col.values[i]) : col.labels[i];
+  return labels;
+}
+
+}  // namespace
+
+void check_uniform_in_groups(const Dataset& data, std::span<const std::string> uniform,
+                             std::span<const std::string> groups) {
+  const SourceLocation where{"UniformInputs"};
+  for (const std::string& u : uniform) {
+    if (data.find(u) == nullptr || !data.find(u)->numeric())
+      throw Error("uniform input '" + u + "' is not a numeric column of the data", where);
+    const std::vector<double>& v = data.column(u).values;
+    for (const std::string& g : groups) {
+      for (const auto& [label, rows] : group_rows(group_labels(data, g))) {
+        for (std::size_t r : rows) {
+          if (v[r] == v[rows.front()]) continue;
+          throw Error("uniform input '" + u + "' varies within group " + g + "=" + label + " (" +
+                          format_number(v[rows.front()]) + " in row " +
+                          std::to_string(rows.front() + 1) + ", " + format_number(v[r]) +
+                          " in row " + std::to_string(r + 1) + ")",
+                      where);
+        }
+      }
+    }
+  }
+}
+
+namespace {
+
 std::vector<const double*> bind(const Expression& e, const Dataset& data) {
   std::vector<const double*> cols;
   cols.reserve(e.variables.size());
@@ -62,11 +97,7 @@ EvalFormulaResult evaluate_formula_on(std::string_view text, const std::string& 
   const std::vector<double> p = float32 ? evaluate_on_f32(e, data) : evaluate_on(e, data);
   r.all = error_metrics(p, target);
   for (const std::string& g : groups) {
-    const Column& col = data.column(g);
-    std::vector<std::string> labels(data.rows());
-    for (std::size_t i = 0; i < data.rows(); ++i)
-      labels[i] = col.numeric() ? format_number(col.values[i]) : col.labels[i];
-    for (const auto& [label, rows] : group_rows(labels))
+    for (const auto& [label, rows] : group_rows(group_labels(data, g)))
       r.groups.push_back({g, label, error_metrics(p, target, rows)});
   }
   return r;

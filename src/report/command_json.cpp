@@ -100,6 +100,7 @@ std::string eval_json(const EvalReport& report) {
   j["data"] = {{"source", report.data}, {"rows", report.rows}, {"target", report.target}};
   j["precision"] = report.float32 ? "float32" : "float64";
   j["groups"] = report.groups;
+  if (!report.uniform.empty()) j["uniform"] = report.uniform;
   const EvalFormulaResult* base = !report.results.empty() && report.results.front().baseline
                                       ? &report.results.front()
                                       : nullptr;
@@ -110,6 +111,11 @@ std::string eval_json(const EvalReport& report) {
     f["formula"] = r.formula;
     f["input"] = r.input;
     f["role"] = r.baseline ? "baseline" : "candidate";
+    if (!report.uniform.empty()) {
+      const SplitCost c =
+          split_instruction_count(r.expression, report.uniform, InstructionTarget::Sass);
+      f["cost"] = {{"per_pixel", c.per_pixel}, {"per_material", c.per_material}};
+    }
     f["all"] = metrics_json(r.all);
     if (base && !r.baseline) f["all"]["change_vs_baseline"] = change_json(r.all, base->all);
     json groups = json::object();

@@ -13,6 +13,7 @@
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/evaluate.hpp"
@@ -105,10 +106,10 @@ struct Scored {
 };
 
 Scored score(const std::string& label, const std::string& text, const Expression& e,
-             const Dataset& d, const std::string& target) {
+             const Dataset& d, const std::string& target, std::span<const std::string> uniform) {
   Scored s{label, text, e, {}, 0};
   s.m = error_metrics(evaluate_on(s.e, d), d.numeric(target).values);
-  s.cost = expression_cost(s.e, CostTarget::Instructions);
+  s.cost = expression_cost(s.e, CostTarget::Instructions, uniform);
   return s;
 }
 
@@ -183,6 +184,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   if (!j.contains("front") || !j["front"].is_array() || j["front"].empty())
     throw Error("no front to report: 'front' is empty", {source});
   const FrontFile file = front_file_from_json(j, source);
+  const std::vector<std::string>& uniform = a.uniform.empty() ? file.uniform : a.uniform;
   if (j.contains("data"))
     r.settings({{"data", scalar_text(j["data"].value("source", json()))},
                 {"rows", scalar_text(j["data"].value("rows", json()))},
@@ -221,8 +223,11 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i = 0; i < members.size(); ++i) {
     const FrontMember& m = members[i];
-    std::vector<std::string> row = {number_text(m.cost), number_text(m.metrics.mse),
-                                    number_text(m.metrics.max_abs)};
+    std::vector<std::string> row = {number_text(m.cost)};
+    if (!uniform.empty())
+      row.push_back(std::to_string(
+          split_instruction_count(m.expression, uniform, InstructionTarget::Sass).per_material));
+    row.insert(row.end(), {number_text(m.metrics.mse), number_text(m.metrics.max_abs)});
     if (float32) row.push_back(number_text(m.float32_max_abs));
     if (certified)
       row.push_back(!m.certified_max_abs ? "—"
@@ -236,6 +241,10 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     rows.push_back(std::move(row));
   }
   std::vector<std::string> heads = {"cost", "MSE", "max abs"};
+  if (!uniform.empty()) {
+    heads[0] = "cost per pixel";
+    heads.insert(heads.begin() + 1, "per material");
+  }
   if (float32) heads.push_back("max abs in float32");
   if (certified) heads.push_back("certified max abs");
   heads.insert(heads.end(), {"found at", "formula"});
@@ -282,7 +291,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   std::string pareto_caption = "The Pareto front: MSE against cost, one point per member";
   if (a.data != nullptr) {
     for (const ReportFormula& b : a.baselines) {
-      baselines.push_back(score(b.label, b.formula, b.expression, *a.data, target));
+      baselines.push_back(score(b.label, b.formula, b.expression, *a.data, target, uniform));
       pareto.markers.push_back({b.label, baselines.back().cost, baselines.back().m.mse});
       pareto_caption += "; " + b.label + " = " + b.formula;
     }
@@ -309,7 +318,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     const Dataset& d = *a.data;
     std::vector<std::vector<std::string>> cmp;
     Scored c = score("chosen", chosen_text, parse_formula_on(chosen.formula, d, formula_location),
-                     d, target);
+                     d, target, uniform);
     c.label = fmt::format("chosen (cost {:g})", c.cost);
     auto row = [&](const Scored& s, const Scored* base) {
       return std::vector<std::string>{
@@ -435,7 +444,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   for (Language l : {Language::Glsl, Language::Hlsl, Language::Cuda}) {
     CodegenOptions co;
     co.language = l;
-    co.comment = {chosen_text};
+    co.comment = {chosen_text, cost_comment(ce, uniform)};
+    co.uniform = uniform;
     r.code(std::string(language_name(l)), generate_function(ce, co));
   }
   return chosen;

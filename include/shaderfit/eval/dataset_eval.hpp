@@ -61,6 +61,13 @@ struct EvalFormulaResult {
   std::string certify_note;  // why not converged, or why no finite bound
 };
 
+// Per-material inputs (cost/per_material.hpp) against the data: each must be a numeric column
+// of `data`, and constant within every group of `groups` (rows with one value of a grouping
+// column), as a material's inputs are. Throws Error located at "UniformInputs":
+// "uniform input 'alpha' varies within group material=2 (0.1 in row 3, 0.3 in row 7)".
+void check_uniform_in_groups(const Dataset& data, std::span<const std::string> uniform,
+                             std::span<const std::string> groups);
+
 // Parses `text` on `data` (parse_formula_on, errors located at `source`), evaluates it in
 // float64 or, with `float32`, as a shader would, and measures it against `target` on every row
 // and on the rows of each value of each column in `groups` (numeric values by format_number).

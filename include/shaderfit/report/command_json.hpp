@@ -35,6 +35,7 @@ struct EvalReport {
   std::string target;
   bool float32 = false;
   std::vector<std::string> groups;         // the grouping columns
+  std::vector<std::string> uniform;        // per-material inputs: each formula's two costs
   std::vector<EvalFormulaResult> results;  // the baseline first, when there is one
 };
 

@@ -45,6 +45,10 @@ struct SearchReportOptions {
   // Not empty: each figure is also written there as NAME.png and NAME.svg (front, curves,
   // error, error-map, curves-ior1.5, curves-aluminium), the directory created if missing.
   std::string figure_directory;
+  // Per-material inputs (cost/per_material.hpp); empty: the run's ("uniform" in its JSON). With
+  // any, costs are per pixel with the per-material count beside them, and the code is in two
+  // parts.
+  std::vector<std::string> uniform;
 };
 
 // What the report chose, and how and why, in words (for a closing line on the command line).
