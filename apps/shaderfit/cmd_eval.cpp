@@ -63,8 +63,8 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
         << to_infix(r.expression, print) << '\n';
     if (!a.uniform.empty()) {
       const SplitCost c = split_instruction_count(r.expression, a.uniform, InstructionTarget::Sass);
-      out << fmt::format("  cost: {} per pixel, {} per material (SASS instructions)\n",
-                         c.per_pixel, c.per_material);
+      out << fmt::format("  cost: {} per pixel, {} per material (SASS instructions)\n", c.per_pixel,
+                         c.per_material);
     }
     out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE",
                        "RMSE", "max abs", "max rel",
@@ -99,8 +99,8 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
 }
 
 EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, const Problem& p) {
-  return {p.description, p.data.rows(), p.target, a.float32, a.groups, a.uniform,
-          std::move(results)};
+  return {p.description, p.data.rows(), p.target,          a.float32,
+          a.groups,      a.uniform,     std::move(results)};
 }
 
 // With a reference: the errors between the samples too, and a certified bound when asked.

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <sstream>
@@ -48,7 +49,8 @@ TEST(CmdUniform, CostSplitsPerPixelAndPerMaterial) {
 }
 
 TEST(CmdUniform, CodegenPrintsTwoPartsWithBothCosts) {
-  const CliResult r = run({"codegen", "--lang", "hlsl", "--name", "d", "--uniform", "alpha", kBlinnPhong});
+  const CliResult r =
+      run({"codegen", "--lang", "hlsl", "--name", "d", "--uniform", "alpha", kBlinnPhong});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("cost model: per pixel 3 SASS, 3 PTX, 4 generic; per material 6 SASS"),
             std::string::npos)
@@ -66,12 +68,12 @@ TEST(CmdUniform, BadUniformInputsAreOneLineAndStatus2) {
   expect_bad_input({"codegen", "--lang", "glsl", "--uniform", "alpha,alpha", kBlinnPhong},
                    "--uniform: uniform input 'alpha' is given twice");
   const std::string csv = beckmann_csv();
-  expect_bad_input({"search", "--data", csv, "--target", "D", "--uniform", "roughness", "--evals",
-                    "1000"},
-                   "--uniform: uniform input 'roughness' is not an input");
-  expect_bad_input({"search", "--data", csv, "--target", "D", "--uniform", "alpha,NoH", "--evals",
-                    "1000"},
-                   "--uniform: every input is uniform");
+  expect_bad_input(
+      {"search", "--data", csv, "--target", "D", "--uniform", "roughness", "--evals", "1000"},
+      "--uniform: uniform input 'roughness' is not an input");
+  expect_bad_input(
+      {"search", "--data", csv, "--target", "D", "--uniform", "alpha,NoH", "--evals", "1000"},
+      "--uniform: every input is uniform");
   expect_bad_input({"eval", "--data", csv, "--target", "D", "--uniform", "beta", kBlinnPhong},
                    "--uniform: uniform input 'beta' is not an input");
 }
@@ -79,9 +81,9 @@ TEST(CmdUniform, BadUniformInputsAreOneLineAndStatus2) {
 TEST(CmdUniform, EvalChecksTheUniformInputIsConstantPerGroup) {
   // alpha varies within each NoH group: not a per-material input there.
   const std::string csv = beckmann_csv();
-  expect_bad_input({"eval", "--data", csv, "--target", "D", "--uniform", "alpha", "--group", "NoH",
-                    kBlinnPhong},
-                   "--uniform: uniform input 'alpha' varies within group NoH=");
+  expect_bad_input(
+      {"eval", "--data", csv, "--target", "D", "--uniform", "alpha", "--group", "NoH", kBlinnPhong},
+      "--uniform: uniform input 'alpha' varies within group NoH=");
   // Grouped by alpha itself it is constant per group, and each formula has both costs.
   const CliResult r = run({"eval", "--data", csv, "--target", "D", "--uniform", "alpha", "--group",
                            "alpha", kBlinnPhong});
@@ -96,9 +98,9 @@ TEST(CmdUniform, EvalChecksTheUniformInputIsConstantPerGroup) {
 TEST(CmdUniform, SearchRanksPerPixelAndWritesBothCosts) {
   const std::string csv = beckmann_csv();
   const std::string json = scratch_file("uniform_search.json", "");
-  const CliResult r = run({"search", "--data", csv, "--target", "D", "--uniform", "alpha", "--loss",
-                           "max_rel", "--evals", "200000", "--threads", "1", "--quiet", "--json",
-                           json});
+  const CliResult r =
+      run({"search", "--data", csv, "--target", "D", "--uniform", "alpha", "--loss", "max_rel",
+           "--evals", "200000", "--threads", "1", "--quiet", "--json", json});
   ASSERT_EQ(r.status, 0) << r.err;
   std::ifstream f(json);
   const auto doc = nlohmann::json::parse(f);
@@ -114,10 +116,18 @@ TEST(CmdUniform, SearchRanksPerPixelAndWritesBothCosts) {
   const double published =
       nlohmann::json::parse(bp.out)["results"][0]["all"]["max_rel"].get<double>();
   EXPECT_LT(best, published);
-  // The front's code is in two parts.
+  // The front's code is in two parts, and the report shows both costs.
   const CliResult code = run({"codegen", "--lang", "glsl", "--front", json});
   ASSERT_EQ(code.status, 0) << code.err;
   EXPECT_NE(code.out.find("_material_values(float alpha)"), std::string::npos) << code.out;
+  const std::string html = scratch_file("uniform_report.html", "");
+  const CliResult report = run({"report", json, "--output", html});
+  ASSERT_EQ(report.status, 0) << report.err;
+  std::ifstream page(html);
+  const std::string text((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("cost per pixel"), std::string::npos);
+  EXPECT_NE(text.find("per material"), std::string::npos);
+  EXPECT_NE(text.find("_material_values(float alpha)"), std::string::npos);
 }
 
 }  // namespace

@@ -647,8 +647,9 @@ std::vector<Case> make_cases() {
       Case u = k;
       u.name = k.name + "_material";
       u.uniform = m.uniform;
-      u.notes = "`" + k.name + "` with " + m.uniform.front() + " per material (hoisted: " +
-                m.hoisted + ")" + (k.notes.empty() ? "" : "; " + k.notes);
+      u.notes = "`" + k.name + "` with " + m.uniform.front() +
+                " per material (hoisted: " + m.hoisted + ")" +
+                (k.notes.empty() ? "" : "; " + k.notes);
       per_material.push_back(std::move(u));
     }
   }

@@ -44,7 +44,12 @@ class FunctionPrinter {
  public:
   FunctionPrinter(const Expression& e, const CodegenOptions& o, const Program& p,
                   const MaterialParts* parts = nullptr, bool fills = false)
-      : e_(e), o_(o), p_(p), lang_(o.language), texts_(p.steps.size()), parts_(parts),
+      : e_(e),
+        o_(o),
+        p_(p),
+        lang_(o.language),
+        texts_(p.steps.size()),
+        parts_(parts),
         fills_(fills) {}
 
   std::string print() {
@@ -125,7 +130,8 @@ class FunctionPrinter {
     const std::string type = fills_ ? parts_->type : "float";
     const std::string name = fills_ ? material_function_name(o_.name) : o_.name;
     switch (lang_) {
-      case Language::Cuda: return "__device__ __forceinline__ " + type + " " + name + "(" + args + ")";
+      case Language::Cuda:
+        return "__device__ __forceinline__ " + type + " " + name + "(" + args + ")";
       case Language::Cpp:
       case Language::Metal: return "inline " + type + " " + name + "(" + args + ")";
       default: return type + " " + name + "(" + args + ")";
@@ -299,7 +305,8 @@ bool fused_language(Language language) {
 
 // v over new tables: the named variables and parameters (each of v's read ones among them).
 Expression over_tables(const Expression& v, const std::vector<std::string>& variables,
-                       const std::vector<std::string>& parameters, const std::vector<double>& values) {
+                       const std::vector<std::string>& parameters,
+                       const std::vector<double>& values) {
   Expression out = v;
   out.variables = variables;
   out.parameters = parameters;
@@ -308,8 +315,10 @@ Expression over_tables(const Expression& v, const std::vector<std::string>& vari
     return static_cast<std::int16_t>(std::find(names.begin(), names.end(), n) - names.begin());
   };
   for (Node& n : out.nodes) {
-    if (n.op == Op::Var) n.index = index_of(variables, v.variables[static_cast<std::size_t>(n.index)]);
-    if (n.op == Op::Param) n.index = index_of(parameters, v.parameters[static_cast<std::size_t>(n.index)]);
+    if (n.op == Op::Var)
+      n.index = index_of(variables, v.variables[static_cast<std::size_t>(n.index)]);
+    if (n.op == Op::Param)
+      n.index = index_of(parameters, v.parameters[static_cast<std::size_t>(n.index)]);
   }
   return out;
 }
@@ -357,11 +366,12 @@ Prepared prepare(const Expression& e, const CodegenOptions& options) {
     if (std::find(options.uniform.begin(), options.uniform.end(), v) != options.uniform.end())
       uniform_inputs.push_back(v);
   for (std::size_t k = 0; k < e.parameters.size(); ++k) {
-    const bool read = std::any_of(split.values.begin(), split.values.end(), [&](const MaterialValue& m) {
-      return std::any_of(m.value.nodes.begin(), m.value.nodes.end(), [&](const Node& n) {
-        return n.op == Op::Param && static_cast<std::size_t>(n.index) == k;
-      });
-    });
+    const bool read =
+        std::any_of(split.values.begin(), split.values.end(), [&](const MaterialValue& m) {
+          return std::any_of(m.value.nodes.begin(), m.value.nodes.end(), [&](const Node& n) {
+            return n.op == Op::Param && static_cast<std::size_t>(n.index) == k;
+          });
+        });
     if (!read) continue;
     params.push_back(e.parameters[k]);
     values.push_back(k < e.parameter_values.size() ? e.parameter_values[k] : 0.0);
@@ -462,8 +472,7 @@ std::string erf_helper_source(Language language) {
 std::string generate_function(const Expression& e, const CodegenOptions& options) {
   const Prepared p = prepare(e, options);
   const std::string f = print(p, options);
-  return needs_erf_helper(p, options.language) ? erf_helper_source(options.language) + "\n" + f
-                                               : f;
+  return needs_erf_helper(p, options.language) ? erf_helper_source(options.language) + "\n" + f : f;
 }
 
 std::string generate_source(std::span<const SourceFunction> functions, Language language) {

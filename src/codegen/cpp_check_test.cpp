@@ -158,14 +158,9 @@ TEST(CompilerCheck, LibraryFunctionsInCppAndMetalAgreeWithEvaluator) {
   const auto dir = testing::scratch_folder("library_cpp");
   testing::write_text(dir / "in.bin", input);
 
-  int compilers = 0;
-  for (const char* compiler : {"g++", "clang++"}) {
-    const auto cxx = testing::find_tool(compiler);
-    if (!cxx) {
-      std::cout << "skipped: " << compiler << " not found\n";
-      continue;
-    }
-    ++compilers;
+  const auto compilers = testing::cpp_compilers();
+  for (const auto& [compiler, cxx_path] : compilers) {
+    const std::string* cxx = &cxx_path;
     for (Language lang : {Language::Cpp, Language::Metal}) {
       std::vector<SourceFunction> functions;
       std::string calls;
@@ -218,7 +213,7 @@ TEST(CompilerCheck, LibraryFunctionsInCppAndMetalAgreeWithEvaluator) {
       }
     }
   }
-  if (compilers == 0) GTEST_SKIP() << "skipped: no C++ compiler found";
+  if (compilers.empty()) GTEST_SKIP() << "skipped: no C++ compiler found";
 }
 
 }  // namespace

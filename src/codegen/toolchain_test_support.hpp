@@ -72,6 +72,19 @@ inline std::optional<std::string> find_tool(const std::string& name) {
   return std::nullopt;
 }
 
+// The C++ compilers present among g++ and clang++, as (name, path); each missing one is said
+// ("skipped: clang++ not found").
+inline std::vector<std::pair<std::string, std::string>> cpp_compilers() {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const char* name : {"g++", "clang++"}) {
+    if (const auto path = find_tool(name))
+      out.emplace_back(name, *path);
+    else
+      std::printf("skipped: %s not found\n", name);
+  }
+  return out;
+}
+
 // A fresh folder for one test's files.
 inline std::filesystem::path scratch_folder(const std::string& name) {
   const auto dir = std::filesystem::temp_directory_path() /

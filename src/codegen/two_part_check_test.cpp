@@ -114,14 +114,9 @@ TEST(TwoPartCheck, CppTwoPartsEqualTheOnePartFormulaOnRandomInputs) {
       calls + "    std::fwrite(out, sizeof(float), 2, stdout);\n  }\n}\n";
   testing::write_text(dir / "two_part.cpp", src);
 
-  int compilers = 0;
-  for (const char* compiler : {"g++", "clang++"}) {
-    const auto cxx = testing::find_tool(compiler);
-    if (!cxx) {
-      std::cout << "skipped: " << compiler << " not found\n";
-      continue;
-    }
-    ++compilers;
+  const auto compilers = testing::cpp_compilers();
+  for (const auto& [compiler, cxx_path] : compilers) {
+    const std::string* cxx = &cxx_path;
     const auto exe = dir / compiler;
     std::string log;
     ASSERT_EQ(testing::run_command(
@@ -167,7 +162,7 @@ TEST(TwoPartCheck, CppTwoPartsEqualTheOnePartFormulaOnRandomInputs) {
                 << " rounding units\n";
     }
   }
-  if (compilers == 0) GTEST_SKIP() << "skipped: no C++ compiler found";
+  if (compilers.empty()) GTEST_SKIP() << "skipped: no C++ compiler found";
 }
 
 TEST(TwoPartCheck, EachPartAsTheCompilersCountIt) {

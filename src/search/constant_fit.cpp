@@ -86,8 +86,7 @@ void polish_front_minimax(SearchContext& ctx, double seconds) {
     Refit& r = refits[i];
     if (!r.done) continue;
     const double loss = loss_value(ctx.options.loss, r.metrics);
-    if (!(loss < members[i].loss) || formula_cost(r.expr, ctx.options) > members[i].cost)
-      continue;
+    if (!(loss < members[i].loss) || formula_cost(r.expr, ctx.options) > members[i].cost) continue;
     ctx.offer(std::move(r.expr), loss, members[i].origin);
   }
 }

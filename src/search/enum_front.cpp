@@ -134,8 +134,7 @@ void Enumerator::consider_fused_for_front(std::uint32_t m, const FusedBest& best
   const auto& names = ctx_.problem.input_names;
   const auto& lits = ctx_.options.literals;
   const auto& terms = ctx_.terminals;
-  Expression e =
-      build_fused_expression(*store_, m, leaf, best.neg_leaf, false, names, lits, terms);
+  Expression e = build_fused_expression(*store_, m, leaf, best.neg_leaf, false, names, lits, terms);
   offer_scored(
       e,
       [&] {
@@ -160,8 +159,7 @@ void Enumerator::offer_scored(Expression e, Negated negated, float screen_loss) 
     for (double& v : f) v = -v;
   if (negate) e = negated();
   Expression tidy = simplify(e);
-  if (formula_cost(tidy, ctx_.options) <= formula_cost(e, ctx_.options))
-    e = std::move(tidy);
+  if (formula_cost(tidy, ctx_.options) <= formula_cost(e, ctx_.options)) e = std::move(tidy);
   const double cost = formula_cost(e, ctx_.options);
   if (!ctx_.front.would_enter(cost, std::min(pos, neg))) return;  // every metric only for entrants
   if (ctx_.offer(std::move(e), std::min(pos, neg), SearchPhase::Enumeration))

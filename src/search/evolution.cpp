@@ -550,11 +550,10 @@ void Evolution::evolve() {
       });
       for (Candidate* c : found) {
         Expression tidy = simplify(c->expr);
-        ctx_.offer(
-            formula_cost(tidy, ctx_.options) <= formula_cost(c->expr, ctx_.options)
-                ? tidy
-                : c->expr,
-            loss_value(ctx_.options.loss, c->metrics), SearchPhase::Evolution);
+        ctx_.offer(formula_cost(tidy, ctx_.options) <= formula_cost(c->expr, ctx_.options)
+                       ? tidy
+                       : c->expr,
+                   loss_value(ctx_.options.loss, c->metrics), SearchPhase::Evolution);
       }
       for (Island& is : islands_) is.found.clear();
       // The front's parts, for the mutations (the same on every rank: the front is).

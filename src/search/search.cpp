@@ -172,7 +172,8 @@ std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
     return search_detail::offer_start_formulas(
         ctx, {start_over_indexed_inputs(*sum, names, "power sum")}, SearchPhase::PowerSum);
   std::vector<search_detail::StartFormula> material;
-  for (const std::string& text : search_detail::uniform_starts(problem, ctx.options, ctx.terminals)) {
+  for (const std::string& text :
+       search_detail::uniform_starts(problem, ctx.options, ctx.terminals)) {
     material.push_back(start_over_indexed_inputs(text, names, "per-material start"));
     material.back().fitted = true;
   }
@@ -184,7 +185,8 @@ std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
     polynomials.push_back(start_over_indexed_inputs(text, names, "polynomial"));
     polynomials.back().fitted = true;
   }
-  for (Expression& e : search_detail::offer_start_formulas(ctx, polynomials, SearchPhase::Polynomial))
+  for (Expression& e :
+       search_detail::offer_start_formulas(ctx, polynomials, SearchPhase::Polynomial))
     seeds.push_back(std::move(e));
   return seeds;
 }

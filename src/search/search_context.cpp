@@ -1,7 +1,5 @@
 #include "search/search_context.hpp"
 
-#include "search/uniform_terminals.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,6 +7,7 @@
 #include <thread>
 
 #include "search/checkpoint.hpp"
+#include "search/uniform_terminals.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/print.hpp"
 

@@ -190,7 +190,8 @@ std::vector<std::string> uniform_starts(const SearchProblem& problem, const Sear
         for (std::size_t j = 0; j < cols.size(); ++j) {
           const std::size_t k = j / per, jj = j % per;
           const double coef = jj == 0 ? 1.0 : coefficients[t[jj - 1]].values[r];
-          const int p = static_cast<int>(k <= static_cast<std::size_t>(degree) ? k : k - static_cast<std::size_t>(degree));
+          const int p = static_cast<int>(
+              k <= static_cast<std::size_t>(degree) ? k : k - static_cast<std::size_t>(degree));
           const double term = f.c[j] * coef * std::pow(v, p);
           if (k <= static_cast<std::size_t>(degree))
             num += term;
@@ -244,8 +245,8 @@ std::vector<std::string> uniform_starts(const SearchProblem& problem, const Sear
     Form form;
     int degree;
   };
-  const Shape shapes[] = {{1, Form::Linear, 0},   {2, Form::Linear, 0},   {1, Form::Exp2, 0},
-                          {2, Form::Exp2, 0},     {1, Form::Rational, 1}, {1, Form::Rational, 2}};
+  const Shape shapes[] = {{1, Form::Linear, 0}, {2, Form::Linear, 0},   {1, Form::Exp2, 0},
+                          {2, Form::Exp2, 0},   {1, Form::Rational, 1}, {1, Form::Rational, 2}};
   for (const Shape& shape : shapes) {
     std::size_t taken = 0;
     for (const Fit& r : ranked) {

@@ -10,6 +10,12 @@ namespace shaderfit::search_detail {
 
 namespace {
 
+// The enumeration's leaf records hold an input's index in a signed byte.
+constexpr std::size_t kMaxLeaves = 100;
+std::size_t inputs_and_terminals(const SearchProblem& p, const std::vector<Expression>& t) {
+  return p.inputs.size() + t.size();
+}
+
 // The shapes, `u` standing for the input.
 constexpr const char* kShapes[] = {"1/u", "u^2", "1/u^2", "sqrt(u)", "log2(u)", "exp2(u)"};
 
@@ -43,6 +49,8 @@ std::vector<Expression> uniform_terminals(const SearchProblem& problem,
       const bool new_values = std::find(columns.begin(), columns.end(), column) == columns.end() &&
                               column != problem.inputs[v];
       if (!finite || !varies || !new_values) continue;
+      // The enumeration numbers its leaves in a byte, inputs first.
+      if (inputs_and_terminals(problem, out) >= kMaxLeaves) return out;
       columns.push_back(std::move(column));
       out.push_back(std::move(e));
     }

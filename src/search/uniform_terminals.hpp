@@ -5,7 +5,8 @@
 // the inputs, and the evolution's mutations insert them as building blocks, so that per-pixel
 // forms are built on them: for each uniform input u, 1/u, u^2, 1/u^2, sqrt(u), log2(u) and
 // exp2(u), each kept where it is finite on every row, varies, and differs from the others
-// (whatever operators the search may use per pixel: these run once per material).
+// (whatever operators the search may use per pixel: these run once per material). At most 100
+// inputs and terminals together (the enumeration's leaf index is a byte).
 #pragma once
 
 #include <vector>

@@ -102,7 +102,7 @@ ReadFrontMember front_member_from_json(const nlohmann::json& j,
 // A front file: {"inputs": [...] (optional), "front": [member, ...], ...} as the search's
 // --json writes it (or written by hand: members need only "formula").
 struct FrontFile {
-  std::vector<std::string> inputs;  // the file's, or options.inputs
+  std::vector<std::string> inputs;   // the file's, or options.inputs
   std::vector<std::string> uniform;  // the file's "uniform": per-material inputs (may be empty)
   std::vector<ReadFrontMember> front;
 };

@@ -224,11 +224,10 @@ std::string_view option_kind_name(OptionKind kind);  // "real", "integer", ...
 std::string search_option_location(const SearchOptionField& field);
 
 // The value as text: numbers shortest round-trip, booleans true/false, lists comma-separated
-// ("+,-,*,/,^", "0.5,1,2", "alpha,f0"; formulas, which hold commas, separated by "; "), choices by name, an
-// unset optional as "", kAutoOperators as "auto". set_search_option reads it back (and "none" for
-// an empty operator list); it
-// throws Error located at the field for text that does not parse. The checkpoint records Search
-// options in this form.
+// ("+,-,*,/,^", "0.5,1,2", "alpha,f0"; formulas, which hold commas, separated by "; "), choices by
+// name, an unset optional as "", kAutoOperators as "auto". set_search_option reads it back (and
+// "none" for an empty operator list); it throws Error located at the field for text that does not
+// parse. The checkpoint records Search options in this form.
 std::string search_option_text(const SearchOptions& options, const SearchOptionField& field);
 void set_search_option(SearchOptions& options, const SearchOptionField& field,
                        std::string_view text);
