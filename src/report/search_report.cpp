@@ -274,7 +274,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   Chart pareto;
   pareto.title = "Pareto front: MSE against cost";
   pareto.x_label =
-      "cost [" +
+      std::string(uniform.empty() ? "cost" : "cost per pixel") + " [" +
       (j.contains("options") ? j["options"].value("cost", std::string("instructions")) : "") + "]";
   pareto.y_label = "MSE (log scale)";
   pareto.log_y = true;
