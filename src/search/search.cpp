@@ -161,7 +161,8 @@ void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
 }
 
 // The formulas derived from the data, not found by search: an exact power sum
-// (search/power_sum.hpp) or the polynomials of a one-input problem
+// (search/power_sum.hpp), or else the per-material starts of a problem with uniform inputs
+// (search/uniform_starts.hpp) and the polynomials of a one-input problem
 // (search/polynomial_starts.hpp), offered to ctx's front; returns their refitted forms.
 std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
                                              const SearchProblem& problem,
