@@ -175,10 +175,7 @@ std::string value_prefix(const Expression& e) {
 class Hoist {
  public:
   Hoist(const Expression& e, const std::vector<bool>& uniform_var)
-      : e_(e),
-        uniform_var_(uniform_var),
-        reads_(reads_of(e, uniform_var)),
-        prefix_(value_prefix(e)) {
+      : e_(e), reads_(reads_of(e, uniform_var)), prefix_(value_prefix(e)) {
     for (std::size_t v = 0; v < e.variables.size(); ++v) {
       varying_index_.push_back(uniform_var[v] ? -1 : static_cast<int>(varying_.size()));
       if (!uniform_var[v]) varying_.push_back(e.variables[v]);
@@ -264,7 +261,6 @@ class Hoist {
   }
 
   const Expression& e_;
-  const std::vector<bool>& uniform_var_;
   Reads reads_;
   std::string prefix_;
   std::vector<std::string> varying_;
