@@ -8,6 +8,8 @@
 //   scalar_ops  the same interpreter with plain per-op loops (the SIMD gain is simd / scalar_ops)
 //   inlined     a hand-written loop computing the formula directly (what a compiler does with
 //               the formula inlined): the ceiling an interpreter can approach
+//   half        evaluate_in(Precision::Half): row by row, every operation rounded to binary16
+//               (the search's --precision half and every front member's half check)
 #include <benchmark/benchmark.h>
 
 #include <string>
@@ -17,6 +19,7 @@
 #include "eval/sample_formulas.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/precision.hpp"
 #include "shaderfit/expr/expression.hpp"
 
 namespace {
@@ -78,6 +81,17 @@ void inlined_fresnel(benchmark::State& state) {
   set_rate(state, rows, 8);
 }
 
+void half(benchmark::State& state, const Expression& e) {
+  const auto rows = static_cast<std::size_t>(state.range(0));
+  Columns<double> data(e.variables.size(), rows);
+  for (auto _ : state) {
+    shaderfit::evaluate_in(shaderfit::Precision::Half, e, data.pointers, data.out);
+    benchmark::DoNotOptimize(data.out.data());
+    benchmark::ClobberMemory();
+  }
+  set_rate(state, rows, e.size());
+}
+
 template <typename T>
 void register_type(const char* type) {
   const std::vector<std::int64_t> rows = {4096, 1000000};
@@ -104,6 +118,14 @@ void register_type(const char* type) {
 const bool registered = [] {
   register_type<float>("f32");
   register_type<double>("f64");
+  for (const auto& f : shaderfit::eval_detail::sample_formulas()) {
+    const Expression e = f.expression;
+    benchmark::RegisterBenchmark(("half/" + f.name + "/f16").c_str(),
+                                 [e](benchmark::State& s) { half(s, e); })
+        ->ArgsProduct({{4096}, {1}})
+        ->ArgNames({"rows", "threads"})
+        ->UseRealTime();
+  }
   return true;
 }();
 

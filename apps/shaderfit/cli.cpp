@@ -44,6 +44,10 @@ constexpr FieldFlag kFlags[] = {
     {"ProblemSource::domain", "--domain"},
     {"ProblemSource::inputs", "--inputs"},
     {"ProblemSource::target", "--target"},
+    {"ProblemSource::scene", "--scene"},
+    {"SceneSpec::size", "--scene-size"},
+    {"SceneSpec::term", "--term"},
+    {"SceneSpec::exposure", "--exposure"},
     {"ReferenceText::function", "--function"},
     {"ReferenceText::definitions", "--define"},
     {"ChoiceRule", "--choose"},
@@ -91,6 +95,8 @@ constexpr FieldFlag kFlags[] = {
     // Other commands.
     {"ComputeDevice", "--device"},
     {"CodegenOptions::name", "--name"},
+    {"CodegenOptions::precision", "--precision"},
+    {"CodegenOptions::uniform", "--uniform"},
     {"Expression::variables", "--inputs"},
     {"Expression::parameters", "--params"},
     {"UniformInputs", "--uniform"},
@@ -194,6 +200,17 @@ void add_digits_option(CLI::App* cmd, int& digits) {
   cmd->add_option("--digits", digits,
                   "print constants with this many significant digits (default: the shortest text "
                   "that reads back to the same float32)");
+}
+
+void add_precision_option(CLI::App* cmd, std::string& precision, const std::string& what,
+                          const std::string& default_note) {
+  cmd->add_option("--precision", precision,
+                  "double, float or half: the arithmetic " + what +
+                      ", every operation rounded as a shader does (default " + default_note + ")");
+}
+
+Precision precision_option(const std::string& text) {
+  return parse_precision(text, SourceLocation{"--precision"});
 }
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err,

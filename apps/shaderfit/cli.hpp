@@ -16,6 +16,7 @@
 #include <string_view>
 #include <vector>
 
+#include "shaderfit/expr/precision.hpp"
 #include "shaderfit/search/communicator.hpp"
 
 namespace shaderfit::cli {
@@ -66,6 +67,13 @@ std::string chosen_formula_lines(const std::string& formula, const std::string& 
 // --digits: how many significant digits the formulas for people show (PrintOptions::for_people;
 // 0, the default: as many as float32 needs).
 void add_digits_option(CLI::App* cmd, int& digits);
+
+// --precision double|float|half (expr/precision.hpp): the text, read by precision_option, which
+// throws Error at "--precision" for an unknown name. `what` says what is computed in it ("the
+// formulas are computed in"), `default_note` the default ("double").
+void add_precision_option(CLI::App* cmd, std::string& precision, const std::string& what,
+                          const std::string& default_note);
+Precision precision_option(const std::string& text);
 
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data). `communicator`:
 // Context::communicator.

@@ -20,6 +20,7 @@ namespace {
 
 struct CodegenArgs {
   std::string lang;
+  std::string precision = "float";
   std::string name = "shaderfit_formula";
   std::string formula, front_path;
   std::vector<std::string> inputs, params, uniform;
@@ -27,10 +28,11 @@ struct CodegenArgs {
 
 // The comment above the function: the formula for people (parameters by name, as the code
 // names them) and its cost (per pixel and per material with uniform inputs).
-std::vector<std::string> describe(const Expression& e, const std::vector<std::string>& uniform) {
+std::vector<std::string> describe(const Expression& e, const std::vector<std::string>& uniform,
+                                  Precision precision) {
   PrintOptions print = PrintOptions::for_people();
   print.substitute_parameters = false;
-  return {to_infix(e, print), cost_comment(e, uniform)};
+  return {to_infix(e, print), cost_comment(e, uniform, precision)};
 }
 
 void run_codegen(const CodegenArgs& a, Context& ctx) {
@@ -38,6 +40,7 @@ void run_codegen(const CodegenArgs& a, Context& ctx) {
   if (!lang)
     throw Error("unknown language '" + a.lang + "' (known: glsl, hlsl, cuda, cpp, metal)",
                 SourceLocation{"--lang"});
+  const Precision precision = precision_option(a.precision);
   if (a.formula.empty() == a.front_path.empty()) {
     throw Error("give either a formula or --front FILE.json", SourceLocation{"codegen"});
   }
@@ -52,7 +55,8 @@ void run_codegen(const CodegenArgs& a, Context& ctx) {
     check_uniform_inputs(a.uniform, f.expression.variables);
     f.options.name = a.name;
     f.options.uniform = a.uniform;
-    f.options.comment = describe(f.expression, a.uniform);
+    f.options.precision = precision;
+    f.options.comment = describe(f.expression, a.uniform, precision);
     functions.push_back(std::move(f));
   } else {
     const FrontFile file = read_front_file(a.front_path, {a.inputs, a.params});
@@ -64,7 +68,8 @@ void run_codegen(const CodegenArgs& a, Context& ctx) {
       f.options.name = fmt::format("{}_{}", a.name, i);
       f.options.bake_parameters = file.front[i].parameters_have_values;
       f.options.uniform = uniform;
-      f.options.comment = describe(f.expression, uniform);
+      f.options.precision = precision;
+      f.options.comment = describe(f.expression, uniform, precision);
       functions.push_back(std::move(f));
     }
   }
@@ -80,6 +85,10 @@ void register_codegen_command(CLI::App& app, Context& ctx) {
       "Print a formula (or a search front) as a GLSL, HLSL, CUDA, C++ or Metal function, in a "
       "file that compiles as printed");
   cmd->add_option("--lang", args->lang, "glsl, hlsl, cuda, cpp or metal")->required();
+  cmd->add_option(
+      "--precision", args->precision,
+      "float (default) or half: the arithmetic of the printed code (half: GLSL "
+      "float16_t, HLSL and Metal half, CUDA __half and a __half2 twin NAME_x2; no C++)");
   cmd->add_option("--name", args->name,
                   "function name (a front's members get NAME_0, NAME_1, ...)");
   add_name_options(cmd, args->inputs, args->params);

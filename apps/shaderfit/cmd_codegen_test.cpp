@@ -11,9 +11,12 @@ namespace shaderfit::cli::testing {
 namespace {
 
 TEST(CmdCodegen, PrintsOneFunction) {
-  const CliResult r = run({"codegen", "--lang", "cuda", "--name", "fresnel", "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"});
+  const CliResult r = run({"codegen", "--lang", "cuda", "--name", "fresnel",
+                           "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("__device__ __forceinline__ float fresnel(float r0, float cos_theta) {"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("__device__ __forceinline__ float fresnel(float r0, float cos_theta) {"),
+            std::string::npos)
+      << r.out;
   EXPECT_NE(r.out.find("fmaf("), std::string::npos) << r.out;
 }
 
@@ -29,7 +32,9 @@ TEST(CmdCodegen, InputsAndParamsKeepTheirNamesAndOrder) {
   const CliResult r = run({"codegen", "--lang", "glsl", "--inputs", "cos_theta,r0", "--params", "s",
                            "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4"});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("float shaderfit_formula(float cos_theta, float r0, float s) {"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("float shaderfit_formula(float cos_theta, float r0, float s) {"),
+            std::string::npos)
+      << r.out;
 }
 
 TEST(CmdCodegen, WholeFront) {
@@ -132,6 +137,38 @@ TEST(CmdCodegen, UnknownLanguage) {
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(line_count(r.err), 1);
   EXPECT_NE(r.err.find("unknown language 'fortran'"), std::string::npos) << r.err;
+}
+
+// --precision half: the half form of each language (docs/precision.md, "Half code").
+TEST(CmdCodegen, HalfPrecision) {
+  const CliResult r = run({"codegen", "--lang", "cuda", "--precision", "half", "--name", "fresnel",
+                           "r0 + (x - r0) * x^4"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("#include <cuda_fp16.h>\n", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("// cost model: 5 SASS per __half2 (2.5 per value)\n"), std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("__host__ __device__ __forceinline__ __half fresnel(__half r0, __half x)"),
+            std::string::npos)
+      << r.out;
+  EXPECT_NE(r.out.find("__device__ __forceinline__ __half2 fresnel_x2(__half2 r0, __half2 x)"),
+            std::string::npos)
+      << r.out;
+  const CliResult glsl = run({"codegen", "--lang", "glsl", "--precision", "half", "x * 0.1"});
+  ASSERT_EQ(glsl.status, 0) << glsl.err;
+  EXPECT_NE(glsl.out.find("float16_t shaderfit_formula(float16_t x) {\n  return x * 0.1hf;"),
+            std::string::npos)
+      << glsl.out;
+}
+
+TEST(CmdCodegen, BadPrecision) {
+  expect_bad_input({"codegen", "--lang", "glsl", "--precision", "quarter", "x"},
+                   "--precision: unknown precision 'quarter'");
+  expect_bad_input({"codegen", "--lang", "glsl", "--precision", "double", "x"},
+                   "--precision: code generation has no double form");
+  expect_bad_input({"codegen", "--lang", "cpp", "--precision", "half", "x"},
+                   "C++ has no half type");
+  expect_bad_input({"codegen", "--lang", "glsl", "--precision", "half", "sign(x)"},
+                   "sign has no half form");
 }
 
 TEST(CmdCodegen, BadFormula) {

@@ -26,33 +26,18 @@ struct CostArgs {
   std::string json_path;
 };
 
-constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx,
-                                          InstructionTarget::Generic};
-
 void run_cost(const CostArgs& a, Context& ctx) {
-  const auto target = instruction_target_from_name(a.target);
-  if (!target)
-    throw Error("unknown target '" + a.target + "' (known: sass, ptx, generic)",
-                SourceLocation{"--target"});
+  const InstructionTarget target = parse_instruction_target(a.target, SourceLocation{"--target"});
   ParseOptions po;
   po.variables = a.inputs;
   po.parameters = a.params;
   const Expression e = parse_formula(a.formula, po);
-  check_uniform_inputs(a.uniform, e.variables);
-  // With uniform inputs the counts are the per-pixel part's, the per-material ones beside them.
-  std::optional<MaterialCosts> material;
-  if (!a.uniform.empty()) material = MaterialCosts{a.uniform, split_per_material(e, a.uniform), {}};
-  const Expression& counted = material ? material->split.per_pixel : e;
-  std::vector<InstructionCost> costs;
-  for (InstructionTarget t : kTargets) {
-    costs.push_back(instruction_cost(counted, t));
-    if (material) material->material.push_back(material_instruction_cost(material->split, t));
-  }
-  const auto shown_index = static_cast<std::size_t>(*target);
-  const InstructionCost& shown = costs[shown_index];
-  const MaterialCosts* m = material ? &*material : nullptr;
+  const CostTable table = cost_table(e, target, a.uniform, SourceLocation{"UniformInputs"});
+  const std::vector<InstructionCost>& costs = table.costs;
+  const MaterialCosts* m = table.material ? &*table.material : nullptr;
+  const InstructionCost& shown = costs[table.shown];
   if (a.json_path == "-") {
-    ctx.out << cost_json(e, costs, shown, m) << '\n';
+    ctx.out << cost_json(e, table) << '\n';
     return;
   }
   PrintOptions print = PrintOptions::for_people();  // parameters by name, as the listing
@@ -69,12 +54,12 @@ void run_cost(const CostArgs& a, Context& ctx) {
               << to_infix(v.value, print);
     ctx.out << "\nper pixel: " << to_infix(m->split.per_pixel, print);
   }
-  ctx.out << fmt::format("\n\n{:<8} {:>12} {:>5} {:>7} {:>5} {:>9}", "target",
+  ctx.out << fmt::format("\n\n{:<10} {:>12} {:>5} {:>7} {:>5} {:>9}", "target",
                          m ? "per pixel" : "instructions", "fp32", "minmax", "mufu", "weighted");
   ctx.out << (m ? fmt::format(" {:>12}\n", "per material") : "\n");
   for (std::size_t k = 0; k < costs.size(); ++k) {
     const InstructionCost& c = costs[k];
-    ctx.out << fmt::format("{:<8} {:>12} {:>5} {:>7} {:>5} {:>9g}",
+    ctx.out << fmt::format("{:<10} {:>12} {:>5} {:>7} {:>5} {:>9g}",
                            instruction_target_name(c.target), c.instructions, c.fp32, c.minmax,
                            c.mufu, c.weighted);
     ctx.out << (m ? fmt::format(" {:>12}\n", m->material[k].instructions) : "\n");
@@ -82,7 +67,7 @@ void run_cost(const CostArgs& a, Context& ctx) {
   if (m != nullptr) {
     ctx.out << "\n"
             << instruction_target_name(shown.target) << " listing, per material:\n"
-            << format_listing(m->material[shown_index]);
+            << format_listing(m->material[table.shown]);
   }
   ctx.out << "\n"
           << instruction_target_name(shown.target) << (m ? " listing, per pixel:\n" : " listing:\n")
@@ -90,7 +75,7 @@ void run_cost(const CostArgs& a, Context& ctx) {
   if (!a.json_path.empty()) {
     std::ofstream f(a.json_path);
     if (!f) throw Error("cannot write '" + a.json_path + "'", SourceLocation{"--json"});
-    f << cost_json(e, costs, shown, m) << '\n';
+    f << cost_json(e, table) << '\n';
   }
 }
 
@@ -104,7 +89,9 @@ void register_cost_command(CLI::App& app, Context& ctx) {
          "formula", args->formula,
          "the formula; every identifier is an input unless --inputs/--params say otherwise")
       ->required();
-  cmd->add_option("--target", args->target, "listing to print: sass (default), ptx or generic");
+  cmd->add_option("--target", args->target,
+                  "listing to print: sass (default), ptx, generic or sass-half2 (the __half2 "
+                  "code of codegen --precision half, per call of two values)");
   add_name_options(cmd, args->inputs, args->params);
   add_uniform_option(cmd, args->uniform);
   cmd->add_option("--json", args->json_path,

@@ -17,12 +17,26 @@ TEST(CmdCost, PrintsCountsPerTargetAndTheListing) {
 }
 
 TEST(CmdCost, JsonOnStdout) {
-  const CliResult r = run({"cost", "--target", "ptx", "--json", "-", "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"});
+  const CliResult r = run(
+      {"cost", "--target", "ptx", "--json", "-", "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4"});
   ASSERT_EQ(r.status, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["targets"]["sass"]["instructions"], 5);
   EXPECT_EQ(j["listing"]["target"], "ptx");
   EXPECT_EQ(j["listing"]["lines"].size(), 5u);
+}
+
+TEST(CmdCost, HalfRowIsPerTwoValuesAndLeftOutWhereThereIsNoHalfForm) {
+  const CliResult r = run({"cost", "r0 + (1 - r0) * (1 - cos_theta)^5"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  // docs/precision.md: Schlick is 7 instructions per __half2 call (two values).
+  EXPECT_TRUE(std::regex_search(r.out, std::regex("\\nsass-half2 +7 "))) << r.out;
+  const CliResult s = run({"cost", "sign(x) * x"});
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_EQ(s.out.find("sass-half2"), std::string::npos) << s.out;
+  const CliResult h = run({"cost", "--target", "sass-half2", "sign(x) * x"});
+  EXPECT_EQ(h.status, 2);
+  EXPECT_NE(h.err.find("sign has no half form"), std::string::npos) << h.err;
 }
 
 TEST(CmdCost, UnknownTargetIsOneLineAndStatus2) {

@@ -13,6 +13,8 @@
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/metrics.hpp"
+#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/expr/precision.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/report/command_json.hpp"
 #include "shaderfit/verify/certify.hpp"
@@ -29,11 +31,17 @@ struct EvalArgs {
   std::string baseline;
   std::vector<std::string> formulas;
   std::string json_path;
-  bool float32 = false;
+  bool float32 = false;  // --float32: the same as --precision float
+  std::string precision = "double";
   bool certify = false;
   double certify_time_s = CertifyOptions{}.time_limit_s;
   int digits = 0;
 };
+
+// --precision by name (--float32 picks float).
+Precision precision_of(const EvalArgs& a) {
+  return a.float32 ? Precision::Float : precision_option(a.precision);
+}
 
 // "x = 0.5" or "(x, y) = (0.5, 1)": a point of the reference's domain.
 std::string point_text(const Problem& p, const std::vector<double>& point) {
@@ -52,7 +60,8 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
   out << fmt::format(
       "shaderfit eval: {}, target {}{}\n",
       p.reference ? p.description : fmt::format("{}, {} rows", p.description, d.rows()), p.target,
-      a.float32 ? ", float32" : "");
+      precision_of(a) == Precision::Double ? ""
+                                           : ", " + std::string(precision_name(precision_of(a))));
   out << problem_notes(p, "");
   const PrintOptions print = PrintOptions::for_people(a.digits);
   const EvalFormulaResult* base = results.front().baseline ? &results.front() : nullptr;
@@ -99,7 +108,7 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
 }
 
 EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, const Problem& p) {
-  return {p.description, p.data.rows(), p.target,          a.float32,
+  return {p.description, p.data.rows(), p.target,          precision_of(a),
           a.groups,      a.uniform,     std::move(results)};
 }
 
@@ -109,10 +118,12 @@ void check_between_samples(EvalFormulaResult& r, const Problem& p, const EvalArg
   wo.samples = a.data.problem.samples;
   const WorstCaseSearch w(*p.reference, r.expression.variables, wo);
   const WorstCase c = w.check(r.expression);
-  const double max_abs = a.float32 ? c.float32_max_abs : c.max_abs;
+  // Between the samples the check computes float64 and float32; half takes float64's there.
+  const bool float32 = precision_of(a) == Precision::Float;
+  const double max_abs = float32 ? c.float32_max_abs : c.max_abs;
   if (max_abs >= r.all.max_abs) r.worst_point = c.worst_abs.point;
   r.all.max_abs = std::max(r.all.max_abs, max_abs);
-  r.all.max_rel = std::max(r.all.max_rel, a.float32 ? c.float32_max_rel : c.max_rel);
+  r.all.max_rel = std::max(r.all.max_rel, float32 ? c.float32_max_rel : c.max_rel);
   r.checked_between_samples = true;
   if (a.certify) {
     CertifyOptions co;
@@ -125,7 +136,7 @@ void check_between_samples(EvalFormulaResult& r, const Problem& p, const EvalArg
     // What the certification met is attained too (a pole between the samples blows up near
     // where it found no finite bound).
     const ErrorPoint met = w.certified_worst(r.expression, cert);
-    if (!a.float32 && !(met.abs_error <= r.all.max_abs)) {
+    if (!float32 && !(met.abs_error <= r.all.max_abs)) {
       r.all.max_abs = met.abs_error;
       r.worst_point = met.point;
     }
@@ -134,6 +145,7 @@ void check_between_samples(EvalFormulaResult& r, const Problem& p, const EvalArg
 
 void run_eval(EvalArgs& a, Context& ctx) {
   (void)PrintOptions::for_people(a.digits);  // a bad --digits stops here
+  const Precision precision = precision_of(a);
   const Problem p = load_problem(a.data);
   const Dataset& d = p.data;
   if (a.formulas.empty()) throw Error("no formula to evaluate", SourceLocation{"eval"});
@@ -157,15 +169,17 @@ void run_eval(EvalArgs& a, Context& ctx) {
     check_uniform_in_groups(d, a.uniform, a.groups);
   }
 
+  if (precision == Precision::Half) check_fits_half(target, "the target", {"--precision"});
+
   std::vector<EvalFormulaResult> results;
   if (!a.baseline.empty()) {
     results.push_back(
-        evaluate_formula_on(a.baseline, "--baseline", d, target, a.groups, a.float32));
+        evaluate_formula_on(a.baseline, "--baseline", d, target, a.groups, precision_of(a)));
     results.back().baseline = true;
   }
   for (std::size_t i = 0; i < a.formulas.size(); ++i) {
     results.push_back(evaluate_formula_on(a.formulas[i], "formula " + std::to_string(i + 1), d,
-                                          target, a.groups, a.float32));
+                                          target, a.groups, precision_of(a)));
   }
   if (p.reference)
     for (EvalFormulaResult& r : results) check_between_samples(r, p, a);
@@ -197,7 +211,8 @@ void register_eval_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--baseline", args->baseline, "formula the others are compared with");
   add_uniform_option(cmd, args->uniform);
   cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
-  cmd->add_flag("--float32", args->float32, "evaluate in float32, as a shader would");
+  add_precision_option(cmd, args->precision, "the formulas are computed in", "double");
+  cmd->add_flag("--float32", args->float32, "the same as --precision float");
   cmd->add_flag("--certify", args->certify,
                 "with a reference: a rigorous bound of each formula's error on the whole domain");
   cmd->add_option("--certify-time", args->certify_time_s,

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -23,6 +24,7 @@
 #include "shaderfit/fit/fit.hpp"
 #include "shaderfit/plot/chart.hpp"
 #include "shaderfit/plot/sphere.hpp"
+#include "shaderfit/report/scene_report.hpp"
 #include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit::cli {
@@ -333,10 +335,43 @@ struct SphereArgs {
   SphereScene scene;
   std::vector<double> light;
   std::string fv, output, title;
-  double exposure = 1.0, diff_scale = 8.0;
+  double diff_scale = 8.0;  // --exposure is data.exposure, for both pictures
+  // --formula: any formula of the scene's quantities against --reference in a scene.
+  std::string formula, precision = "double";
+  DataSource data;
 };
 
+// A formula of any scene quantities against the reference, in the scene's picture with FLIP.
+void run_scene_formula(SphereArgs& a, Context& ctx) {
+  if (a.data.problem.reference.formula.empty() && a.data.reference_file.empty())
+    throw Error("--formula needs the function it approximates: give --reference",
+                SourceLocation{"--reference"});
+  if (!a.fv.empty()) throw Error("give --formula or --fv, not both", SourceLocation{"--fv"});
+  if (a.data.scene.empty()) a.data.scene = "sphere";
+  const Precision precision = precision_option(a.precision);
+  const Problem p = load_problem(a.data);
+  std::vector<std::string> names;
+  for (std::string_view q : scene_quantity_names()) names.emplace_back(q);
+  ParseOptions po;
+  po.variables = names;
+  po.source = "--formula";
+  Expression e = parse_formula(a.formula, po);
+  e.drop_unused_variables();
+  const SceneImages im = formula_scene_images(p, e, precision);
+  if (std::filesystem::path(a.output).extension() != ".png")
+    throw Error("the scene's pictures are written as PNG: name a .png file", SourceLocation{"-o"});
+  write_scene_png(a.output, im);
+  ctx.out << fmt::format(
+      "wrote {} ({}; reference, approximation, FLIP map): mean FLIP {:.4f}, {:.2f}% of pixels "
+      "above {:g}, display RMSE {:.4g}\n",
+      a.output, p.description, im.flip.mean, 100 * im.visible_share, kFlipVisible, im.display_rmse);
+}
+
 void run_sphere(SphereArgs& a, Context& ctx) {
+  if (!a.formula.empty()) {
+    run_scene_formula(a, ctx);
+    return;
+  }
   if (!a.light.empty()) {
     if (a.light.size() != 3)
       throw Error("--light takes three numbers X,Y,Z", SourceLocation{"--light"});
@@ -379,7 +414,7 @@ void run_sphere(SphereArgs& a, Context& ctx) {
                                   a.scene.roughness, a.scene.f0)
                             : a.title;
   auto tone = [&](double v) {
-    v *= a.exposure;
+    v *= a.data.exposure;
     return std::pow(v / (1 + v), 1 / 2.2);
   };
   const std::string titles[3] = {"reference", "approximation",
@@ -482,13 +517,18 @@ void register_plot_command(CLI::App& app, Context& ctx) {
   sphere->add_option("--light", sp->light, "direction towards the light X,Y,Z (view is +z)")
       ->delimiter(',');
   sphere->add_option("--size", sp->scene.size, "pixels per side of each panel (default 256)");
-  sphere->add_option("--exposure", sp->exposure, "scale before tone mapping (default 1)");
   sphere->add_option("--diff-scale", sp->diff_scale,
                      "levels applied to the difference panel (default 8)");
   sphere->add_option(
       "--fv", sp->fv,
       "the approximation as a formula in l_dot_h, f0, roughness (default: seed 002's constrained "
       "exp2 fit for this cell)");
+  sphere->add_option("--formula", sp->formula,
+                     "any formula of the scene's quantities (n_dot_l, n_dot_v, n_dot_h, v_dot_h, "
+                     "l_dot_h, roughness, alpha, f0, ior), drawn in --scene against --reference "
+                     "with its FLIP map (a .png)");
+  add_data_options(sphere, sp->data, References | Scenes);
+  add_precision_option(sphere, sp->precision, "--formula is computed in", "double");
   sphere->add_option("-o,--output", sp->output, "image to write (.png or .svg)")->required();
   sphere->add_option("--title", sp->title, "title over the images");
   sphere->callback([sp, &ctx] { run_sphere(*sp, ctx); });

@@ -26,6 +26,7 @@ struct ReportArgs {
   std::string run_path, output, title, choose, figures;
   DataSource data;
   std::vector<std::string> baselines, uniform;
+  std::string precision;  // empty: the run's
 };
 
 ReportChoice search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
@@ -37,6 +38,7 @@ ReportChoice search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
     o.formula = a.choose;
   o.figure_directory = a.figures;
   o.uniform = a.uniform;
+  if (!a.precision.empty()) o.precision = precision_option(a.precision);
   // The data: as the options say, else as the run recorded it (a reference is sampled again).
   std::optional<Problem> problem;
   if (a.data.given())
@@ -51,6 +53,7 @@ ReportChoice search_report(HtmlReport& r, const json& j, const ReportArgs& a) {
     const Dataset& d = problem->data;
     o.data = &d;
     o.reference = problem->reference.get();
+    o.problem = &*problem;
     for (std::size_t i = 0; i < a.baselines.size(); ++i) {
       const auto eq = a.baselines[i].find('=');
       ReportFormula b;
@@ -103,6 +106,8 @@ void register_report_command(CLI::App& app, Context& ctx) {
   cmd->add_option("-o,--output", a->output, "HTML file to write")->required();
   cmd->add_option("--title", a->title, "page title");
   add_uniform_option(cmd, a->uniform);
+  add_precision_option(cmd, a->precision, "the baselines and the chosen formula are scored in",
+                       "the run's");
   cmd->add_option("--choose", a->choose,
                   std::string(kChooseHelp) + ", or a formula to show instead");
   cmd->add_option("--figures", a->figures,

@@ -20,6 +20,7 @@
 #include "progress_bar.hpp"
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/report/scene_report.hpp"
 #include "shaderfit/report/search_json.hpp"
 #include "shaderfit/search/choice.hpp"
 #include "shaderfit/search/options.hpp"
@@ -79,7 +80,7 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd, const Probl
     if (const auto i = a.integers.find(f.name); i != a.integers.end())
       set_search_option(o, f, std::to_string(i->second));
     if (const auto text = a.texts.find(f.name); text != a.texts.end())
-      set_search_option(o, f, text->second);
+      set_search_option(o, f, f.name == "loss" && text->second == "display" ? "mse" : text->second);
   }
   if (a.strategy == "enumerate")
     o.evolve = false;
@@ -99,12 +100,38 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd, const Probl
   return o;
 }
 
+// Each member in the scene: the displayed pixels' errors and FLIP against the reference's picture.
+std::string scene_table(const Problem& source, const std::vector<FrontMember>& front,
+                        Precision precision, const PrintOptions& print) {
+  std::string out = fmt::format(
+      "in the {} scene (display: exposure, ACES tonemap, sRGB):\n{:>6} {:>12} {:>12} {:>10} {:>9}  "
+      "{}\n",
+      scene_kind_name(source.scene->spec.kind), "cost", "display rmse", "display max", "mean FLIP",
+      "visible", "formula");
+  for (const FrontMember& m : front) {
+    const SceneImages im = formula_scene_images(source, m.expression, precision);
+    out += fmt::format("{:>6g} {:>12.4g} {:>12.4g} {:>10.4g} {:>8.2f}%  {}\n", m.cost,
+                       im.display_rmse, im.display_max, im.flip.mean, 100 * im.visible_share,
+                       to_infix(m.expression, print));
+  }
+  out += fmt::format("visible: the share of pixels with FLIP above {:g}\n", kFlipVisible);
+  return out;
+}
+
 void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   const ChoiceRule choice = parse_choice_rule(a.choose, {"ChoiceRule"});
   const PrintOptions print = PrintOptions::for_people(a.digits);
   const auto t0 = std::chrono::steady_clock::now();
   ProblemSource recorded;
-  const Problem source = load_problem(a.data, &recorded);
+  // --loss display: the scene's rows weighted by the display's slope, and the search's loss the
+  // weighted squared error of the term (scene/scene.hpp, display_weights).
+  const auto loss_text = a.texts.find("loss");
+  const bool display = loss_text != a.texts.end() && loss_text->second == "display";
+  if (display && a.data.scene.empty())
+    throw Error("the display loss needs a scene: give --scene (docs/scenes.md)", {"--loss"});
+  DataSource data = a.data;
+  data.display = display;
+  const Problem source = load_problem(data, &recorded);
   SearchOptions options = make_options(a, cmd, source);
   options.communicator = ctx.communicator;
   const bool leader = ctx.communicator == nullptr || ctx.communicator->rank() == 0;
@@ -114,7 +141,10 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   for (const std::string& n : problem.input_names)
     problem.inputs.push_back(numeric_column(d, n, "--inputs"));
   problem.target = numeric_column(d, source.target, "--target");
-  if (!a.weights.empty()) problem.weights = numeric_column(d, a.weights, "--weights");
+  if (!a.weights.empty())
+    problem.weights = numeric_column(d, a.weights, "--weights");
+  else if (!source.weights.empty())
+    problem.weights = numeric_column(d, source.weights, "--weights");
   problem.reference = source.reference;
   problem.reference_samples = a.data.problem.samples;
   problem.validate();
@@ -136,7 +166,8 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
       // A reference's description counts its samples already.
       source.reference ? source.description
                        : fmt::format("{}, {} rows", source.description, d.rows()),
-      inputs, source.target, loss_name(options.loss), cost_target_name(options.cost),
+      inputs, source.target, display ? "display" : loss_name(options.loss),
+      cost_target_name(options.cost),
       options.device == ComputeDevice::Cuda ? "cuda (" + cuda_device_name() + ")" : "cpu",
       load_s * 1e3);
   human << problem_notes(source, "");
@@ -196,6 +227,7 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   if (!leader) return;  // rank 0 reports and writes the files
 
   human << search_summary_lines(summary) << front_table(summary, options.loss, print);
+  if (source.scene) human << scene_table(source, summary.front, options.precision, print);
   if (!summary.front.empty()) {
     const Choice c = choose_member(summary.front, choice, loss_name(options.loss));
     human << chosen_formula_lines(to_infix(summary.front[c.index].expression, print),
@@ -228,6 +260,9 @@ std::string_view help_for(const SearchOptionField& f) {
   if (f.name == "resume_path")
     return "continue the search a checkpoint recorded (same data and options; the budgets may "
            "differ); it keeps that file current unless --checkpoint names another";
+  if (f.name == "loss")
+    return "mse, rmse, max_abs, max_rel, rel or log; or display, with --scene: the error of the "
+           "displayed pixels (docs/scenes.md)";
   return f.help;
 }
 
@@ -266,7 +301,7 @@ void register_search_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<SearchArgs>();
   CLI::App* cmd = app.add_subcommand(
       "search", "Find the Pareto front of error against GPU cost (symbolic regression)");
-  add_data_options(cmd, args->data, DataFiles | References | InputsTarget);
+  add_data_options(cmd, args->data, DataFiles | References | Scenes | InputsTarget);
   cmd->add_option("--seed-data", args->data.problem.dataset_seed,
                   "seed of the built-in data set (same as --data-seed)");
   cmd->add_option("--weights", args->weights, "column of sample weights (default: all 1)");

@@ -5,6 +5,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/reference/language.hpp"
+#include "shaderfit/scene/scene.hpp"
 
 namespace shaderfit::cli {
 
@@ -63,6 +64,19 @@ void add_data_options(CLI::App* cmd, DataSource& src, unsigned options) {
     cmd->add_flag("--drop-nonfinite", src.problem.drop_nonfinite,
                   "drop the points where the reference is NaN or infinite (default: an error)");
   }
+  if (options & Scenes) {
+    cmd->add_option("--scene", src.scene,
+                    std::string("with --reference, no domain: the picture whose pixels feed it (") +
+                        std::string(scene_kind_names()) + "; docs/scenes.md)");
+    cmd->add_option("--term", src.term,
+                    "with --scene: the factor of the specular term the reference stands for: F, "
+                    "V, D or FV (default: a built-in reference's own)");
+    cmd->add_option("--scene-size", src.scene_size,
+                    "with --scene: pixels per sphere, or the plane's height (default 96)");
+    cmd->add_option("--exposure", src.exposure,
+                    "with --scene: linear radiance is multiplied by this before the tonemap "
+                    "(default 1)");
+  }
   if (options & Inputs)
     cmd->add_option("--inputs", src.inputs,
                     "input columns, comma-separated (default: the data set's own, a reference's "
@@ -90,11 +104,34 @@ Problem load_problem(const DataSource& src, ProblemSource* used) {
     throw Error("--function names a function of --reference-file, which is not given",
                 SourceLocation{"--function"});
   }
+  if (!src.scene.empty()) {
+    SceneSpec spec;
+    const std::optional<SceneKind> kind = scene_kind_from_name(src.scene);
+    if (!kind)
+      throw Error(
+          "unknown scene '" + src.scene + "' (known: " + std::string(scene_kind_names()) + ")",
+          SourceLocation{"--scene"});
+    spec.kind = *kind;
+    if (!src.term.empty()) {
+      spec.term = shading_term_from_name(src.term);
+      if (!spec.term)
+        throw Error("unknown term '" + src.term + "' (known: F, V, D, FV)",
+                    SourceLocation{"--term"});
+    }
+    spec.size = src.scene_size;
+    spec.exposure = src.exposure;
+    s.scene = spec;
+  } else if (!src.term.empty() || src.scene_size != 0 || src.exposure != 1.0) {
+    throw Error("--term, --scene-size and --exposure are for a scene: give --scene",
+                SourceLocation{"--scene"});
+  }
+  s.scene_display = src.display;
   Problem p = shaderfit::load_problem(s);
   if (used != nullptr) {
     *used = std::move(s);
     used->inputs = p.inputs;
     used->target = p.target;
+    if (p.scene) used->scene = p.scene->spec;  // as rendered: defaults and the term filled in
   }
   return p;
 }

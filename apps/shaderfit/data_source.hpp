@@ -20,6 +20,7 @@ enum DataOptions : unsigned {
   Inputs = 4u,      // --inputs
   Target = 8u,      // --target
   SeedAlias = 16u,  // --seed as another name of --data-seed
+  Scenes = 32u,     // --scene, --term, --scene-size, --exposure (with References)
   InputsTarget = Inputs | Target,
 };
 
@@ -28,6 +29,11 @@ struct DataSource {
   std::string reference_file;  // --reference-file: read when the problem is loaded
   std::string inputs;          // --inputs, comma-separated
   bool seed_given = false;     // --data-seed was given
+  // --scene, --term, --scene-size, --exposure: read when the problem is loaded.
+  std::string scene, term;
+  int scene_size = 0;
+  double exposure = 1.0;
+  bool display = false;  // the display loss (search's --loss display)
 
   // Whether any source was given (--data, --dataset or a reference).
   [[nodiscard]] bool given() const;

@@ -34,10 +34,15 @@ enum class Op : std::uint8_t;
 struct Node;
 struct Expression;
 struct ParseOptions;
+enum class Precision : std::uint8_t;  // double, float, half: the shader's arithmetic
 
 // data/
 struct Dataset;
 struct ProblemSource;
 struct Problem;
+
+// scene/
+struct SceneSpec;
+struct SceneSamples;
 
 }  // namespace shaderfit

@@ -32,31 +32,37 @@ def formula(text: str, inputs: Sequence[str] | None = None, params=None) -> _sha
     return _shaderfit.parse(text, list(inputs or []), names, values)
 
 
-def evaluate(text: str, X, *, inputs: Sequence[str] | None = None, params=None) -> np.ndarray:
-    """The formula on every row of X, in float64, as ``shaderfit eval`` computes it. A
-    DataFrame's columns are taken by the names the formula uses; a plain array's by position
+def evaluate(text: str, X, *, inputs: Sequence[str] | None = None, params=None,
+             precision: str = "double") -> np.ndarray:
+    """The formula on every row of X, as ``shaderfit eval`` computes it: in float64, or with
+    ``precision`` "float" or "half" every operation rounded as a shader does (docs/precision.md).
+    A DataFrame's columns are taken by the names the formula uses; a plain array's by position
     (named x0, x1, ... or by ``inputs``)."""
     if _is_dataframe(X):
         f = formula(text, inputs, params)
-        return f.evaluate(_columns_for(f, X, None))
+        return f.evaluate(_columns_for(f, X, None), precision)
     columns, names = columns_of(X, inputs)
-    return formula(text, names, params).evaluate(columns)
+    return formula(text, names, params).evaluate(columns, precision)
 
 
 def cost(text: str, *, inputs: Sequence[str] | None = None, params=None,
          target: str = "sass", uniform: Sequence[str] = ()) -> dict:
-    """Instruction counts per target (sass, ptx, generic) and the listing for ``target``: the
-    shaderfit.cost/1 document of ``shaderfit cost --json`` (docs/cost-model.md). With
-    ``uniform`` (per-material inputs) the counts are per pixel, with ``per_material`` beside."""
+    """Instruction counts per target (sass, ptx, generic, sass-half2) and the listing for
+    ``target``: the shaderfit.cost/1 document of ``shaderfit cost --json``
+    (docs/cost-model.md). With ``uniform`` (per-material inputs) the counts are per pixel, with
+    ``per_material`` beside."""
     return json.loads(formula(text, inputs, params).cost_json(target, list(uniform)))
 
 
 def codegen(text: str, lang: str = "glsl", *, name: str = "shaderfit_formula",
-            inputs: Sequence[str] | None = None, params=None, uniform: Sequence[str] = ()) -> str:
+            inputs: Sequence[str] | None = None, params=None, uniform: Sequence[str] = (),
+            precision: str = "float") -> str:
     """The formula as a source file in glsl, hlsl, cuda, cpp or metal that compiles as printed;
     parameters given with values are baked in as constants. With ``uniform`` (per-material
-    inputs) the code is in two parts: the values computed once per material, then the pixel."""
-    return formula(text, inputs, params).code(lang, name, list(uniform))
+    inputs) the code is in two parts: the values computed once per material, then the pixel.
+    ``precision="half"`` prints the half form (GLSL float16_t, HLSL and Metal half, CUDA
+    __half with a __half2 twin; docs/precision.md)."""
+    return formula(text, inputs, params).code(lang, name, list(uniform), precision)
 
 
 def latex(text: str, *, inputs: Sequence[str] | None = None, params=None, digits: int = 0) -> str:

@@ -63,7 +63,8 @@ class Member:
     ``max_abs``, ``max_rel``, ``rel``, ``log``), ``nodes``, ``time_s`` (when it was found),
     ``origin`` ("enumeration", "evolution", "start", "power_sum", "polynomial" or "material"),
     ``float32_stable``, ``float32_max_abs_diff``, ``float32_max_abs`` and ``float32_max_rel``
-    (the error computed in float32 as a shader does), ``parameters`` (fitted constants by name),
+    (the error computed in float32 as a shader does), ``half_max_abs`` and ``half_max_rel`` (in
+    half, docs/precision.md), ``parameters`` (fitted constants by name),
     ``inputs``, and ``json`` (the member as the CLI's JSON writes it). With a reference:
     ``max_abs`` includes the errors found between the samples (``checked_between_samples``,
     ``worst_point``), and with ``certify=True`` ``certified_max_abs`` bounds the error on the
@@ -91,6 +92,8 @@ class Member:
         self.float32_max_abs_diff = _number(document.get("float32_max_abs_diff"))
         self.float32_max_abs = _number(document.get("float32_max_abs"))
         self.float32_max_rel = _number(document.get("float32_max_rel"))
+        self.half_max_abs = _number(document.get("half_max_abs"))
+        self.half_max_rel = _number(document.get("half_max_rel"))
         self.checked_between_samples = "max_abs_checked" in document
         self.worst_point = list(document.get("worst_point") or [])
         # None: not certified; inf: no finite bound was found (the JSON's null).
@@ -111,11 +114,12 @@ class Member:
         """The formula on every row of X, in float64 (the library's CPU evaluator)."""
         return self._formula.evaluate(_columns_for(self._formula, X, inputs))
 
-    def code(self, lang: str = "glsl", name: str = "shaderfit_formula") -> str:
+    def code(self, lang: str = "glsl", name: str = "shaderfit_formula",
+             precision: str = "float") -> str:
         """A source file with the formula as one function (glsl, hlsl, cuda, cpp or metal), its
         constants baked in, that the language's compiler accepts as printed (in two parts with
-        per-material inputs)."""
-        return self._formula.code(lang, name, self.uniform)
+        per-material inputs); ``precision="half"`` prints the half form (docs/precision.md)."""
+        return self._formula.code(lang, name, self.uniform, precision)
 
     def latex(self, digits: int = 0) -> str:
         return self._formula.latex(digits)

@@ -31,9 +31,11 @@
 #include "shaderfit/data/problem.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
+#include "shaderfit/eval/precision.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/setup.hpp"
+#include "shaderfit/image/flip.hpp"
 #include "shaderfit/report/command_json.hpp"
 #include "shaderfit/report/search_json.hpp"
 #include "shaderfit/search/choice.hpp"
@@ -68,8 +70,10 @@ struct Formula {
     return to_latex(expression, PrintOptions::for_people(digits));
   }
 
-  // One column per variable, in the order of expression.variables.
-  OutArray evaluate(const std::vector<Column>& columns) const {
+  // One column per variable, in the order of expression.variables; in `precision` (double,
+  // float or half: eval/precision.hpp).
+  OutArray evaluate(const std::vector<Column>& columns, const std::string& precision) const {
+    const Precision p = parse_precision(precision, {"precision"});
     if (columns.size() != expression.variables.size())
       throw Error("expected " + std::to_string(expression.variables.size()) +
                       " columns (one per input), got " + std::to_string(columns.size()),
@@ -87,7 +91,10 @@ struct Formula {
     }
     {
       nb::gil_scoped_release release;
-      shaderfit::evaluate(expression, pointers, out);
+      if (p == Precision::Double)
+        shaderfit::evaluate(expression, pointers, out);
+      else
+        evaluate_in(p, expression, pointers, out);
     }
     return to_numpy(std::move(out));
   }
@@ -96,21 +103,8 @@ struct Formula {
   // With per-material inputs the counts are per pixel, the per-material ones beside them.
   std::string cost_json_text(const std::string& shown,
                              const std::vector<std::string>& uniform) const {
-    const auto target = instruction_target_from_name(shown);
-    if (!target)
-      throw Error("unknown target '" + shown + "' (known: sass, ptx, generic)", {"target"});
-    check_uniform_inputs(uniform, expression.variables, {"uniform"});
-    std::optional<MaterialCosts> material;
-    if (!uniform.empty())
-      material = MaterialCosts{uniform, split_per_material(expression, uniform), {}};
-    std::vector<InstructionCost> costs;
-    for (InstructionTarget t :
-         {InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic}) {
-      costs.push_back(instruction_cost(material ? material->split.per_pixel : expression, t));
-      if (material) material->material.push_back(material_instruction_cost(material->split, t));
-    }
-    return cost_json(expression, costs, costs[static_cast<std::size_t>(*target)],
-                     material ? &*material : nullptr);
+    const InstructionTarget target = parse_instruction_target(shown, {"target"});
+    return cost_json(expression, cost_table(expression, target, uniform, {"uniform"}));
   }
 
   double search_cost(const std::string& cost) const {
@@ -121,7 +115,7 @@ struct Formula {
 
   // A source file that compiles as printed (generate_source), parameters baked in.
   std::string code(const std::string& language, const std::string& name,
-                   const std::vector<std::string>& uniform) const {
+                   const std::vector<std::string>& uniform, const std::string& precision) const {
     const auto lang = language_from_name(language);
     if (!lang)
       throw Error("unknown language '" + language + "' (known: glsl, hlsl, cuda, cpp, metal)",
@@ -131,8 +125,9 @@ struct Formula {
     f.options.bake_parameters = true;
     check_uniform_inputs(uniform, expression.variables, {"uniform"});
     f.options.uniform = uniform;
+    f.options.precision = parse_precision(precision, {"precision"});
     f.options.comment = {to_infix(expression, PrintOptions::for_people()),
-                         cost_comment(expression, uniform)};
+                         cost_comment(expression, uniform, f.options.precision)};
     return generate_source(std::span<const SourceFunction>(&f, 1), *lang);
   }
 };
@@ -552,6 +547,27 @@ nb::dict dataset(const std::string& name, std::uint64_t seed, std::size_t rows) 
   return out;
 }
 
+// LDR-FLIP of two H x W x 3 sRGB images (float32, C order): the per-pixel error, flattened
+// row-major, and its mean. python/tests/flip_agreement_test.py compares it with flip-evaluator.
+using ImageArray = nb::ndarray<const float, nb::ndim<3>, nb::c_contig, nb::device::cpu>;
+
+RgbImage to_rgb_image(const ImageArray& a, const char* where) {
+  if (a.shape(2) != 3) throw Error("expected an H x W x 3 array", {where});
+  return {static_cast<int>(a.shape(1)), static_cast<int>(a.shape(0)),
+          std::vector<float>(a.data(), a.data() + a.size())};
+}
+
+std::pair<OutArray, double> flip(const ImageArray& reference, const ImageArray& test,
+                                 double pixels_per_degree) {
+  const RgbImage r = to_rgb_image(reference, "reference"), t = to_rgb_image(test, "test");
+  FlipResult result;
+  {
+    nb::gil_scoped_release release;
+    result = ldr_flip(r, t, FlipOptions{pixels_per_degree});
+  }
+  return {to_numpy(std::vector<double>(result.error.begin(), result.error.end())), result.mean};
+}
+
 }  // namespace
 
 }  // namespace shaderfit::python
@@ -576,12 +592,12 @@ NB_MODULE(_shaderfit, m) {
                    [](const Formula& f) { return f.expression.parameter_values; })
       .def("infix", &Formula::infix, nb::arg("digits") = 0, nb::arg("exact") = false)
       .def("latex", &Formula::latex, nb::arg("digits") = 0)
-      .def("evaluate", &Formula::evaluate, nb::arg("columns"))
+      .def("evaluate", &Formula::evaluate, nb::arg("columns"), nb::arg("precision") = "double")
       .def("cost_json", &Formula::cost_json_text, nb::arg("target") = "sass",
            nb::arg("uniform") = std::vector<std::string>{})
       .def("search_cost", &Formula::search_cost, nb::arg("cost") = "instructions")
       .def("code", &Formula::code, nb::arg("language"), nb::arg("name"),
-           nb::arg("uniform") = std::vector<std::string>{})
+           nb::arg("uniform") = std::vector<std::string>{}, nb::arg("precision") = "float")
       // Pickled as its exact infix with parameters by name, and their values: parse_formula
       // reads that back to a formula that evaluates equal on every input.
       .def("__getstate__",
@@ -639,4 +655,5 @@ NB_MODULE(_shaderfit, m) {
         nb::arg("reference_source"), nb::arg("reference_path"), nb::arg("function"));
   m.def("dataset", &dataset, nb::arg("name"), nb::arg("seed"), nb::arg("rows"));
   m.def("dataset_names", &builtin_dataset_names);
+  m.def("ldr_flip", &flip, nb::arg("reference"), nb::arg("test"), nb::arg("pixels_per_degree"));
 }

@@ -40,14 +40,17 @@ struct MaterialParts {
   std::vector<std::string> fields;  // per material: the program's results, in order
 };
 
+using codegen::Form;
+
 class FunctionPrinter {
  public:
   FunctionPrinter(const Expression& e, const CodegenOptions& o, const Program& p,
-                  const MaterialParts* parts = nullptr, bool fills = false)
+                  const MaterialParts* parts = nullptr, bool fills = false, Form form = Form::Float)
       : e_(e),
         o_(o),
         p_(p),
         lang_(o.language),
+        form_(form),
         texts_(p.steps.size()),
         parts_(parts),
         fills_(fills) {}
@@ -57,8 +60,7 @@ class FunctionPrinter {
     if (o_.bake_parameters) {
       for (std::size_t i = 0; i < e_.parameters.size(); ++i) {
         const double v = i < e_.parameter_values.size() ? e_.parameter_values[i] : 0.0;
-        body +=
-            fmt::format("  const float {} = {};\n", e_.parameters[i], float32_literal(v, lang_));
+        body += fmt::format("  const {} {} = {};\n", type(), e_.parameters[i], lit(v));
       }
     }
     // The operands of sign and select are named: sign reads its operand more than once, and
@@ -97,9 +99,9 @@ class FunctionPrinter {
   // Declares a temporary holding `value` and returns its name.
   std::string temporary(const std::string& value) {
     const std::string name = temp_prefix() + std::to_string(temps_++);
-    body_ += fmt::format("  {}float {} = {};\n",
-                         lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ", name,
-                         value);
+    body_ += fmt::format("  {}{} {} = {};\n",
+                         lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ", type(),
+                         name, value);
     return name;
   }
 
@@ -122,23 +124,33 @@ class FunctionPrinter {
       args += (args.empty() ? "" : ", ") + type + " " + n;
     };
     const bool reads_parts = parts_ != nullptr && !fills_;
+    const std::string value(type());
     for (std::size_t v = 0; v < e_.variables.size(); ++v)
-      if (!reads_parts || v < parts_->first_field) add("float", e_.variables[v]);
+      if (!reads_parts || v < parts_->first_field) add(value, e_.variables[v]);
     if (reads_parts) add(parts_->type, parts_->object);
     if (!o_.bake_parameters)
-      for (const std::string& v : e_.parameters) add("float", v);
-    const std::string type = fills_ ? parts_->type : "float";
-    const std::string name = fills_ ? material_function_name(o_.name) : o_.name;
+      for (const std::string& v : e_.parameters) add(value, v);
+    const std::string type = fills_ ? parts_->type : value;
+    const std::string name = fills_
+                                 ? material_function_name(o_.name)
+                                 : (form_ == Form::Half2 ? pair_function_name(o_.name) : o_.name);
     switch (lang_) {
       case Language::Cuda:
-        return "__device__ __forceinline__ " + type + " " + name + "(" + args + ")";
+        // The __half form runs on the host too (cuda_fp16.h's host arithmetic, the helpers).
+        return (form_ == Form::Half ? "__host__ __device__ __forceinline__ "
+                                    : "__device__ __forceinline__ ") +
+               type + " " + name + "(" + args + ")";
       case Language::Cpp:
       case Language::Metal: return "inline " + type + " " + name + "(" + args + ")";
       default: return type + " " + name + "(" + args + ")";
     }
   }
 
-  std::string lit(float v) const { return float32_literal(v, lang_); }
+  std::string_view type() const { return codegen::value_type(lang_, form_); }
+  std::string lit(double v) const { return codegen::literal(v, lang_, form_); }
+  // CUDA's half forms write every operation as a call (__hadd_rn, __hmul2_rn, ...; the _rn forms,
+  // which nvcc never contracts into an fma).
+  bool calls_only() const { return lang_ == Language::Cuda && form_ != Form::Float; }
 
   std::string operand(const Operand& o, int min_level) const {
     Text t;
@@ -157,8 +169,21 @@ class FunctionPrinter {
   }
 
   Text fn(codegen::Call c, const Step& st) const {
-    std::string s = std::string(codegen::call(lang_, c)) + "(";
+    std::string s = std::string(codegen::call(lang_, c, form_)) + "(";
     for (int k = 0; k < st.arity; ++k) s += (k ? ", " : "") + operand(st.args[k], 0);
+    // glslang's HLSL reads half arguments of intrinsics as float: the result is cast back (DXC's
+    // half overloads make the cast a no-op).
+    if (lang_ == Language::Hlsl && form_ == Form::Half) return {"(half)" + s + ")", 3};
+    return {s + ")", 4};
+  }
+  // A call of `c` with the operands given (CUDA half forms).
+  Text call_of(codegen::Call c, std::initializer_list<std::string> operands) const {
+    std::string s = std::string(codegen::call(lang_, c, form_)) + "(";
+    bool first = true;
+    for (const std::string& o : operands) {
+      s += (first ? "" : ", ") + o;
+      first = false;
+    }
     return {s + ")", 4};
   }
 
@@ -209,8 +234,36 @@ class FunctionPrinter {
             0};
   }
 
+  // Half forms: the steps that are calls in CUDA, and saturate; nullopt for the others.
+  std::optional<Text> half_step(const Step& st) const {
+    using codegen::Call;
+    const auto arg = [&](int k) { return operand(st.args[k], 0); };
+    if (st.op == StepOp::Sat) {
+      if (lang_ == Language::Glsl)
+        return Text{"clamp(" + arg(0) + ", " + lit(0) + ", " + lit(1) + ")", 4};
+      if (lang_ == Language::Cuda) return call_of(Call::Saturate, {arg(0), lit(0)});
+      return std::nullopt;
+    }
+    if (!calls_only()) return std::nullopt;
+    const bool rcp = st.op == StepOp::Div && st.args[0].kind == Operand::Kind::Const &&
+                     std::fabs(st.args[0].value) == 1.0f;
+    switch (st.op) {
+      case StepOp::Add: return call_of(Call::Add, {arg(0), arg(1)});
+      case StepOp::Sub: return call_of(Call::Sub, {arg(0), arg(1)});
+      case StepOp::Mul: return call_of(Call::Mul, {arg(0), arg(1)});
+      case StepOp::Neg: return call_of(Call::Neg, {arg(0)});
+      case StepOp::Div:
+        if (!rcp) return call_of(Call::Div, {arg(0), arg(1)});
+        // -1 / x = 1 / -x: rcp is odd.
+        return call_of(Call::Rcp, {st.args[0].value < 0 ? call_of(Call::Neg, {arg(1)}).s : arg(1)});
+      default: return std::nullopt;
+    }
+  }
+
   Text step(const Step& st) {
     using codegen::Call;
+    if (form_ != Form::Float)
+      if (std::optional<Text> t = half_step(st)) return *std::move(t);
     auto bin = [&](const char* op, int level) {
       return Text{operand(st.args[0], level) + " " + op + " " + operand(st.args[1], level + 1),
                   level};
@@ -222,6 +275,7 @@ class FunctionPrinter {
       case StepOp::Div: return bin("/", 2);
       case StepOp::Neg: return {"-" + operand(st.args[0], 4), 3};
       case StepOp::Fma:
+        if (form_ != Form::Float) return fn(Call::Fma, st);      // the formula's own fma
         if (lang_ == Language::Glsl || lang_ == Language::Hlsl)  // not produced: unfused program
           return {operand(st.args[0], 2) + " * " + operand(st.args[1], 3) + " + " +
                       operand(st.args[2], 2),
@@ -268,6 +322,7 @@ class FunctionPrinter {
   const CodegenOptions& o_;
   const Program& p_;
   Language lang_;
+  Form form_;
   std::vector<Text> texts_;
   std::string body_;  // the statements after the baked parameters
   int temps_ = 0;
@@ -338,7 +393,50 @@ struct Prepared {
   }
 };
 
+// Half code (docs/precision.md, "Half code"): the checks of what has a half form, then the
+// program of the half DAG, which rounds where evaluate_half rounds.
+Prepared prepare_half(const Expression& e, const CodegenOptions& options) {
+  (void)half_literal(0.0, options.language);  // throws for C++, which has no half type
+  if (reads_uniform(e, options.uniform)) {
+    throw Error(
+        "per-material inputs have no half form in code generation yet: print the formula "
+        "in one part, or in float",
+        SourceLocation{"CodegenOptions::uniform"});
+  }
+  std::vector<std::string> seen;
+  if (options.language == Language::Cuda) seen.push_back(pair_function_name(options.name));
+  check_names(e, options, seen);
+  Prepared p;
+  p.pixel = e;
+  p.pixel_program = lowering::build_program(lowering::lower_expression(e, true), false);
+  for (const Step& st : p.pixel_program.steps) {
+    const char* op = nullptr;
+    switch (st.op) {
+      case StepOp::Sign: op = "sign"; break;
+      case StepOp::CopySign: op = "copysign"; break;
+      case StepOp::Select: op = "select"; break;
+      case StepOp::Asin: op = "asin"; break;
+      case StepOp::Acos: op = "acos"; break;
+      case StepOp::Atan: op = "atan"; break;
+      case StepOp::Atan2: op = "atan2"; break;
+      case StepOp::Tanh: op = "tanh"; break;
+      case StepOp::Erf: op = "erf"; break;
+      default: break;
+    }
+    if (op != nullptr) {
+      throw Error(std::string(op) + " has no half form in code generation (docs/precision.md)",
+                  SourceLocation{"formula"});
+    }
+  }
+  return p;
+}
+
 Prepared prepare(const Expression& e, const CodegenOptions& options) {
+  if (options.precision == Precision::Double) {
+    throw Error("code generation has no double form: print float or half",
+                SourceLocation{"CodegenOptions::precision"});
+  }
+  if (options.precision == Precision::Half) return prepare_half(e, options);
   const bool fused = fused_language(options.language);
   Prepared p;
   if (!reads_uniform(e, options.uniform)) {
@@ -390,6 +488,15 @@ Prepared prepare(const Expression& e, const CodegenOptions& options) {
 }
 
 std::string print(const Prepared& p, const CodegenOptions& options) {
+  if (options.precision == Precision::Half) {
+    std::string out =
+        FunctionPrinter(p.pixel, options, p.pixel_program, nullptr, false, Form::Half).print();
+    if (options.language != Language::Cuda) return out;
+    CodegenOptions pair = options;
+    pair.comment.clear();
+    return out +
+           FunctionPrinter(p.pixel, pair, p.pixel_program, nullptr, false, Form::Half2).print();
+  }
   if (!p.parts) return FunctionPrinter(p.pixel, options, p.pixel_program).print();
   std::string fields;
   for (const std::string& f : p.parts->fields) fields += "  float " + f + ";\n";
@@ -467,18 +574,71 @@ std::string erf_helper_source(Language language) {
   return s;
 }
 
+// The CUDA __half helpers a half program calls (cuda_half_helpers).
+void add_half_helper_calls(const Program& p, std::vector<codegen::Call>* calls) {
+  using codegen::Call;
+  for (const Step& st : p.steps) {
+    std::optional<Call> c;
+    switch (st.op) {
+      case StepOp::Sqrt: c = Call::Sqrt; break;
+      case StepOp::Rsqrt: c = Call::Rsqrt; break;
+      case StepOp::Exp2: c = Call::Exp2; break;
+      case StepOp::Log2: c = Call::Log2; break;
+      case StepOp::Exp: c = Call::Exp; break;
+      case StepOp::Log: c = Call::Log; break;
+      case StepOp::Sin: c = Call::Sin; break;
+      case StepOp::Cos: c = Call::Cos; break;
+      case StepOp::Fma: c = Call::Fma; break;
+      case StepOp::Div:
+        if (st.args[0].kind == Operand::Kind::Const && std::fabs(st.args[0].value) == 1.0f)
+          c = Call::Rcp;
+        break;
+      default: break;
+    }
+    if (c && std::find(calls->begin(), calls->end(), *c) == calls->end()) calls->push_back(*c);
+  }
+}
+
+// What a file of half functions needs in `language`, as a first comment (generate_function) or
+// as the lines at the top of a file (generate_source).
+std::string half_requirement(Language language, bool as_lines) {
+  switch (language) {
+    case Language::Glsl:
+      return std::string(as_lines ? "" : "// needs ") +
+             "#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n";
+    case Language::Hlsl:
+      return "// half needs 16-bit types: dxc -enable-16bit-types (glslangValidator "
+             "--hlsl-enable-16bit-types)\n";
+    case Language::Cuda:
+      return std::string(as_lines ? "" : "// needs ") + "#include <cuda_fp16.h>\n";
+    default: return {};
+  }
+}
+
 }  // namespace
 
 std::string generate_function(const Expression& e, const CodegenOptions& options) {
   const Prepared p = prepare(e, options);
   const std::string f = print(p, options);
+  if (options.precision == Precision::Half) {
+    std::string head = half_requirement(options.language, false);
+    if (options.language == Language::Cuda) {
+      std::vector<codegen::Call> calls;
+      add_half_helper_calls(p.pixel_program, &calls);
+      head += codegen::cuda_half_helpers(calls);
+    }
+    return head + f;
+  }
   return needs_erf_helper(p, options.language) ? erf_helper_source(options.language) + "\n" + f : f;
 }
+
+std::string pair_function_name(const std::string& function_name) { return function_name + "_x2"; }
 
 std::string generate_source(std::span<const SourceFunction> functions, Language language) {
   std::set<std::string_view> headers;
   std::string body;
-  bool erf_helper = false;
+  bool erf_helper = false, half = false;
+  std::vector<codegen::Call> half_calls;
   for (const SourceFunction& f : functions) {
     CodegenOptions o = f.options;
     o.language = language;
@@ -486,9 +646,15 @@ std::string generate_source(std::span<const SourceFunction> functions, Language 
     if (language == Language::Cpp)
       for (const Program* program : p.programs()) add_cpp_headers(*program, &headers);
     erf_helper = erf_helper || needs_erf_helper(p, language);
+    if (o.precision == Precision::Half) {
+      half = true;
+      add_half_helper_calls(p.pixel_program, &half_calls);
+    }
     body += (body.empty() ? "" : "\n") + print(p, o);
   }
   if (erf_helper) body = erf_helper_source(language) + "\n" + body;
+  if (language == Language::Cuda && !half_calls.empty())
+    body = codegen::cuda_half_helpers(half_calls) + "\n" + body;
   std::string head;
   switch (language) {
     case Language::Cpp:
@@ -499,10 +665,16 @@ std::string generate_source(std::span<const SourceFunction> functions, Language 
     case Language::Cuda:
     case Language::Hlsl: break;
   }
+  if (half) head += half_requirement(language, true);
   return head.empty() || body.empty() ? head + body : head + "\n" + body;
 }
 
-std::string cost_comment(const Expression& e, std::span<const std::string> uniform) {
+std::string cost_comment(const Expression& e, std::span<const std::string> uniform,
+                         Precision precision) {
+  if (precision == Precision::Half) {
+    const int n = instruction_count(e, InstructionTarget::SassHalf2);
+    return fmt::format("cost model: {} SASS per __half2 ({:g} per value)", n, n / 2.0);
+  }
   constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx,
                                             InstructionTarget::Generic};
   if (!reads_uniform(e, uniform)) {

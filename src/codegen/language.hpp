@@ -1,6 +1,8 @@
 // Internal: how each language spells what the generated code calls, and the name checks.
 #pragma once
 
+#include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -10,14 +12,58 @@
 namespace shaderfit::codegen {
 
 enum class Call : int {
-  Sqrt, Rsqrt, Exp2, Log2, Exp, Log, Sin, Cos, Abs, Min, Max, Fma, Saturate,
-  Asin, Acos, Atan, Atan2, Tanh, Erf,
+  Sqrt,
+  Rsqrt,
+  Exp2,
+  Log2,
+  Exp,
+  Log,
+  Sin,
+  Cos,
+  Abs,
+  Min,
+  Max,
+  Fma,
+  Saturate,
+  Asin,
+  Acos,
+  Atan,
+  Atan2,
+  Tanh,
+  Erf,
+  // Spelled as calls only in CUDA's half forms (operators elsewhere).
+  Rcp,
+  Add,
+  Sub,
+  Mul,
+  Div,
+  Neg,
 };
 
-// The function name for `c` in `l`; empty where the language has none (the printer spells it
-// out: GLSL clamp(x, 0.0, 1.0), C++ 1.0f / std::sqrt(x) and std::clamp). erf in GLSL, HLSL and
-// Metal is the helper that code generation writes (cost/erf_helper.hpp).
-std::string_view call(Language l, Call c);
+// The arithmetic of a printed function: float32, binary16 (GLSL float16_t, HLSL and Metal half,
+// CUDA __half), or CUDA's __half2, two binary16 values at once.
+enum class Form : std::uint8_t { Float, Half, Half2 };
+
+// The function name for `c` in `l` and `form`; empty where the language has none (the printer
+// spells it out: GLSL clamp(x, 0.0, 1.0), C++ 1.0f / std::sqrt(x) and std::clamp, operators).
+// erf in GLSL, HLSL and Metal is the helper that code generation writes (cost/erf_helper.hpp).
+// CUDA's __half spellings of the functions cuda_fp16.h has only on the device (hexp2, ...) are
+// the helpers cuda_half_helpers() writes. Half forms have no asin ... erf (empty).
+std::string_view call(Language l, Call c, Form form = Form::Float);
+
+// The value type: float, or float16_t (GLSL), half (HLSL, Metal), __half, __half2 (CUDA).
+std::string_view value_type(Language l, Form form);
+
+// A literal of `form`: float32_literal, or half_literal, or for __half2 the pair
+// __float2half2_rn(0.5f) (both halves the same binary16 value).
+std::string literal(double v, Language l, Form form);
+
+// The CUDA helpers that `calls` (of a half program) need: for each function that cuda_fp16.h has
+// on the device only (hsqrt, hexp2, __hfma, ...) a `__host__ __device__` sf_h... that calls it on
+// the device and on the host computes in float and rounds once to binary16 (+ - * / and the
+// rest of cuda_fp16.h run on the host); for sin and cos, float's __sinf and __cosf on each half
+// (sf_hsin, and sf_h2sin for __half2).
+std::string cuda_half_helpers(std::span<const Call> calls);
 
 // Throws shaderfit::Error at `where` unless `name` is an identifier usable in every language.
 void check_name(const std::string& name, std::string_view what, const SourceLocation& where);

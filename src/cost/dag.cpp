@@ -5,8 +5,9 @@
 #include <unordered_map>
 #include <utility>
 
-#include "shaderfit/core/error.hpp"
 #include "cost/float_text.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/precision.hpp"
 
 namespace shaderfit::lowering {
 
@@ -42,7 +43,12 @@ bool ref_less(DagRef x, DagRef y) { return code(x) < code(y); }
 
 class Builder {
  public:
-  explicit Builder(Dag& dag) : dag_(dag) {}
+  explicit Builder(Dag& dag) : dag_(dag), half_(dag.half) {}
+
+  [[nodiscard]] bool half() const { return half_; }
+
+  // A literal of the expression: its float32 value, or in a half DAG its binary16 value.
+  DagRef literal(double v) { return constant(static_cast<float>(half_ ? round_to_half(v) : v)); }
 
   DagRef constant(float v) {
     const bool neg = std::signbit(v);
@@ -59,7 +65,8 @@ class Builder {
   }
 
   DagRef add(DagRef a, DagRef b) {
-    if (is_const(a) && is_const(b)) return constant(value(a) + value(b));
+    if (is_const(a) && is_const(b))
+      return fold([&](auto t) { return as(t, value(a)) + as(t, value(b)); });
     if (is_minus_zero(b)) return a;  // x + -0 == x for every x
     if (is_minus_zero(a)) return b;
     // Keep the first operand positive: -a + b = b - a, and -a - b = -(a + b).
@@ -73,10 +80,13 @@ class Builder {
   }
 
   DagRef mul(DagRef a, DagRef b, bool log_scale = false) {
-    if (is_const(a) && is_const(b)) return constant(value(a) * value(b));
+    if (is_const(a) && is_const(b))
+      return fold([&](auto t) { return as(t, value(a)) * as(t, value(b)); });
     // x * 1 and x * -1 are x and -x exactly.
-    if (is_const(a) && !log_scale && std::fabs(value(a)) == 1.0f) return {b.id, b.neg != (value(a) < 0)};
-    if (is_const(b) && !log_scale && std::fabs(value(b)) == 1.0f) return {a.id, a.neg != (value(b) < 0)};
+    if (is_const(a) && !log_scale && std::fabs(value(a)) == 1.0f)
+      return {b.id, b.neg != (value(a) < 0)};
+    if (is_const(b) && !log_scale && std::fabs(value(b)) == 1.0f)
+      return {a.id, a.neg != (value(b) < 0)};
     const bool neg = a.neg != b.neg;
     a.neg = b.neg = false;
     DagNode n;
@@ -89,10 +99,12 @@ class Builder {
 
   DagRef unary(Op op, DagRef a) {
     if (is_const(a)) {
-      const float x = value(a);
-      return constant(op == Op::Rcp ? 1.0f / x : apply_unary(op, x));
+      return fold([&](auto t) {
+        const auto x = as(t, value(a));
+        return op == Op::Rcp ? as(t, 1.0f) / x : apply_unary(op, x);
+      });
     }
-    if (op == Op::Rcp && !a.neg && dag_.node(a.id).op == Op::Sqrt) {
+    if (!half_ && op == Op::Rcp && !a.neg && dag_.node(a.id).op == Op::Sqrt) {
       return unary(Op::Rsqrt, dag_.node(a.id).a);  // 1 / sqrt(x) is rsqrt(x), as nvcc makes it
     }
     bool out_neg = false;
@@ -107,7 +119,8 @@ class Builder {
   }
 
   DagRef minmax(Op op, DagRef a, DagRef b) {
-    if (is_const(a) && is_const(b)) return constant(apply_binary(op, value(a), value(b)));
+    if (is_const(a) && is_const(b))
+      return fold([&](auto t) { return apply_binary(op, as(t, value(a)), as(t, value(b))); });
     // min(a, a) = a; max(max(a, b), a) = max(a, b): folds that LLVM makes too.
     if (a == b) return a;
     for (const auto& [inner, other] : {std::pair{a, b}, std::pair{b, a}}) {
@@ -120,7 +133,8 @@ class Builder {
       if (!is_const(k) || inner.neg || (n.op != Op::Min && n.op != Op::Max) || n.op == op) continue;
       for (const DagRef& k2 : {n.a, n.b}) {
         if (!is_const(k2)) continue;
-        if ((op == Op::Min && value(k) <= value(k2)) || (op == Op::Max && value(k) >= value(k2))) return k;
+        if ((op == Op::Min && value(k) <= value(k2)) || (op == Op::Max && value(k) >= value(k2)))
+          return k;
       }
     }
     bool flip = false;
@@ -141,7 +155,9 @@ class Builder {
 
   // atan2(-a, b) = -atan2(a, b): a's sign moves to the result; b keeps its sign.
   DagRef atan2(DagRef a, DagRef b) {
-    if (is_const(a) && is_const(b)) return constant(apply_binary(Op::Atan2, value(a), value(b)));
+    if (is_const(a) && is_const(b))
+      return fold(
+          [&](auto t) { return apply_binary(Op::Atan2, as(t, value(a)), as(t, value(b))); });
     return {binary(Op::Atan2, {a.id, false}, b), a.neg};
   }
 
@@ -173,9 +189,10 @@ class Builder {
     return {intern(n), flip};
   }
 
-  // x^k by the squaring chain of apply_ipow, so x^2, x^4, x^5 share their intermediates.
+  // x^k by the squaring chain of apply_ipow, so x^2, x^4, x^5 share their intermediates (in a half
+  // DAG a literal x folds along the same chain, each product rounded).
   DagRef ipow(DagRef x, int k) {
-    if (is_const(x)) return constant(apply_ipow(value(x), k));
+    if (is_const(x) && !half_) return constant(apply_ipow(value(x), k));
     unsigned n = static_cast<unsigned>(k < 0 ? -k : k);
     DagRef result{}, base = x;
     bool first = true;
@@ -190,11 +207,67 @@ class Builder {
     return k < 0 ? unary(Op::Rcp, result) : result;
   }
 
+  // Half DAG: a / b rounded once. 1 / b is Rcp; a / K is a * (1/K) where 1/K is a power of two
+  // that binary16 holds (the same value, rounded once); otherwise one Div node.
+  DagRef div(DagRef a, DagRef b) {
+    if (is_const(a) && is_const(b))
+      return fold([&](auto t) { return as(t, value(a)) / as(t, value(b)); });
+    if (is_const(a) && std::fabs(value(a)) == 1.0f) {
+      const DagRef r = unary(Op::Rcp, b);
+      return value(a) < 0 ? negate(r) : r;
+    }
+    if (is_const(b)) {
+      int exponent = 0;
+      const double inverse = 1.0 / static_cast<double>(value(b));
+      if (std::fabs(std::frexp(inverse, &exponent)) == 0.5 && round_to_half(inverse) == inverse)
+        return mul(a, constant(static_cast<float>(inverse)));
+    }
+    const bool neg = a.neg != b.neg;
+    a.neg = b.neg = false;
+    return {binary(Op::Div, a, b), neg};
+  }
+
+  // Half DAG: fma(a, b, c) rounded once, with a and b positive: fma(-a, b, c) = -fma(a, b, -c).
+  // fma(+-1, b, c) is the sum and fma(a, b, +-0) the product: the same values, rounded once.
+  DagRef fma(DagRef a, DagRef b, DagRef c) {
+    if (is_const(a) && is_const(b) && is_const(c)) {
+      return fold([&](auto t) {
+        using T = decltype(t);
+        return static_cast<T>(std::fma(as(t, value(a)), as(t, value(b)), as(t, value(c))));
+      });
+    }
+    for (const auto& [k, other] : {std::pair{a, b}, std::pair{b, a}})
+      if (is_const(k) && std::fabs(value(k)) == 1.0f)
+        return add(value(k) < 0 ? negate(other) : other, c);
+    if (is_const(c) && value(c) == 0.0f) return mul(a, b);
+    const bool neg = a.neg != b.neg;
+    a.neg = b.neg = false;
+    if (neg) c = negate(c);
+    DagNode n;
+    n.op = Op::Fma;
+    n.a = a;
+    n.b = b;
+    n.c = c;
+    return {intern(n), neg};
+  }
+
  private:
   [[nodiscard]] bool is_const(DagRef r) const { return dag_.is_const(r.id); }
   [[nodiscard]] float value(DagRef r) const {
     const float v = dag_.node(r.id).value;
     return r.neg ? -v : v;
+  }
+  // A literal's value in the folding type (float, or double in a half DAG).
+  template <class T>
+  static T as(T /*type*/, float v) {
+    return static_cast<T>(v);
+  }
+  // A fold of literals: f computed in float32, or in a half DAG in double and rounded to
+  // binary16 once, as evaluate_half (eval/precision.hpp) computes each operator.
+  template <class F>
+  DagRef fold(F f) {
+    if (half_) return constant(static_cast<float>(round_to_half(f(0.0))));
+    return constant(f(0.0f));
   }
   [[nodiscard]] bool is_minus_zero(DagRef r) const {
     return is_const(r) && value(r) == 0.0f && std::signbit(value(r));
@@ -224,25 +297,31 @@ class Builder {
   }
 
   Dag& dag_;
+  bool half_;
   std::unordered_map<Key, int, KeyHash> ids_;
 };
 
 DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
   switch (n.op) {
-    case Op::Const: return b.constant(static_cast<float>(n.value));
+    case Op::Const: return b.literal(n.value);
     case Op::Var:
     case Op::Param: return b.leaf(n.op, n.index);
     case Op::Add: return b.add(args[0], args[1]);
     case Op::Sub: return b.add(args[0], negate(args[1]));
     case Op::Mul: return b.mul(args[0], args[1]);
-    case Op::Div: return b.mul(args[0], b.unary(Op::Rcp, args[1]));
+    case Op::Div:
+      return b.half() ? b.div(args[0], args[1]) : b.mul(args[0], b.unary(Op::Rcp, args[1]));
     case Op::Min:
     case Op::Max: return b.minmax(n.op, args[0], args[1]);
     case Op::Pow: return b.unary(Op::Exp2, b.mul(args[1], b.unary(Op::Log2, args[0])));
     case Op::Neg: return negate(args[0]);
     case Op::IPow: return b.ipow(args[0], n.index);
-    case Op::Log: return b.mul(b.unary(Op::Log2, args[0]), b.constant(kLn2), true);
-    case Op::Fma: return b.add(b.mul(args[0], args[1]), args[2]);
+    case Op::Log:
+      if (b.half()) return b.unary(Op::Log, args[0]);
+      return b.mul(b.unary(Op::Log2, args[0]), b.constant(kLn2), true);
+    case Op::Fma:
+      if (b.half()) return b.fma(args[0], args[1], args[2]);
+      return b.add(b.mul(args[0], args[1]), args[2]);
     case Op::Sign: return b.sign(args[0]);
     case Op::CopySign: return b.copysign(args[0], args[1]);
     case Op::Select: return b.select(args[0], args[1], args[2]);
@@ -264,7 +343,8 @@ DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
     case Op::Erf: return b.unary(n.op, args[0]);
     default: break;
   }
-  throw Error("malformed expression: operator '" + std::string(op_info(n.op).name) + "' cannot be costed");
+  throw Error("malformed expression: operator '" + std::string(op_info(n.op).name) +
+              "' cannot be costed");
 }
 
 void count_uses(Dag& dag) {
@@ -279,11 +359,12 @@ void count_uses(Dag& dag) {
 
 }  // namespace
 
-Dag lower_expression(const Expression& e) { return lower_expressions({&e, 1}); }
+Dag lower_expression(const Expression& e, bool half) { return lower_expressions({&e, 1}, half); }
 
-Dag lower_expressions(std::span<const Expression> values) {
+Dag lower_expressions(std::span<const Expression> values, bool half) {
   if (values.empty()) throw Error("empty expression");
   Dag dag;
+  dag.half = half;
   dag.variables = values.front().variables;
   dag.parameters = values.front().parameters;
   Builder builder(dag);
@@ -294,9 +375,12 @@ Dag lower_expressions(std::span<const Expression> values) {
     stack.reserve(e.nodes.size());
     for (const Node& n : e.nodes) {
       const int a = arity(n.op);
-      if (static_cast<int>(stack.size()) < a) throw Error("malformed expression: an operator lacks operands");
-      if ((n.op == Op::Var && (n.index < 0 || static_cast<std::size_t>(n.index) >= dag.variables.size())) ||
-          (n.op == Op::Param && (n.index < 0 || static_cast<std::size_t>(n.index) >= dag.parameters.size()))) {
+      if (static_cast<int>(stack.size()) < a)
+        throw Error("malformed expression: an operator lacks operands");
+      if ((n.op == Op::Var &&
+           (n.index < 0 || static_cast<std::size_t>(n.index) >= dag.variables.size())) ||
+          (n.op == Op::Param &&
+           (n.index < 0 || static_cast<std::size_t>(n.index) >= dag.parameters.size()))) {
         throw Error("malformed expression: a variable or parameter index is out of range");
       }
       DagRef args[3];
@@ -323,7 +407,8 @@ void infix(const Dag& dag, DagRef r, std::string& out, std::size_t max_chars, in
     text(float_text(r.neg ? -n.value : n.value));
     return;
   }
-  const int level = n.op == Op::Add ? 1 : (n.op == Op::Mul && !n.log_scale ? 2 : 3);
+  const int level =
+      n.op == Op::Add ? 1 : ((n.op == Op::Mul && !n.log_scale) || n.op == Op::Div ? 2 : 3);
   const bool neg_wrap = r.neg;
   const bool paren = neg_wrap ? parent_level >= 2 && level < 3 : level < parent_level;
   if (neg_wrap) text("-");
@@ -350,6 +435,11 @@ void infix(const Dag& dag, DagRef r, std::string& out, std::size_t max_chars, in
       }
       infix(dag, n.a, out, max_chars, 2);
       text(" * ");
+      infix(dag, n.b, out, max_chars, 3);
+      break;
+    case Op::Div:
+      infix(dag, n.a, out, max_chars, 2);
+      text(" / ");
       infix(dag, n.b, out, max_chars, 3);
       break;
     default:

@@ -17,6 +17,14 @@
 //    copysign and select stay one node each (sign(-x) = -sign(x), copysign drops its first
 //    operand's sign and moves its second's out, select(a, -b, -c) = -select(a, b, c)).
 // Nodes are in topological order: a node's operands have smaller ids.
+//
+// Lowered for half (`half` = true; the half code of codegen and the `sass-half2` target), the DAG
+// keeps every rounding that eval/precision.hpp's half evaluation makes, so that the printed half
+// code rounds where evaluate_half does: constants are binary16 values and fold as evaluate_half
+// computes them (each result rounded to binary16); a / b is one Div node (one rounding), 1 / x an
+// Rcp, and a / K a product only where 1/K is an exact power of two; fma(a, b, c) is one Fma node
+// (a * b + c stays a product and a sum); log(x) is one Log node; 1 / sqrt(x) stays a division of
+// the square root. The other rewrites above are exact in any precision and stay.
 #pragma once
 
 #include <cstdint>
@@ -37,11 +45,13 @@ struct DagRef {
 
 // op is one of: Const, Var, Param (leaves); Add, Mul, Min, Max, CopySign, Atan2 (binary); Rcp,
 // Sqrt, Rsqrt, Exp2, Log2, Exp, Sin, Cos, Abs, Saturate, Sign, Asin, Acos, Atan, Tanh, Erf
-// (unary); Select (ternary, operand c).
+// (unary); Select (ternary, operand c); in a half DAG also Div (binary: a / b, both operands
+// positive, the sign on the reference), Log (unary) and Fma (ternary: a * b + c, a and b
+// positive).
 struct DagNode {
   Op op = Op::Const;
   DagRef a, b, c;
-  float value = 0.0f;      // Const: the magnitude (>= 0 or NaN); the sign is on references
+  float value = 0.0f;      // Const: the magnitude (>= 0 or NaN; a binary16 value in a half DAG)
   int index = 0;           // Var, Param: index into the expression's tables
   bool log_scale = false;  // Mul: this is log2(x) * ln2, i.e. log(x)
 };
@@ -51,24 +61,26 @@ struct Dag {
   std::vector<DagRef> roots;  // the values computed: one, or several sharing their nodes
   std::vector<int> uses;      // per node: references from live nodes, +1 per root
   std::vector<std::string> variables, parameters;
+  bool half = false;  // lowered for binary16 arithmetic (see above)
 
   [[nodiscard]] const DagNode& node(int id) const { return nodes[static_cast<std::size_t>(id)]; }
   [[nodiscard]] bool is_const(int id) const { return node(id).op == Op::Const; }
   [[nodiscard]] bool live(int id) const { return uses[static_cast<std::size_t>(id)] > 0; }
 };
 
-// Throws shaderfit::Error for an empty or malformed expression.
-Dag lower_expression(const Expression& e);
+// Throws shaderfit::Error for an empty or malformed expression. `half`: lowered for binary16
+// arithmetic (see above).
+Dag lower_expression(const Expression& e, bool half = false);
 // Several values lowered into one DAG, equal subexpressions shared across them (one root each,
 // in order); all over the first expression's variable and parameter tables.
-Dag lower_expressions(std::span<const Expression> values);
+Dag lower_expressions(std::span<const Expression> values, bool half = false);
 
 // Infix text of a DAG value for listings: names from the expression, at most `max_chars`
 // characters (longer text is cut with "...").
 std::string dag_infix(const Dag& dag, DagRef r, std::size_t max_chars = 48);
 
-inline constexpr float kLn2 = 0.693147182f;    // float32 ln(2), as __logf scales log2
-inline constexpr float kLog2E = 1.44269502f;   // float32 log2(e), as __expf scales its argument
-inline constexpr float kInv2Pi = 0.159154937f; // float32 1/(2 pi), the SASS sin/cos pre-scale
+inline constexpr float kLn2 = 0.693147182f;     // float32 ln(2), as __logf scales log2
+inline constexpr float kLog2E = 1.44269502f;    // float32 log2(e), as __expf scales its argument
+inline constexpr float kInv2Pi = 0.159154937f;  // float32 1/(2 pi), the SASS sin/cos pre-scale
 
 }  // namespace shaderfit::lowering

@@ -7,17 +7,23 @@
 #include "cost/dag.hpp"
 #include "cost/program.hpp"
 #include "cost/select.hpp"
+#include "shaderfit/core/error.hpp"
 
 namespace shaderfit {
 
 namespace lowering {
 
-std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target, bool with_text) {
-  const Program program = build_program(dag, target != InstructionTarget::Generic);
+std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target,
+                                          bool with_text) {
+  if (dag.half != lowers_half(target))
+    throw Error("internal: a DAG lowered for the wrong arithmetic for its target");
+  const Program program =
+      build_program(dag, target == InstructionTarget::Sass || target == InstructionTarget::Ptx);
   switch (target) {
     case InstructionTarget::Sass: return select_sass(dag, program, with_text);
     case InstructionTarget::Ptx: return select_ptx(dag, program, with_text);
     case InstructionTarget::Generic: return select_generic(dag, program, with_text);
+    case InstructionTarget::SassHalf2: return select_sass_half2(dag, program, with_text);
   }
   return {};
 }
@@ -62,26 +68,36 @@ double throughput_weight(InstructionTarget /*target*/, InstructionUnit unit) {
 }
 
 InstructionCost instruction_cost(const Expression& e, InstructionTarget target) {
-  return lowering::tally(lowering::select_for(lowering::lower_expression(e), target, true), target);
+  const lowering::Dag dag = lowering::lower_expression(e, lowering::lowers_half(target));
+  return lowering::tally(lowering::select_for(dag, target, true), target);
 }
 
 int instruction_count(const Expression& e, InstructionTarget target) {
-  return static_cast<int>(lowering::select_for(lowering::lower_expression(e), target, false).size());
+  const lowering::Dag dag = lowering::lower_expression(e, lowering::lowers_half(target));
+  return static_cast<int>(lowering::select_for(dag, target, false).size());
 }
 
 std::string format_listing(const InstructionCost& cost) {
   std::size_t width = 0;
   for (const ListingLine& l : cost.listing) width = std::max(width, l.instruction.size());
   std::string out;
-  for (const ListingLine& l : cost.listing) out += fmt::format("{:<{}} ; {}\n", l.instruction, width, l.comment);
+  for (const ListingLine& l : cost.listing)
+    out += fmt::format("{:<{}} ; {}\n", l.instruction, width, l.comment);
   return out;
 }
 
 std::optional<InstructionTarget> instruction_target_from_name(std::string_view name) {
-  if (name == "sass") return InstructionTarget::Sass;
-  if (name == "ptx") return InstructionTarget::Ptx;
-  if (name == "generic") return InstructionTarget::Generic;
+  for (InstructionTarget t : kInstructionTargets)
+    if (name == instruction_target_name(t)) return t;
   return std::nullopt;
+}
+
+InstructionTarget parse_instruction_target(std::string_view name, const SourceLocation& where) {
+  if (const auto t = instruction_target_from_name(name)) return *t;
+  std::string known;
+  for (InstructionTarget t : kInstructionTargets)
+    known += (known.empty() ? "" : ", ") + std::string(instruction_target_name(t));
+  throw Error("unknown target '" + std::string(name) + "' (known: " + known + ")", where);
 }
 
 std::string_view instruction_target_name(InstructionTarget target) {
@@ -89,6 +105,7 @@ std::string_view instruction_target_name(InstructionTarget target) {
     case InstructionTarget::Sass: return "sass";
     case InstructionTarget::Ptx: return "ptx";
     case InstructionTarget::Generic: return "generic";
+    case InstructionTarget::SassHalf2: return "sass-half2";
   }
   return "sass";
 }

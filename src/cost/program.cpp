@@ -20,17 +20,24 @@ struct Plan {
   StepOp op = StepOp::Add;
   std::array<Want, 3> args{};
   int arity = 0;
-  int cost = 0;           // negations this form asks of operands that cannot give them for free
-  int skip = -1;          // a single-use operand folded into this step (Rcp into Div, Log2 into Log)
-  bool neg_arg = false;   // Exp in fused programs: exp(-x) with the sign folded into its scale
+  int cost = 0;          // negations this form asks of operands that cannot give them for free
+  int skip = -1;         // a single-use operand folded into this step (Rcp into Div, Log2 into Log)
+  bool neg_arg = false;  // Exp in fused programs: exp(-x) with the sign folded into its scale
   bool valid = false;
 };
 
 class ProgramBuilder {
  public:
   ProgramBuilder(const Dag& dag, bool fused)
-      : dag_(dag), fused_(fused), n_(dag.nodes.size()), fused_slot_(n_, -1), fuse_count_(n_, 0),
-        skipped_(n_, false), want_(n_, {0, 0}), chosen_(n_), sign_(n_, false) {}
+      : dag_(dag),
+        fused_(fused),
+        n_(dag.nodes.size()),
+        fused_slot_(n_, -1),
+        fuse_count_(n_, 0),
+        skipped_(n_, false),
+        want_(n_, {0, 0}),
+        chosen_(n_),
+        sign_(n_, false) {}
 
   Program build() {
     if (fused_) choose_fusions();
@@ -67,7 +74,10 @@ class ProgramBuilder {
     const DagNode& nd = node(id);
     switch (nd.op) {
       case Op::Const: return true;
-      case Op::Rcp: return true;  // -1 / x is one division
+      case Op::Rcp: return true;                                    // -1 / x is one division
+      case Op::Div: return is_const(nd.a.id) || is_const(nd.b.id);  // -a / K = a / -K
+      case Op::Fma:  // -fma(a, K, L) = fma(a, -K, -L)
+        return (is_const(nd.a.id) || is_const(nd.b.id)) && is_const(nd.c.id);
       case Op::Mul: {
         // A product flips for free when a factor does: a literal, or a single-use product or
         // reciprocal that flips (nvcc pushes negations down product chains the same way).
@@ -103,10 +113,14 @@ class ProgramBuilder {
   void product_args(DagRef p, DagRef q, bool neg, Plan& pl, int first) const {
     bool neg_p = false, neg_q = false;
     if (neg) {
-      if (is_const(p.id)) neg_p = true;
-      else if (is_const(q.id)) neg_q = true;
-      else if (flexible(q.id) && !flexible(p.id)) neg_q = true;
-      else neg_p = true;
+      if (is_const(p.id))
+        neg_p = true;
+      else if (is_const(q.id))
+        neg_q = true;
+      else if (flexible(q.id) && !flexible(p.id))
+        neg_q = true;
+      else
+        neg_p = true;
     }
     pl.args[static_cast<std::size_t>(first)] = want(p.id, neg_p);
     pl.args[static_cast<std::size_t>(first) + 1] = want(q.id, neg_q);
@@ -140,7 +154,8 @@ class ProgramBuilder {
           pl.args = {want(nd.b.id, false), want(nd.a.id, false), Want{}};
         } else {
           pl.op = StepOp::Sub;  // -(a + b) = -b - a or -a - b
-          const bool on_b = is_const(nd.b.id) || (!is_const(nd.a.id) && flexible(nd.b.id) && !flexible(nd.a.id));
+          const bool on_b =
+              is_const(nd.b.id) || (!is_const(nd.a.id) && flexible(nd.b.id) && !flexible(nd.a.id));
           pl.args = on_b ? std::array<Want, 3>{want(nd.b.id, true), want(nd.a.id, false), Want{}}
                          : std::array<Want, 3>{want(nd.a.id, true), want(nd.b.id, false), Want{}};
         }
@@ -150,12 +165,15 @@ class ProgramBuilder {
         pl.arity = 2;
         pl.op = StepOp::Mul;
         const int log2_id = node(nd.a.id).op == Op::Log2 ? nd.a.id : nd.b.id;
-        const int rcp_id = node(nd.b.id).op == Op::Rcp ? nd.b.id : (node(nd.a.id).op == Op::Rcp ? nd.a.id : -1);
-        if (nd.log_scale && !s && uses(log2_id) == 1 && fuse_count_[static_cast<std::size_t>(id)] == 0) {
+        const int rcp_id =
+            node(nd.b.id).op == Op::Rcp ? nd.b.id : (node(nd.a.id).op == Op::Rcp ? nd.a.id : -1);
+        if (nd.log_scale && !s && uses(log2_id) == 1 &&
+            fuse_count_[static_cast<std::size_t>(id)] == 0) {
           const DagRef x = node(log2_id).a;
           unary(StepOp::Log, want(x.id, x.neg));
           pl.skip = log2_id;
-        } else if (!fused_ && rcp_id >= 0 && nd.a.id != nd.b.id && uses(rcp_id) == 1) {
+        } else if (!fused_ && !dag_.half && rcp_id >= 0 && nd.a.id != nd.b.id &&
+                   uses(rcp_id) == 1) {
           const int other = rcp_id == nd.a.id ? nd.b.id : nd.a.id;
           pl.op = StepOp::Div;
           pl.args = {want(other, s), want(node(rcp_id).a.id, false), Want{}};
@@ -165,6 +183,17 @@ class ProgramBuilder {
         }
         break;
       }
+      case Op::Div:  // half DAGs: a / b, the sign put on an operand as for a product
+        pl.op = StepOp::Div;
+        pl.arity = 2;
+        product_args(nd.a, nd.b, s, pl, 0);
+        break;
+      case Op::Fma:  // half DAGs: -fma(a, b, c) = fma(-a, b, -c)
+        pl.op = StepOp::Fma;
+        pl.arity = 3;
+        product_args(nd.a, nd.b, s, pl, 0);
+        pl.args[2] = want(nd.c.id, nd.c.neg != s);
+        break;
       case Op::Rcp:
         pl.op = StepOp::Div;
         pl.arity = 2;
@@ -199,6 +228,7 @@ class ProgramBuilder {
           case Op::Rsqrt: unary(StepOp::Rsqrt, want(nd.a.id, nd.a.neg)); break;
           case Op::Exp2: unary(StepOp::Exp2, want(nd.a.id, nd.a.neg)); break;
           case Op::Log2: unary(StepOp::Log2, want(nd.a.id, nd.a.neg)); break;
+          case Op::Log: unary(StepOp::Log, want(nd.a.id, nd.a.neg)); break;  // half DAGs
           case Op::Exp:
             unary(StepOp::Exp, want(nd.a.id, nd.a.neg && !fused_));
             pl.neg_arg = nd.a.neg && fused_;
@@ -224,13 +254,15 @@ class ProgramBuilder {
     }
     // nvcc turns x - 1/y into a full-range division (five SASS instructions); x + -1/y stays one
     // MUFU.RCP. So a fused program never subtracts a reciprocal.
-    if (fused_ && pl.op == StepOp::Sub && !pl.args[1].literal && node(pl.args[1].id).op == Op::Rcp) {
+    if (fused_ && pl.op == StepOp::Sub && !pl.args[1].literal &&
+        node(pl.args[1].id).op == Op::Rcp) {
       pl.op = StepOp::Add;
       pl.args[1].neg = !pl.args[1].neg;
     }
     for (int k = 0; k < pl.arity; ++k) pl.cost += neg_cost(pl.args[static_cast<std::size_t>(k)]);
     // x*x with a sign asks one negation, not two.
-    if (pl.arity >= 2 && pl.args[0].id == pl.args[1].id && pl.args[0].neg && pl.args[1].neg && !pl.args[0].literal)
+    if (pl.arity >= 2 && pl.args[0].id == pl.args[1].id && pl.args[0].neg && pl.args[1].neg &&
+        !pl.args[0].literal)
       --pl.cost;
     return pl;
   }
@@ -274,7 +306,8 @@ class ProgramBuilder {
       const bool s = sign_[i];
       Operand self;
       if (pl.arity == 0) {
-        self = {node(id).op == Op::Var ? Operand::Kind::Var : Operand::Kind::Param, node(id).index, 0.0f};
+        self = {node(id).op == Op::Var ? Operand::Kind::Var : Operand::Kind::Param, node(id).index,
+                0.0f};
       } else {
         Step st;
         st.op = pl.op;
@@ -282,7 +315,8 @@ class ProgramBuilder {
         st.dag_id = id;
         st.negated = s;
         st.neg_arg = pl.neg_arg;
-        for (int k = 0; k < pl.arity; ++k) st.args[k] = resolve(pl.args[static_cast<std::size_t>(k)]);
+        for (int k = 0; k < pl.arity; ++k)
+          st.args[k] = resolve(pl.args[static_cast<std::size_t>(k)]);
         self = {Operand::Kind::Step, push(st), 0.0f};
       }
       value_[i][s ? 1 : 0] = self;
@@ -299,7 +333,8 @@ class ProgramBuilder {
     for (const DagRef& root : dag_.roots) prog_.results.push_back(resolve(want(root.id, root.neg)));
     for (Step& st : prog_.steps) {
       for (int k = 0; k < st.arity; ++k)
-        if (st.args[k].kind == Operand::Kind::Step) ++prog_.steps[static_cast<std::size_t>(st.args[k].index)].uses;
+        if (st.args[k].kind == Operand::Kind::Step)
+          ++prog_.steps[static_cast<std::size_t>(st.args[k].index)].uses;
     }
     for (const Operand& r : prog_.results)
       if (r.kind == Operand::Kind::Step) ++prog_.steps[static_cast<std::size_t>(r.index)].uses;
@@ -320,6 +355,8 @@ class ProgramBuilder {
 
 }  // namespace
 
-Program build_program(const Dag& dag, bool fused) { return ProgramBuilder(dag, fused).build(); }
+Program build_program(const Dag& dag, bool fused) {
+  return ProgramBuilder(dag, fused && !dag.half).build();
+}
 
 }  // namespace shaderfit::lowering

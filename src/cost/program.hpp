@@ -6,6 +6,9 @@
 //    whose uses were fused is not computed on its own;
 //  - unfused (GLSL, HLSL; the `generic` target): a*b + c stays a multiply and an add, and
 //    a * rcp(b) with a single-use reciprocal is one division.
+// A half DAG (dag.hpp) is always built unfused, and a * rcp(b) stays a product: its Div, Rcp,
+// Fma and Log nodes are one step each and nothing else merges, so that each step rounds where
+// evaluate_half (eval/precision.hpp) rounds.
 // Signs are resolved so that negations cost as little as the languages allow: a - b and b - a
 // are both one subtraction, a negative literal is free, -(a * K) is a * -K; what remains is an
 // explicit Neg step, one per value (docs/cost-model.md, "Negation").
@@ -19,11 +22,34 @@
 namespace shaderfit::lowering {
 
 enum class StepOp : std::uint8_t {
-  Add, Sub, Mul, Div, Fma, Neg, Abs,
-  Sqrt, Rsqrt, Exp2, Log2, Exp, Log, Sin, Cos, Sat, Min, Max,
-  Sign, CopySign, Select,
+  Add,
+  Sub,
+  Mul,
+  Div,
+  Fma,
+  Neg,
+  Abs,
+  Sqrt,
+  Rsqrt,
+  Exp2,
+  Log2,
+  Exp,
+  Log,
+  Sin,
+  Cos,
+  Sat,
+  Min,
+  Max,
+  Sign,
+  CopySign,
+  Select,
   // Library functions (cost/library_calls.hpp).
-  Asin, Acos, Atan, Atan2, Tanh, Erf,
+  Asin,
+  Acos,
+  Atan,
+  Atan2,
+  Tanh,
+  Erf,
 };
 
 struct Operand {
@@ -37,9 +63,9 @@ struct Step {
   StepOp op = StepOp::Add;
   Operand args[3];
   int arity = 0;
-  int dag_id = -1;      // the DAG node whose value (or negation) this step computes
-  bool negated = false; // the step computes minus that node's value
-  int uses = 0;         // operand references from later steps, +1 if it is the result
+  int dag_id = -1;       // the DAG node whose value (or negation) this step computes
+  bool negated = false;  // the step computes minus that node's value
+  int uses = 0;          // operand references from later steps, +1 if it is the result
   // Exp only, fused programs: the operand is read negated, exp(-x). nvcc folds that negation
   // into the log2(e) scale, so it is no instruction of its own.
   // Select: the condition is read negated, -a >= 0, which every language writes a <= 0 (the same

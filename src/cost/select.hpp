@@ -19,9 +19,19 @@ struct TargetInstruction {
 // The target's instructions for `program` (built fused for Sass and Ptx, unfused for Generic).
 std::vector<TargetInstruction> select_sass(const Dag& dag, const Program& program, bool with_text);
 std::vector<TargetInstruction> select_ptx(const Dag& dag, const Program& program, bool with_text);
-std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& program, bool with_text);
+std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& program,
+                                              bool with_text);
+// SassHalf2: the program of a half DAG (dag.hpp), as nvcc compiles codegen's __half2 form.
+std::vector<TargetInstruction> select_sass_half2(const Dag& dag, const Program& program,
+                                                 bool with_text);
 
-// The program of `dag` for the target (fused for Sass and Ptx), selected.
+// True for the targets that count half code: their DAG is lowered with half = true.
+constexpr bool lowers_half(InstructionTarget target) {
+  return target == InstructionTarget::SassHalf2;
+}
+
+// The program of `dag` for the target (fused for Sass and Ptx), selected. The DAG must be lowered
+// for the target's arithmetic (lowers_half).
 std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target, bool with_text);
 // The instructions counted per unit, weighted and listed.
 InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTarget target);

@@ -23,6 +23,7 @@ const SourceLocation kDomainField{"ProblemSource::domain"};
 const SourceLocation kSamplesField{"ProblemSource::samples"};
 const SourceLocation kInputsField{"ProblemSource::inputs"};
 const SourceLocation kTargetField{"ProblemSource::target"};
+const SourceLocation kSceneField{"ProblemSource::scene"};
 
 std::string join(const std::vector<std::string>& names) {
   std::string out;
@@ -62,6 +63,16 @@ void check_source(const ProblemSource& s) {
     throw Error("give one source of data, not both " + given[0].what + " and " + given[1].what,
                 *given[1].field);
   }
+  if (s.scene && given[0].field != &kReferenceField)
+    throw Error("a scene feeds a reference: " + given[0].what + " has its samples already",
+                kSceneField);
+  if (s.scene && !s.domain.empty())
+    throw Error("a scene supplies the reference's inputs: give no domain with it", kDomainField);
+  if (s.scene && s.samples != 0)
+    throw Error("a scene's samples are its pixels: give no number of samples with it",
+                kSamplesField);
+  if (!s.scene && s.scene_display)
+    throw Error("the display loss needs a scene (the pixels the function shades)", kSceneField);
   if (given[0].field == &kReferenceField) {
     if (!s.reference.formula.empty() &&
         (!s.reference.shader_source.empty() || !s.reference.shader_path.empty())) {
@@ -417,12 +428,88 @@ Problem load_reference(const ProblemSource& s) {
   return p;
 }
 
+// The reference at every shading sample of the scene; its variables must be scene quantities,
+// and the inputs the variables it uses.
+Problem load_scene(const ProblemSource& s) {
+  reference::ReferenceText text = s.reference;
+  SceneSpec spec = *s.scene;
+  std::string bound;
+  if (!text.formula.empty()) {
+    if (const std::optional<SceneReference> b = scene_reference(text.formula)) {
+      bound = text.formula;
+      text.formula = b->formula;
+      if (!spec.term) spec.term = b->term;
+    }
+  } else if (text.shader_source.empty()) {
+    text.shader_source = reference::read_shader_file(text.shader_path);
+  }
+  if (!spec.term)
+    throw Error(
+        "which factor of the specular term does the reference stand for? Give the term: F, V, D "
+        "or FV",
+        SourceLocation{"SceneSpec::term"});
+  const SceneSamples samples = render_scene(spec);
+  reference::Program program = reference::compile_reference(text);
+  if (program.inputs.empty())
+    throw Error("the reference uses no variable: there is nothing to approximate", kReferenceField);
+  std::vector<std::span<const double>> inputs;
+  for (const std::string& v : program.inputs)
+    inputs.push_back(samples.column(v, kReferenceField.source));
+  std::vector<std::vector<double>> outputs = program.evaluate_columns(inputs);
+
+  Problem p;
+  p.data.source = program.description;
+  for (std::size_t i = 0; i < program.inputs.size(); ++i)
+    p.data.add_numeric(program.inputs[i], std::vector<double>(inputs[i].begin(), inputs[i].end()));
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    if (!p.data.find(program.output_names[i]))
+      p.data.add_numeric(program.output_names[i], std::move(outputs[i]));
+  for (const std::string& n : s.inputs)
+    if (!contains(program.inputs, n)) {
+      if (p.data.find(n)) continue;  // a definition's output
+      const bool quantity = std::find(scene_quantity_names().begin(), scene_quantity_names().end(),
+                                      n) != scene_quantity_names().end();
+      throw Error(quantity ? "input '" + n + "' is a scene quantity the reference does not use " +
+                                 "(it uses " + join(program.inputs) + ")"
+                           : "input '" + n + "' is not a quantity of the " +
+                                 std::string(scene_kind_name(spec.kind)) + " scene",
+                  kInputsField);
+    }
+  choose_own_columns(p.data, "the scene's samples", s, p, program.inputs,
+                     std::string(reference::kReferenceOutput), "the reference's");
+  const std::vector<double>& target = p.data.numeric(p.target).values;
+  for (std::size_t r = 0; r < target.size(); ++r)
+    if (!std::isfinite(target[r]))
+      throw Error("the reference is NaN or infinite at sample " + std::to_string(r + 1) +
+                      " of the scene, where " + program.inputs[0] + " = " +
+                      number_text(inputs[0][r]),
+                  kReferenceField);
+  if (s.scene_display) {
+    p.data.add_numeric("weight", display_weights(samples, target));
+    p.weights = "weight";
+  }
+  const SceneSpec& used = samples.spec;
+  p.description = program.description + " as " + std::string(shading_term_name(*used.term)) +
+                  " in the " + std::string(scene_kind_name(used.kind)) + " scene, " +
+                  format_count(samples.samples()) + " shading samples of " +
+                  std::to_string(samples.width) + " x " + std::to_string(samples.height) +
+                  " pixels";
+  if (!bound.empty()) p.notes.push_back("the reference " + bound + " is " + text.formula);
+  if (s.scene_display)
+    p.notes.push_back(
+        "display loss: each sample weighted by its pixel's squared display slope (exposure, "
+        "tonemap, sRGB)");
+  p.scene = std::make_shared<const SceneSamples>(samples);
+  return p;
+}
+
 }  // namespace
 
 Problem load_problem(const ProblemSource& source) {
   check_source(source);
   if (!source.csv_path.empty()) return load_csv(source);
   if (!source.dataset.empty()) return load_dataset(source);
+  if (source.scene) return load_scene(source);
   return load_reference(source);
 }
 

@@ -2,6 +2,7 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/data/dataset.hpp"
+#include "shaderfit/eval/precision.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 
@@ -71,30 +72,22 @@ std::vector<double> evaluate_on(const Expression& e, const Dataset& data,
   return out;
 }
 
-std::vector<double> evaluate_on_f32(const Expression& e, const Dataset& data,
-                                    const EvalOptions& options) {
-  const std::vector<const double*> cols64 = bind(e, data);
-  const std::size_t n = data.rows();
-  std::vector<std::vector<float>> storage(cols64.size(), std::vector<float>(n));
-  std::vector<const float*> cols;
-  for (std::size_t c = 0; c < cols64.size(); ++c) {
-    for (std::size_t i = 0; i < n; ++i) storage[c][i] = static_cast<float>(cols64[c][i]);
-    cols.push_back(storage[c].data());
-  }
-  std::vector<float> out32(n);
-  evaluate(e, std::span<const float* const>(cols), std::span<float>(out32), options);
-  return std::vector<double>(out32.begin(), out32.end());
+std::vector<double> evaluate_on(const Expression& e, const Dataset& data, Precision precision) {
+  const std::vector<const double*> cols = bind(e, data);
+  std::vector<double> out(data.rows());
+  evaluate_in(precision, e, cols, out);
+  return out;
 }
 
 EvalFormulaResult evaluate_formula_on(std::string_view text, const std::string& source,
                                       const Dataset& data, std::span<const double> target,
-                                      std::span<const std::string> groups, bool float32) {
+                                      std::span<const std::string> groups, Precision precision) {
   EvalFormulaResult r;
   r.input = std::string(text);
   r.expression = parse_formula_on(text, data, source);
   const Expression& e = r.expression;
   r.formula = to_infix(e);
-  const std::vector<double> p = float32 ? evaluate_on_f32(e, data) : evaluate_on(e, data);
+  const std::vector<double> p = evaluate_on(e, data, precision);
   r.all = error_metrics(p, target);
   for (const std::string& g : groups) {
     for (const auto& [label, rows] : group_rows(group_labels(data, g)))

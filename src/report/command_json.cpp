@@ -98,7 +98,10 @@ std::string eval_json(const EvalReport& report) {
   json j;
   j["schema"] = "shaderfit.eval/1";
   j["data"] = {{"source", report.data}, {"rows", report.rows}, {"target", report.target}};
-  j["precision"] = report.float32 ? "float32" : "float64";
+  // "float64", "float32" or "float16": the names this schema has always used.
+  j["precision"] = report.precision == Precision::Half    ? "float16"
+                   : report.precision == Precision::Float ? "float32"
+                                                          : "float64";
   j["groups"] = report.groups;
   if (!report.uniform.empty()) j["uniform"] = report.uniform;
   const EvalFormulaResult* base = !report.results.empty() && report.results.front().baseline
@@ -164,16 +167,38 @@ json listing_json(const InstructionCost& c) {
 
 }  // namespace
 
-std::string cost_json(const Expression& e, std::span<const InstructionCost> costs,
-                      const InstructionCost& shown, const MaterialCosts* material) {
+CostTable cost_table(const Expression& e, InstructionTarget shown,
+                     const std::vector<std::string>& uniform, const SourceLocation& uniform_where) {
+  check_uniform_inputs(uniform, e.variables, uniform_where);
+  CostTable table;
+  if (!uniform.empty()) table.material = MaterialCosts{uniform, split_per_material(e, uniform), {}};
+  const Expression& counted = table.material ? table.material->split.per_pixel : e;
+  for (InstructionTarget t : kInstructionTargets) {
+    try {
+      InstructionCost c = instruction_cost(counted, t);
+      if (table.material)
+        table.material->material.push_back(material_instruction_cost(table.material->split, t));
+      if (t == shown) table.shown = table.costs.size();
+      table.costs.push_back(std::move(c));
+    } catch (const Error&) {
+      // An operator with no half form (sign, select, asin, ...) has no sass-half2 row.
+      if (t != InstructionTarget::SassHalf2 || t == shown) throw;
+    }
+  }
+  return table;
+}
+
+std::string cost_json(const Expression& e, const CostTable& table) {
+  const MaterialCosts* material = table.material ? &*table.material : nullptr;
+  const InstructionCost& shown = table.costs[table.shown];
   json j;
   j["schema"] = "shaderfit.cost/1";
   j["formula"] = to_infix(e);
   j["inputs"] = e.variables;
   j["parameters"] = e.parameters;
-  for (std::size_t k = 0; k < costs.size(); ++k) {
-    json& t = j["targets"][std::string(instruction_target_name(costs[k].target))];
-    t = unit_counts(costs[k]);
+  for (std::size_t k = 0; k < table.costs.size(); ++k) {
+    json& t = j["targets"][std::string(instruction_target_name(table.costs[k].target))];
+    t = unit_counts(table.costs[k]);
     if (material != nullptr) t["per_material"] = unit_counts(material->material[k]);
   }
   j["listing"] = listing_json(shown);
@@ -184,8 +209,7 @@ std::string cost_json(const Expression& e, std::span<const InstructionCost> cost
     for (const MaterialValue& v : material->split.values)
       values.push_back({{"name", v.name}, {"formula", to_infix(v.value)}});
     j["material_values"] = values;
-    for (const InstructionCost& c : material->material)
-      if (c.target == shown.target) j["material_listing"] = listing_json(c);
+    j["material_listing"] = listing_json(material->material[table.shown]);
   }
   return j.dump(2);
 }

@@ -25,6 +25,7 @@ nlohmann::json search_options_json(const SearchOptions& o) {
                    [&](Loss O::*) { return json(search_option_text(o, f)); },
                    [&](CostTarget O::*) { return json(search_option_text(o, f)); },
                    [&](ComputeDevice O::*) { return json(search_option_text(o, f)); },
+                   [&](Precision O::*) { return json(search_option_text(o, f)); },
                    [&](auto m) { return json(o.*m); }},
         f.member);
   }
@@ -94,6 +95,20 @@ nlohmann::json problem_source_json(const ProblemSource& p) {
   if (!p.domain.empty()) j["domain"] = p.domain;
   if (p.samples != 0) j["samples"] = p.samples;
   if (p.drop_nonfinite) j["drop_nonfinite"] = true;
+  if (p.scene) {
+    const SceneSpec& s = *p.scene;
+    json scene = {{"kind", scene_kind_name(s.kind)},
+                  {"size", s.size},
+                  {"exposure", s.exposure},
+                  {"display", p.scene_display}};
+    if (s.term) scene["term"] = shading_term_name(*s.term);
+    if (!s.materials.empty()) {
+      scene["materials"] = json::array();
+      for (const SceneMaterial& m : s.materials)
+        scene["materials"].push_back({{"roughness", m.roughness}, {"f0", m.f0}});
+    }
+    j["scene"] = scene;
+  }
   j["inputs"] = p.inputs;
   j["target"] = p.target;
   return j;
@@ -136,6 +151,28 @@ ProblemSource problem_source_from_json(const nlohmann::json& j, const std::strin
   if (j.contains("drop_nonfinite")) {
     if (!j["drop_nonfinite"].is_boolean()) throw bad("\"drop_nonfinite\" is not true or false");
     p.drop_nonfinite = j["drop_nonfinite"].get<bool>();
+  }
+  if (j.contains("scene")) {
+    const nlohmann::json& s = j["scene"];
+    if (!s.is_object()) throw bad("\"scene\" is not an object");
+    SceneSpec spec;
+    const std::optional<SceneKind> kind =
+        scene_kind_from_name(s.value("kind", std::string("sphere")));
+    if (!kind) throw bad("\"scene\": an unknown kind");
+    spec.kind = *kind;
+    if (s.contains("term")) {
+      spec.term = shading_term_from_name(s.value("term", std::string()));
+      if (!spec.term) throw bad("\"scene\": an unknown term");
+    }
+    if (s.contains("size") && s["size"].is_number_integer()) spec.size = s["size"].get<int>();
+    if (s.contains("exposure") && s["exposure"].is_number())
+      spec.exposure = s["exposure"].get<double>();
+    if (s.contains("materials") && s["materials"].is_array())
+      for (const nlohmann::json& m : s["materials"])
+        spec.materials.push_back(
+            {m.value("roughness", SceneMaterial{}.roughness), m.value("f0", SceneMaterial{}.f0)});
+    p.scene = spec;
+    p.scene_display = s.value("display", false);
   }
   texts("inputs", &p.inputs);
   text("target", &p.target);

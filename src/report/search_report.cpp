@@ -21,6 +21,7 @@
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/plot/chart.hpp"
+#include "shaderfit/report/scene_report.hpp"
 #include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit {
@@ -105,10 +106,12 @@ struct Scored {
   double cost = 0;
 };
 
+// `weights` as the search's rows weighed (a scene's display loss), or empty.
 Scored score(const std::string& label, const std::string& text, const Expression& e,
-             const Dataset& d, const std::string& target, std::span<const std::string> uniform) {
+             const Dataset& d, const std::string& target, std::span<const double> weights,
+             std::span<const std::string> uniform, Precision precision) {
   Scored s{label, text, e, {}, 0};
-  s.m = error_metrics(evaluate_on(s.e, d), d.numeric(target).values);
+  s.m = error_metrics(evaluate_on(s.e, d, precision), d.numeric(target).values, {}, weights);
   s.cost = expression_cost(s.e, CostTarget::Instructions, uniform);
   return s;
 }
@@ -196,6 +199,13 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
       j.contains("options") ? j["options"].value("loss", std::string("loss")) : "loss";
   std::vector<FrontMember> members;
   for (const ReadFrontMember& read : file.front) members.push_back(read.member);
+  const Precision run_precision =
+      j.contains("options") && j["options"].contains("precision") &&
+              j["options"]["precision"].is_string()
+          ? precision_from_name(j["options"]["precision"].get<std::string>())
+                .value_or(Precision::Double)
+          : Precision::Double;
+  const Precision precision = a.precision.value_or(run_precision);
 
   // The chosen formula: the rule's pick, or the caller's formula.
   ReportChoice chosen;
@@ -214,9 +224,10 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
 
   r.heading("Pareto front");
   // Columns for what the run measured: float32 errors, certified bounds.
-  bool float32 = false, certified = false, checked = false;
+  bool float32 = false, half = false, certified = false, checked = false;
   for (const FrontMember& m : members) {
     float32 = float32 || (std::isfinite(m.float32_max_abs) && m.float32_max_abs > 0);
+    half = half || m.half_max_abs > 0;
     certified = certified || m.certified_max_abs.has_value();
     checked = checked || m.checked_between_samples;
   }
@@ -229,6 +240,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
           split_instruction_count(m.expression, uniform, InstructionTarget::Sass).per_material));
     row.insert(row.end(), {number_text(m.metrics.mse), number_text(m.metrics.max_abs)});
     if (float32) row.push_back(number_text(m.float32_max_abs));
+    if (half) row.push_back(number_text(m.half_max_abs));
     if (certified)
       row.push_back(!m.certified_max_abs ? "—"
                     : std::isinf(*m.certified_max_abs)
@@ -246,6 +258,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     heads.insert(heads.begin() + 1, "per material");
   }
   if (float32) heads.push_back("max abs in float32");
+  if (half) heads.push_back("max abs in half");
   if (certified) heads.push_back("certified max abs");
   heads.insert(heads.end(), {"found at", "formula"});
   std::vector<bool> numeric(heads.size(), true);
@@ -261,6 +274,13 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     notes +=
         "In float32: the formula computed operation by operation in float32, as a shader "
         "computes it, against the reference. ";
+  if (half)
+    notes +=
+        "In half: every input, constant and operation rounded to binary16, as half-precision "
+        "shader code computes it (docs/precision.md). ";
+  if (run_precision != Precision::Double)
+    notes += "MSE and max abs are those of the formula computed in " +
+             std::string(precision_name(run_precision)) + ", the precision the run ranked by. ";
   if (certified)
     notes +=
         "Certified: a rigorous bound of the error on the whole domain by interval "
@@ -271,6 +291,9 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   // The data, when given, scores the baselines and draws curves.
   const std::string target = j.contains("data") ? j["data"].value("target", std::string("R")) : "R";
   std::vector<Scored> baselines;
+  std::span<const double> weights;
+  if (a.data != nullptr && a.problem != nullptr && !a.problem->weights.empty())
+    weights = a.data->numeric(a.problem->weights).values;
   Chart pareto;
   pareto.title = "Pareto front: MSE against cost";
   pareto.x_label =
@@ -291,7 +314,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   std::string pareto_caption = "The Pareto front: MSE against cost, one point per member";
   if (a.data != nullptr) {
     for (const ReportFormula& b : a.baselines) {
-      baselines.push_back(score(b.label, b.formula, b.expression, *a.data, target, uniform));
+      baselines.push_back(
+          score(b.label, b.formula, b.expression, *a.data, target, weights, uniform, precision));
       pareto.markers.push_back({b.label, baselines.back().cost, baselines.back().m.mse});
       pareto_caption += "; " + b.label + " = " + b.formula;
     }
@@ -318,7 +342,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     const Dataset& d = *a.data;
     std::vector<std::vector<std::string>> cmp;
     Scored c = score("chosen", chosen_text, parse_formula_on(chosen.formula, d, formula_location),
-                     d, target, uniform);
+                     d, target, weights, uniform, precision);
     c.label = fmt::format("chosen (cost {:g})", c.cost);
     auto row = [&](const Scored& s, const Scored* base) {
       return std::vector<std::string>{
@@ -386,8 +410,9 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
       std::vector<double> out(f.program.outputs.size()), in(inputs.size());
       for (int cell_row = 0; cell_row < kCells; ++cell_row)
         for (int col = 0; col < kCells; ++col) {
-          const double point[2] = {f.domain[0].lo + (col + 0.5) * f.domain[0].width() / kCells,
-                                   f.domain[1].lo + (cell_row + 0.5) * f.domain[1].width() / kCells};
+          const double point[2] = {
+              f.domain[0].lo + (col + 0.5) * f.domain[0].width() / kCells,
+              f.domain[1].lo + (cell_row + 0.5) * f.domain[1].width() / kCells};
           f.program.evaluate_all(point, out);
           for (std::size_t k = 0; k < inputs.size(); ++k)
             in[k] = out[static_cast<std::size_t>(inputs[k])];
@@ -438,6 +463,12 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
         caption += "; " + c.label + " = " + chosen_text;
         figures.add(ch, std::string("curves-") + mat.label, caption);
       }
+    }
+    if (a.problem != nullptr && a.problem->scene) {
+      std::vector<SceneFormula> shown;
+      for (const Scored& b : baselines) shown.push_back({b.label, b.e});
+      shown.push_back({c.label, c.e});
+      add_scene_section(r, *a.problem, shown, precision == Precision::Half, a.figure_directory);
     }
   }
   r.heading("Code");

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/precision.hpp"
 
 namespace shaderfit::search_detail {
 
@@ -42,6 +43,14 @@ Float32Check::Errors Float32Check::errors(const Expression& e) const {
     out.max_abs = std::max(out.max_abs, err);
     if (t != 0) out.max_rel = std::max(out.max_rel, err / std::abs(t));
   }
+  std::vector<double> half(rows);
+  evaluate_in(Precision::Half, e, cols64, half);
+  for (std::size_t i = 0; i < rows; ++i) {
+    const double t = problem_.target[i];
+    const double err = std::isfinite(half[i]) ? std::abs(half[i] - t) : kInf;
+    out.half_max_abs = std::max(out.half_max_abs, err);
+    if (t != 0) out.half_max_rel = std::max(out.half_max_rel, err / std::abs(t));
+  }
   return out;
 }
 
@@ -58,6 +67,8 @@ void Float32Check::apply(FrontMember& m) const {
   m.float32_stable = m.float32_max_abs_diff <= bound(m);
   m.float32_max_abs = e.max_abs;
   m.float32_max_rel = e.max_rel;
+  m.half_max_abs = e.half_max_abs;
+  m.half_max_rel = e.half_max_rel;
 }
 
 }  // namespace shaderfit::search_detail

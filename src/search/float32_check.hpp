@@ -3,7 +3,7 @@
 //
 //   Float32Check check(problem);
 //   check.apply(member);   // sets member.float32_max_abs_diff, float32_stable, float32_max_abs
-//                          // and float32_max_rel
+//                          // float32_max_rel, half_max_abs and half_max_rel
 #pragma once
 
 #include <vector>
@@ -35,6 +35,8 @@ class Float32Check {
     double max_abs_diff = 0;
     double max_abs = 0;
     double max_rel = 0;
+    double half_max_abs = 0;  // the formula computed in half (eval/precision.hpp)
+    double half_max_rel = 0;
   };
   [[nodiscard]] Errors errors(const Expression& e) const;
   [[nodiscard]] double bound(const FrontMember& m) const;

@@ -144,7 +144,9 @@ json front_member_json(const FrontMember& m, FrontJson style) {
             {"float32_max_abs_diff", number(m.float32_max_abs_diff)},
             {"float32_stable", m.float32_stable},
             {"float32_max_abs", number(m.float32_max_abs)},
-            {"float32_max_rel", number(m.float32_max_rel)}};
+            {"float32_max_rel", number(m.float32_max_rel)},
+            {"half_max_abs", number(m.half_max_abs)},
+            {"half_max_rel", number(m.half_max_rel)}};
   if (!m.uniform.empty()) {
     j["uniform"] = m.uniform;
     j["material_cost"] = number(m.material_cost);
@@ -266,6 +268,8 @@ ReadFrontMember front_member_from_json(const json& m, const std::vector<std::str
   f.float32_max_abs_diff = result_number(m, "float32_max_abs_diff", where);
   f.float32_max_abs = result_number(m, "float32_max_abs", where);
   f.float32_max_rel = result_number(m, "float32_max_rel", where);
+  if (m.contains("half_max_abs")) f.half_max_abs = result_number(m, "half_max_abs", where);
+  if (m.contains("half_max_rel")) f.half_max_rel = result_number(m, "half_max_rel", where);
   f.checked_between_samples = m.contains("max_abs_checked");
   if (m.contains("certified_max_abs")) {
     // null: no finite bound was found.

@@ -106,6 +106,12 @@ const SearchOptionField kFields[] = {
      .role = Role::Search,
      .help = "mse, rmse, max_abs, max_rel, rel or log",
      .choices = "mse, rmse, max_abs, max_rel, rel, log"},
+    {.name = "precision",
+     .member = &O::precision,
+     .role = Role::Search,
+     .help = "the arithmetic the shader runs the formula in: double, float or half; the front "
+             "ranks each formula's error computed in it",
+     .choices = "double, float, half"},
     {.name = "cost",
      .member = &O::cost,
      .role = Role::Search,
@@ -369,6 +375,7 @@ OptionKind search_option_kind(const SearchOptionField& field) {
                  [](Loss O::*) { return OptionKind::Choice; },
                  [](CostTarget O::*) { return OptionKind::Choice; },
                  [](ComputeDevice O::*) { return OptionKind::Choice; },
+                 [](Precision O::*) { return OptionKind::Choice; },
                  [](auto) { return OptionKind::Integer; }},
       field.member);
 }
@@ -420,6 +427,7 @@ std::string search_option_text(const SearchOptions& o, const SearchOptionField& 
                  [&](Loss O::*m) { return std::string(loss_name(o.*m)); },
                  [&](CostTarget O::*m) { return std::string(cost_target_name(o.*m)); },
                  [&](ComputeDevice O::*m) { return std::string(device_name(o.*m)); },
+                 [&](Precision O::*m) { return std::string(precision_name(o.*m)); },
                  [&](auto m) { return std::to_string(o.*m); }},
       field.member);
 }
@@ -476,6 +484,7 @@ void set_search_option(SearchOptions& o, const SearchOptionField& f, std::string
           [&](ComputeDevice O::*m) {
             o.*m = choice_from<ComputeDevice>(f, text, device_from_name);
           },
+          [&](Precision O::*m) { o.*m = choice_from<Precision>(f, text, precision_from_name); },
           [&](auto m) { o.*m = integer_from<std::remove_reference_t<decltype(o.*m)>>(f, text); }},
       f.member);
 }

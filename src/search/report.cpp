@@ -54,15 +54,16 @@ std::string front_table(const SearchSummary& s, Loss loss, const PrintOptions& p
   for (const FrontMember& m : s.front) certified = certified || m.certified_max_abs.has_value();
   std::string out = fmt::format("{:>6} {:>5}", "cost", "nodes");
   if (loss_column) out += fmt::format(" {:>10}", loss_name(loss));
-  out += fmt::format(" {:>10} {:>10} {:>11}", "mse", "max_abs", "f32 max_abs");
+  out +=
+      fmt::format(" {:>10} {:>10} {:>11} {:>11}", "mse", "max_abs", "f32 max_abs", "f16 max_abs");
   if (certified) out += fmt::format(" {:>11}", "certified");
   out += fmt::format(" {:>10}  {}\n", "found", "formula");
   bool unstable = false, loose = false;
   for (const FrontMember& m : s.front) {
     out += fmt::format("{:>6g} {:>5}", m.cost, m.nodes);
     if (loss_column) out += fmt::format(" {:>10.4g}", m.loss);
-    out += fmt::format(" {:>10.4g} {:>10.4g} {:>11.4g}", m.metrics.mse, m.metrics.max_abs,
-                       m.float32_max_abs);
+    out += fmt::format(" {:>10.4g} {:>10.4g} {:>11.4g} {:>11.4g}", m.metrics.mse, m.metrics.max_abs,
+                       m.float32_max_abs, m.half_max_abs);
     if (certified) {
       // "*": the budget ended first; the bound holds but is looser than the tolerance.
       const bool done =

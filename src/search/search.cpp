@@ -22,6 +22,7 @@
 #include "search/uniform_starts.hpp"
 #include "search/verify_front.hpp"
 #include "shaderfit/cost/per_material.hpp"
+#include "shaderfit/eval/precision.hpp"
 
 namespace shaderfit {
 
@@ -303,6 +304,14 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
   *summary = std::move(s);
 }
 
+// The target and the inputs must fit in half (check_fits_half).
+void check_half_range(const SearchProblem& problem) {
+  const SourceLocation where{"SearchOptions::precision"};
+  check_fits_half(problem.target, "the target", where);
+  for (std::size_t c = 0; c < problem.inputs.size(); ++c)
+    check_fits_half(problem.inputs[c], "input '" + problem.input_names[c] + "'", where);
+}
+
 }  // namespace
 
 void run_search(const SearchOptions& given, const SearchProblem& problem, SearchSummary* summary) {
@@ -319,6 +328,7 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return !(t > 0); }))
     throw Error("the log loss needs a target that is always > 0", {"SearchOptions::loss"});
 
+  if (options.precision == Precision::Half) check_half_range(problem);
   check_uniform_inputs(options.uniform, problem.input_names, {"SearchOptions::uniform"});
   const std::vector<search_detail::StartFormula> starts =
       search_detail::parse_start_formulas(options, problem);

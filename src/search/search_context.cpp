@@ -9,6 +9,7 @@
 #include "search/checkpoint.hpp"
 #include "search/uniform_terminals.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/precision.hpp"
 #include "shaderfit/expr/print.hpp"
 
 namespace shaderfit::search_detail {
@@ -99,6 +100,21 @@ void SearchContext::predict(const Expression& e, std::span<double> out) {
   node_evaluations.fetch_add(e.size() * rows, std::memory_order_relaxed);
 }
 
+void SearchContext::predict_shown(const Expression& e, std::span<double> out) {
+  if (options.precision == Precision::Double) {
+    predict(e, out);
+    return;
+  }
+  std::vector<const double*> cols(e.variables.size(), nullptr);
+  for (std::size_t i = 0; i < e.variables.size(); ++i) {
+    auto it = std::find(problem.input_names.begin(), problem.input_names.end(), e.variables[i]);
+    if (it != problem.input_names.end())
+      cols[i] = columns[static_cast<std::size_t>(it - problem.input_names.begin())];
+  }
+  evaluate_in(options.precision, e, cols, out);
+  node_evaluations.fetch_add(e.size() * rows, std::memory_order_relaxed);
+}
+
 ErrorMetrics SearchContext::metrics_of(std::span<const double> prediction) const {
   return error_metrics(prediction, problem.target, {}, problem.weights);
 }
@@ -180,10 +196,10 @@ bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin
       m.cost = std::min(m.cost, formula_cost(f, options));
     if (!front.would_enter(m.cost, m.loss)) return false;
   }
-  // What the front shows is what was scored: e itself, in float64, on every row. (Only
-  // formulas that would enter get this far, so the extra evaluation is rare.)
+  // What the front shows is what was scored: e itself, in options.precision, on every row.
+  // (Only formulas that would enter get this far, so the extra evaluation is rare.)
   std::vector<double> prediction(rows);
-  predict(e, prediction);
+  predict_shown(e, prediction);
   for (double v : prediction)
     if (!std::isfinite(v)) return false;
   m.metrics = metrics_of(prediction);

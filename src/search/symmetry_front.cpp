@@ -35,7 +35,7 @@ FrontMember SymmetricFront::reflected(const FrontMember& half) {
   m.cost = formula_cost(m.expression, options_);
   m.nodes = m.expression.size();
   std::vector<double> prediction(whole_.rows);
-  whole_.predict(m.expression, prediction);
+  whole_.predict_shown(m.expression, prediction);
   m.metrics = whole_.metrics_of(prediction);
   m.loss = loss_value(options_.loss, m.metrics);
   return m;

@@ -148,7 +148,7 @@ class Tidier {
     const double cost = formula_cost(lifted(candidate, *original_), options_);
     if (!(cost <= cost_)) return false;
     std::vector<double> prediction(ctx_.rows);
-    ctx_.predict(candidate, prediction);
+    ctx_.predict_shown(candidate, prediction);
     for (double v : prediction)
       if (!std::isfinite(v)) return false;
     const ErrorMetrics metrics = ctx_.metrics_of(prediction);
@@ -163,9 +163,9 @@ class Tidier {
   }
 
   // A min, max, saturate, abs or select whose result on the rows is one of its operands (or
-  // saturate's bound 1, or abs's operand negated) is replaced by it: a clamp that never acts on the data is no
-  // part of the function it shows, and outside the rows (a wider domain) it would cut it.
-  // Repeated while one is dropped; each replacement passes keep().
+  // saturate's bound 1, or abs's operand negated) is replaced by it: a clamp that never acts on the
+  // data is no part of the function it shows, and outside the rows (a wider domain) it would cut
+  // it. Repeated while one is dropped; each replacement passes keep().
   void drop_idle_branches() {
     for (int step = 0; step < kMaxSteps; ++step) {
       const Expression base = current_;

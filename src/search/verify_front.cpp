@@ -13,6 +13,7 @@
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
+#include "shaderfit/eval/precision.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/verify/certify.hpp"
 #include "shaderfit/verify/worst_case.hpp"
@@ -140,6 +141,15 @@ std::vector<FrontMember> verify_front(const SearchOptions& options, const Search
     }
     m.metrics = c.metrics;
     m.loss = c.loss;
+    if (options.precision != Precision::Double) {
+      // The error in the shader's precision at the samples; between them the float64 check's.
+      std::vector<const double*> columns;
+      for (const std::vector<double>& col : problem.inputs) columns.push_back(col.data());
+      std::vector<double> f(problem.target.size());
+      evaluate_in(options.precision, m.expression, columns, f);
+      m.metrics = with_check(error_metrics(f, problem.target, {}, problem.weights), c.check);
+      m.loss = loss_value(options.loss, m.metrics);
+    }
     m.checked_between_samples = true;
     m.worst_point =
         c.check.max_abs >= c.metrics.max_abs ? c.check.worst_abs.point : std::vector<double>{};

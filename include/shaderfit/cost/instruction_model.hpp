@@ -17,6 +17,10 @@
 //    and abs.f32, sin/cos one instruction each).
 //  - Generic: one operation per operator of the generated GLSL/HLSL, with no fusion (a*b + c is
 //    two, a / b one, -x one): what glslang emits as SPIR-V arithmetic instructions.
+//  - SassHalf2: the SASS of the generated CUDA __half2 function (codegen's half form, NAME_x2),
+//    which computes two values at once: the count is per __half2 call, half of it per value.
+//    HADD2/HMUL2/HFMA2/HMNMX2 one each; exp2, log2, sqrt, ... convert both halves to float, run
+//    two MUFU ops and pack the results back (docs/precision.md, "Half cost").
 // Inputs, parameters and literal constants cost nothing; parameters count as run-time inputs.
 #pragma once
 
@@ -26,16 +30,23 @@
 #include <string_view>
 #include <vector>
 
+#include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/expression.hpp"
 
 namespace shaderfit {
 
-enum class InstructionTarget : std::uint8_t { Sass, Ptx, Generic };
+enum class InstructionTarget : std::uint8_t { Sass, Ptx, Generic, SassHalf2 };
+
+// Every target, in the order tables list them.
+inline constexpr InstructionTarget kInstructionTargets[] = {
+    InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic,
+    InstructionTarget::SassHalf2};
 
 // The hardware unit an instruction issues to; it sets the instruction's throughput weight.
 enum class InstructionUnit : std::uint8_t {
-  Fp32,    // FADD, FMUL, FFMA (and their PTX / SPIR-V counterparts)
-  MinMax,  // FMNMX, and the compares, selects and bit operations of select, sign and copysign
+  Fp32,    // FADD, FMUL, FFMA (and their PTX / SPIR-V counterparts); HADD2, HMUL2, HFMA2, F2FP
+  MinMax,  // FMNMX, and the compares, selects and bit operations of select, sign and copysign;
+           // HMNMX2, VHMNMX, HSET2, HSETP2, PLOP3
   Mufu,    // the multi-function unit: rcp, rsqrt, sqrt, exp2, log2, sin, cos
 };
 
@@ -68,8 +79,10 @@ std::string format_listing(const InstructionCost& cost);
 // in src/cost/instruction_model.cpp).
 double throughput_weight(InstructionTarget target, InstructionUnit unit);
 
-// "sass" / "ptx" / "generic"; nullopt for any other name.
+// "sass" / "ptx" / "generic" / "sass-half2"; nullopt for any other name.
 std::optional<InstructionTarget> instruction_target_from_name(std::string_view name);
+// The same, or shaderfit::Error at `where` that lists the known names.
+InstructionTarget parse_instruction_target(std::string_view name, const SourceLocation& where);
 std::string_view instruction_target_name(InstructionTarget target);
 std::string_view instruction_unit_name(InstructionUnit unit);
 

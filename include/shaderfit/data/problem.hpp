@@ -15,12 +15,14 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "shaderfit/data/dataset.hpp"
 #include "shaderfit/reference/function.hpp"
 #include "shaderfit/reference/language.hpp"
+#include "shaderfit/scene/scene.hpp"
 
 namespace shaderfit {
 
@@ -43,6 +45,14 @@ struct ProblemSource {
   // Samples where the target or an input is NaN or infinite are an error, or dropped when this
   // is set (said in notes).
   bool drop_nonfinite = false;
+  // With a reference, instead of a domain: a scene (scene/scene.hpp), whose shading samples are
+  // the rows. The reference is a formula of the scene's quantities, or the name of a built-in
+  // reference the scene binds to them (scene_reference: "fresnel-dielectric-f0" reads v_dot_h and
+  // f0, and stands for the factor F unless scene->term says otherwise). The rows' weights
+  // (Problem::weights) are the display loss's (display_weights) when `scene_display` is set,
+  // else 1: each sample weighs as the pixel it lights. Errors at "ProblemSource::scene".
+  std::optional<SceneSpec> scene;
+  bool scene_display = false;
   // The columns the formulas read and the one they approximate. Empty: inferred (a CSV: the
   // numeric column named target, else y, else the last numeric one not among the inputs; the
   // numeric columns other than the target; a data set: its own (fresnel_seed.hpp,
@@ -69,6 +79,11 @@ struct Problem {
   // A built-in data set's own search operators, "" for the rest (whose default is "auto").
   std::string operators;
   std::string evolution_operators;
+  // The column of row weights ("" : every row weighs 1): a scene's.
+  std::string weights;
+  // Set for a scene: its samples (the rows, in order), for pictures of the reference and of
+  // formulas (scene_images).
+  std::shared_ptr<const SceneSamples> scene;
 };
 
 // Throws shaderfit::Error located at the field ("ProblemSource::domain", the reference's source

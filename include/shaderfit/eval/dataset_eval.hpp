@@ -15,6 +15,7 @@
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/expr/precision.hpp"
 
 namespace shaderfit {
 
@@ -32,9 +33,9 @@ Expression parse_formula_on(std::string_view text, const Dataset& data,
 std::vector<double> evaluate_on(const Expression& e, const Dataset& data,
                                 const EvalOptions& options = {});
 
-// The same in float32: inputs rounded to float, evaluated in float, widened back.
-std::vector<double> evaluate_on_f32(const Expression& e, const Dataset& data,
-                                    const EvalOptions& options = {});
+// The same in `precision` (eval/precision.hpp: float rounds the inputs and computes in float,
+// half rounds every operation to binary16), widened back.
+std::vector<double> evaluate_on(const Expression& e, const Dataset& data, Precision precision);
 
 // A formula's errors on a data set, overall and per group (what `shaderfit eval` reports).
 struct EvalGroupResult {
@@ -69,10 +70,11 @@ void check_uniform_in_groups(const Dataset& data, std::span<const std::string> u
                              std::span<const std::string> groups);
 
 // Parses `text` on `data` (parse_formula_on, errors located at `source`), evaluates it in
-// float64 or, with `float32`, as a shader would, and measures it against `target` on every row
-// and on the rows of each value of each column in `groups` (numeric values by format_number).
+// `precision` (float64, or float32 or half as a shader would), and measures it against `target` on
+// every row and on the rows of each value of each column in `groups` (numeric values by
+// format_number).
 EvalFormulaResult evaluate_formula_on(std::string_view text, const std::string& source,
                                       const Dataset& data, std::span<const double> target,
-                                      std::span<const std::string> groups, bool float32);
+                                      std::span<const std::string> groups, Precision precision);
 
 }  // namespace shaderfit

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -33,10 +34,10 @@ struct EvalReport {
   std::string data;  // names the data ("fresnel-seed (seed 1)")
   std::size_t rows = 0;
   std::string target;
-  bool float32 = false;
-  std::vector<std::string> groups;         // the grouping columns
-  std::vector<std::string> uniform;        // per-material inputs: each formula's two costs
-  std::vector<EvalFormulaResult> results;  // the baseline first, when there is one
+  Precision precision = Precision::Double;  // what the formulas were computed in
+  std::vector<std::string> groups;          // the grouping columns
+  std::vector<std::string> uniform;         // per-material inputs: each formula's two costs
+  std::vector<EvalFormulaResult> results;   // the baseline first, when there is one
 };
 
 // shaderfit.eval/1; metrics of candidates carry their change against the baseline.
@@ -50,10 +51,24 @@ struct MaterialCosts {
   std::vector<InstructionCost> material;
 };
 
-// shaderfit.cost/1: the counts per target and the listing of `shown` (with `material`, the
-// per-pixel counts and listing, and the per-material ones beside them).
-std::string cost_json(const Expression& formula, std::span<const InstructionCost> costs,
-                      const InstructionCost& shown, const MaterialCosts* material = nullptr);
+// What `shaderfit cost` shows: the counts on every target of kInstructionTargets (sass-half2
+// is left out for an operator with no half form, unless it is `shown`) and which one's listing
+// is shown. With uniform inputs the counts are the per-pixel part's, the per-material ones in
+// `material`.
+struct CostTable {
+  std::vector<InstructionCost> costs;
+  std::optional<MaterialCosts> material;
+  std::size_t shown = 0;  // index into costs
+};
+
+// Throws shaderfit::Error at `uniform_where` for a bad uniform list (check_uniform_inputs), and
+// for a formula the shown target cannot compile.
+CostTable cost_table(const Expression& formula, InstructionTarget shown,
+                     const std::vector<std::string>& uniform, const SourceLocation& uniform_where);
+
+// shaderfit.cost/1: the counts per target and the listing of the shown one (with per-material
+// inputs, the per-pixel counts and listing, and the per-material ones beside them).
+std::string cost_json(const Expression& formula, const CostTable& table);
 
 // shaderfit.rational/1.
 std::string rational_json(const rational::RationalReport& report);

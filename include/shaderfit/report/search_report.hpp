@@ -12,11 +12,14 @@
 #pragma once
 
 #include <nlohmann/json_fwd.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "shaderfit/data/dataset.hpp"
+#include "shaderfit/data/problem.hpp"
 #include "shaderfit/expr/expression.hpp"
+#include "shaderfit/expr/precision.hpp"
 #include "shaderfit/reference/function.hpp"
 #include "shaderfit/report/html.hpp"
 #include "shaderfit/search/choice.hpp"
@@ -37,6 +40,10 @@ struct SearchReportOptions {
   // formula's error is then also drawn, in one variable as a curve at the samples, in two as a
   // map over the whole domain.
   const reference::ReferenceFunction* reference = nullptr;
+  // The problem behind `data`, when it is a scene (Problem::scene): the page then shows the
+  // baselines' and the chosen formula's pictures and FLIP (report/scene_report.hpp), computed in
+  // half too where the precision is half.
+  const Problem* problem = nullptr;
   std::vector<ReportFormula> baselines;  // scored only with data; labels go in plot keys
   // The chosen formula, shown as code: the front member `choice` picks (search/choice.hpp; the
   // knee by default), or `formula` when not empty (any formula over the front's inputs).
@@ -49,6 +56,10 @@ struct SearchReportOptions {
   // any, costs are per pixel with the per-material count beside them, and the code is in two
   // parts.
   std::vector<std::string> uniform;
+  // The arithmetic the baselines and the chosen formula are scored in (eval/precision.hpp);
+  // unset: the run's ("precision" in its options), else double. The front's own columns are
+  // the run's; a half column is shown where the run measured one.
+  std::optional<Precision> precision;
 };
 
 // What the report chose, and how and why, in words (for a closing line on the command line).

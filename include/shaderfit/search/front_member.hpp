@@ -56,6 +56,10 @@ struct FrontMember {
   // metrics.max_abs: the rows, and where a reference is known the points checked between them.
   double float32_max_abs = 0;
   double float32_max_rel = 0;
+  // The same in half (eval/precision.hpp: inputs, constants and every operation rounded to
+  // binary16) over the rows; +inf where half is not finite (overflow beyond 65504).
+  double half_max_abs = 0;
+  double half_max_rel = 0;
   // Where the problem has a reference (SearchProblem::reference): metrics.max_abs and max_rel
   // hold the largest error found between the samples as well as at them (verify/worst_case.hpp),
   // and worst_point the domain point of the largest |error| (domain order).

@@ -29,6 +29,7 @@
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/op.hpp"
+#include "shaderfit/expr/precision.hpp"
 #include "shaderfit/gpu/device.hpp"
 #include "shaderfit/search/communicator.hpp"
 #include "shaderfit/search/front_member.hpp"
@@ -75,6 +76,11 @@ struct SearchOptions {
 
   Loss loss = Loss::Mse;
   CostTarget cost = CostTarget::Instructions;
+  // The arithmetic the shader computes the formula in (eval/precision.hpp). Half: every front
+  // member's loss and metrics are those of its half evaluation, so the front ranks what a half
+  // shader computes; the search's own fits and screens stay in float64 and float32. Float32 and
+  // half errors are reported for every member whatever the precision.
+  Precision precision = Precision::Double;
 
   // Operators formulas may use (Op::IPow stands for x^2 .. x^max_power) and literal constants
   // (their negatives come free with negation). Either list may be kAutoOperators ("auto", the
@@ -183,8 +189,8 @@ using SearchOptionMember =
                  std::optional<std::int64_t> SearchOptions::*,
                  std::optional<SearchTarget> SearchOptions::*, std::vector<double> SearchOptions::*,
                  std::vector<std::string> SearchOptions::*, std::vector<Op> SearchOptions::*,
-                 Loss SearchOptions::*, CostTarget SearchOptions::*,
-                 ComputeDevice SearchOptions::*>;
+                 Loss SearchOptions::*, CostTarget SearchOptions::*, ComputeDevice SearchOptions::*,
+                 Precision SearchOptions::*>;
 
 // The kinds, as a Python binding or a form would name them.
 enum class OptionKind {
