@@ -27,7 +27,8 @@ if(SHADERFIT_HAVE_MPI)
   shaderfit_warnings(shaderfit_mpi)
   if(SHADERFIT_BUILD_TESTS)
     # Runs mpirun itself (each test skips with "skipped: mpirun not found" without it).
-    add_executable(shaderfit_mpi_tests apps/shaderfit-mpi/mpi_search_test.cpp)
+    add_executable(shaderfit_mpi_tests apps/shaderfit-mpi/mpi_search_test.cpp
+                                      apps/shaderfit-mpi/mpi_batch_test.cpp)
     target_link_libraries(shaderfit_mpi_tests PRIVATE shaderfit GTest::gtest_main
                           nlohmann_json::nlohmann_json)
     target_compile_definitions(shaderfit_mpi_tests PRIVATE

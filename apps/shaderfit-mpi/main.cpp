@@ -4,6 +4,7 @@
 // A separate program so that shaderfit itself neither links MPI nor pays for starting it.
 #include <mpi.h>
 
+#include <cstdlib>
 #include <iostream>
 #include <sstream>
 
@@ -26,6 +27,13 @@ int main(int argc, char** argv) {
       // stops, as the others may be waiting for it.
       if (!leader) std::cerr << "rank " << world.rank() << ": " << held.str() << std::flush;
       MPI_Abort(MPI_COMM_WORLD, status);
+    }
+    // A rank died (batch: its entry was finished by another): MPI_Finalize would wait for it
+    // for ever, so the survivors end here, their output flushed.
+    if (world.lost()) {
+      std::cout.flush();
+      std::cerr.flush();
+      std::_Exit(status);
     }
   }
   MPI_Finalize();

@@ -10,6 +10,7 @@ namespace shaderfit::mpi {
 namespace {
 
 constexpr int kExchangeTag = 17;
+constexpr int kMessageTag = 23;
 
 // Waits for `request`, sleeping between tests: a waiting rank uses almost no CPU.
 void wait(MPI_Request& request) {
@@ -31,7 +32,48 @@ int byte_count(std::size_t n) {
 MpiCommunicator::MpiCommunicator(MPI_Comm comm) : comm_(comm) {
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &size_);
+  // A rank that dies must not end the others' calls with an abort (batch: its entry is handed
+  // out again; mpirun must be asked to keep the job, --mca orte_enable_recovery 1).
+  MPI_Comm_set_errhandler(comm_, MPI_ERRORS_RETURN);
 }
+
+void MpiCommunicator::reap_sends() {
+  for (auto it = sends_.begin(); it != sends_.end();) {
+    int done = 0;
+    MPI_Test(&it->request, &done, MPI_STATUS_IGNORE);
+    it = done != 0 ? sends_.erase(it) : std::next(it);
+  }
+}
+
+void MpiCommunicator::send(int to, std::string_view bytes) {
+  reap_sends();
+  PendingSend& p = sends_.emplace_back();
+  p.bytes = std::string(bytes);
+  MPI_Isend(p.bytes.data(), byte_count(p.bytes.size()), MPI_BYTE, to, kMessageTag, comm_,
+            &p.request);
+}
+
+std::optional<std::pair<int, std::string>> MpiCommunicator::receive(double timeout_s) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
+  for (;;) {
+    reap_sends();
+    int ready = 0;
+    MPI_Status status;
+    MPI_Iprobe(MPI_ANY_SOURCE, kMessageTag, comm_, &ready, &status);
+    if (ready != 0) {
+      int n = 0;
+      MPI_Get_count(&status, MPI_BYTE, &n);
+      std::string message(static_cast<std::size_t>(n), '\0');
+      MPI_Recv(message.data(), n, MPI_BYTE, status.MPI_SOURCE, kMessageTag, comm_,
+               MPI_STATUS_IGNORE);
+      return std::pair{status.MPI_SOURCE, std::move(message)};
+    }
+    if (std::chrono::steady_clock::now() >= deadline) return std::nullopt;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+void MpiCommunicator::forget(int /*rank*/) { lost_ = true; }
 
 std::vector<std::string> MpiCommunicator::all_gather(std::string_view mine) {
   int n = byte_count(mine.size());

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <csignal>
 #include <iostream>
 
 #include "shaderfit/core/error.hpp"
@@ -209,6 +210,24 @@ void add_precision_option(CLI::App* cmd, std::string& precision, const std::stri
                       ", every operation rounded as a shader does (default " + default_note + ")");
 }
 
+namespace {
+std::atomic<bool> g_stop{false};
+extern "C" void on_stop_signal(int) { g_stop.store(true); }
+}  // namespace
+
+StopSignals::StopSignals()
+    : previous_int_(std::signal(SIGINT, on_stop_signal)),
+      previous_term_(std::signal(SIGTERM, on_stop_signal)) {
+  g_stop.store(false);
+}
+
+StopSignals::~StopSignals() {
+  std::signal(SIGINT, previous_int_);
+  std::signal(SIGTERM, previous_term_);
+}
+
+const std::atomic<bool>* StopSignals::flag() const { return &g_stop; }
+
 Precision precision_option(const std::string& text) {
   return parse_precision(text, SourceLocation{"--precision"});
 }
@@ -230,6 +249,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   register_fit_command(app, ctx);
   register_lut_command(app, ctx);
   register_rational_command(app, ctx);
+  register_batch_command(app, ctx);
 
   try {
     app.parse(argc, argv);

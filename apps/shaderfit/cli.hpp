@@ -11,6 +11,7 @@
 #pragma once
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <iosfwd>
 #include <string>
 #include <string_view>
@@ -40,6 +41,7 @@ void register_report_command(CLI::App& app, Context& ctx);
 void register_fit_command(CLI::App& app, Context& ctx);
 void register_lut_command(CLI::App& app, Context& ctx);
 void register_rational_command(CLI::App& app, Context& ctx);
+void register_batch_command(CLI::App& app, Context& ctx);
 
 // The command-line flag for a library location ("SearchOptions::max_nodes" -> "--max-nodes",
 // "SearchOptions::operators" -> "--ops"), or "" when the location is not one the CLI sets by
@@ -74,6 +76,23 @@ void add_digits_option(CLI::App* cmd, int& digits);
 void add_precision_option(CLI::App* cmd, std::string& precision, const std::string& what,
                           const std::string& default_note);
 Precision precision_option(const std::string& text);
+
+// Ctrl-C and SIGTERM, while one exists, set flag() instead of ending the process, so that a
+// long command stops its work and still writes what it has (search: the front so far; batch:
+// the finished entries). The handlers before it are restored when it goes.
+class StopSignals {
+ public:
+  StopSignals();
+  ~StopSignals();
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  [[nodiscard]] const std::atomic<bool>* flag() const;
+  [[nodiscard]] bool stopped() const { return flag()->load(); }
+
+ private:
+  void (*previous_int_)(int);
+  void (*previous_term_)(int);
+};
 
 // Exit status: 0 success, 1 internal failure, 2 bad input (usage or data). `communicator`:
 // Context::communicator.

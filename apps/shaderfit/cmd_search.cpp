@@ -51,24 +51,6 @@ struct SearchArgs {
   double stop_loss = -1, stop_cost = -1;
 };
 
-// SIGINT and SIGTERM set this; the search polls it, writes its checkpoint (with --checkpoint)
-// and returns the front found so far.
-std::atomic<bool> g_interrupted{false};
-extern "C" void on_stop_signal(int) { g_interrupted.store(true); }
-
-const std::vector<double>& numeric_column(const Dataset& d, const std::string& name,
-                                          const char* option) {
-  const Column* c = d.find(name);
-  if (c == nullptr) {
-    std::string names;
-    for (const auto& n : d.names()) names += (names.empty() ? "" : ", ") + n;
-    throw Error("no column '" + name + "' in " + (d.source.empty() ? "the data" : d.source) +
-                    " (columns: " + names + ")",
-                {option});
-  }
-  return d.numeric(name).values;
-}
-
 // `problem`: a built-in data set's own operators apply unless the user names others.
 SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd, const Problem& problem) {
   SearchOptions o = a.options;
@@ -136,18 +118,8 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   options.communicator = ctx.communicator;
   const bool leader = ctx.communicator == nullptr || ctx.communicator->rank() == 0;
   const Dataset& d = source.data;
-  SearchProblem problem;
-  problem.input_names = source.inputs;
-  for (const std::string& n : problem.input_names)
-    problem.inputs.push_back(numeric_column(d, n, "--inputs"));
-  problem.target = numeric_column(d, source.target, "--target");
-  if (!a.weights.empty())
-    problem.weights = numeric_column(d, a.weights, "--weights");
-  else if (!source.weights.empty())
-    problem.weights = numeric_column(d, source.weights, "--weights");
-  problem.reference = source.reference;
+  SearchProblem problem = search_problem(source, a.weights, {"--weights"});
   problem.reference_samples = a.data.problem.samples;
-  problem.validate();
   const double load_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // "auto" operator lists become concrete here, so that the JSON and checkpoints name them.
@@ -207,22 +179,12 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
                                        c.ranks, c.ranks == 1 ? "" : "s", ranks)
                          : "");
   }
-  g_interrupted.store(false);
-  options.interrupt = &g_interrupted;
-  auto previous_int = std::signal(SIGINT, on_stop_signal);
-  auto previous_term = std::signal(SIGTERM, on_stop_signal);
-  auto restore_signals = [&] {
-    std::signal(SIGINT, previous_int);
-    std::signal(SIGTERM, previous_term);
-  };
   SearchSummary summary;
-  try {
+  {
+    const StopSignals stop;
+    options.interrupt = stop.flag();
     run_search(options, problem, &summary);
-  } catch (...) {
-    restore_signals();
-    throw;
   }
-  restore_signals();
   bar.clear();
   if (!leader) return;  // rank 0 reports and writes the files
 

@@ -4,10 +4,12 @@
 //
 //   build/release/bench/approximations OUT_DIR
 //
-// writes OUT_DIR/<case>.csv (the input columns, then `ref`) for every case and OUT_DIR/cases.json
+// writes OUT_DIR/<case>.csv (the input columns, then `ref`) for every case, OUT_DIR/cases.json
 // (an array: name, source, inputs, domain, reference, formula, notes, rows, cost, max_abs, max_rel,
-// rmse), which it also prints. bench/approximations/run.py runs `shaderfit search` on each CSV and
-// compares; docs/approximations.md holds the sources and the table.
+// rmse), which it also prints, and OUT_DIR/manifest.toml: every case as a `shaderfit batch` entry
+// (its CSV, the published formula as the baseline, goal beat-baseline under max_abs; `--time T`
+// sets the seconds per case, default 5). bench/approximations/run.py runs that batch and prints
+// the table; docs/approximations.md holds the sources and the table.
 //
 // Contracts: every reference is float64 and deterministic (closed forms, convergent series,
 // midpoint quadrature); each is cross-checked once against an independent value where one exists
@@ -17,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -728,8 +731,50 @@ bool references_agree() {
   return true;
 }
 
-// Writes every case's CSV into `dir` and returns the cases' JSON; throws on any failure.
-nlohmann::json write_cases(const std::filesystem::path& dir) {
+// A TOML basic string.
+std::string toml_string(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') out += '\\';
+    out += c;
+  }
+  return out + "\"";
+}
+
+// The yardstick as a batch manifest: one entry per case, its CSV beside the manifest, the
+// published formula the baseline and the goal to beat it (at most its cost and its max |error|:
+// run.py's rule). The search is not started from the published formula, so that the table
+// compares a search with the formula, not a refit of it.
+void write_manifest(const std::filesystem::path& dir, const nlohmann::json& cases, double time_s) {
+  std::ofstream toml(dir / "manifest.toml");
+  toml << "# The yardstick of bench/approximations (docs/approximations.md), made by\n"
+          "# build/release/bench/approximations; run with shaderfit batch (run.py does).\n\n"
+          "[defaults]\n"
+       << "time = " << time_s << "\n"
+       << "loss = \"max_abs\"\nseed = 1\noperators = \"auto\"\n"
+          "evolution_operators = \"auto\"\ngoal = \"beat-baseline\"\n"
+          "start_from_baseline = false\n";
+  for (const auto& c : cases) {
+    toml << "\n[[function]]\nname = " << toml_string(c["name"])
+         << "\ndata = " << toml_string(c["name"].get<std::string>() + ".csv") << "\ninputs = [";
+    const auto inputs = c["inputs"].get<std::vector<std::string>>();
+    for (std::size_t i = 0; i < inputs.size(); ++i)
+      toml << (i ? ", " : "") << toml_string(inputs[i]);
+    toml << "]\ntarget = \"ref\"\nbaseline = " << toml_string(c["formula"]) << "\n";
+    const auto uniform = c["uniform"].get<std::vector<std::string>>();
+    if (!uniform.empty()) {
+      toml << "uniform = [";
+      for (std::size_t i = 0; i < uniform.size(); ++i)
+        toml << (i ? ", " : "") << toml_string(uniform[i]);
+      toml << "]\n";
+    }
+  }
+  if (!toml) throw std::runtime_error("cannot write " + (dir / "manifest.toml").string());
+}
+
+// Writes every case's CSV into `dir`, and the manifest, and returns the cases' JSON; throws on any
+// failure.
+nlohmann::json write_cases(const std::filesystem::path& dir, double time_s) {
   std::filesystem::create_directories(dir);
   nlohmann::json all = nlohmann::json::array();
   for (const Case& k : make_cases()) {
@@ -778,6 +823,7 @@ nlohmann::json write_cases(const std::filesystem::path& dir) {
                    {"rmse", m.rmse},
                    {"nonfinite", m.nonfinite}});
   }
+  write_manifest(dir, all, time_s);
   std::ofstream json(dir / "cases.json");
   json << all.dump(1) << '\n';
   if (!json) throw std::runtime_error("cannot write " + (dir / "cases.json").string());
@@ -787,15 +833,18 @@ nlohmann::json write_cases(const std::filesystem::path& dir) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2 || std::string(argv[1]) == "--help") {
+  double time_s = 5;
+  if (argc == 4 && std::string(argv[2]) == "--time") time_s = std::atof(argv[3]);
+  if ((argc != 2 && argc != 4) || std::string(argv[1]) == "--help" || !(time_s > 0)) {
     std::fprintf(stderr,
-                 "usage: approximations OUT_DIR\n"
-                 "writes OUT_DIR/<case>.csv (inputs, ref) and OUT_DIR/cases.json\n");
+                 "usage: approximations OUT_DIR [--time SECONDS]\n"
+                 "writes OUT_DIR/<case>.csv (inputs, ref), OUT_DIR/cases.json and "
+                 "OUT_DIR/manifest.toml (SECONDS per case, default 5)\n");
     return 2;
   }
   try {
     if (!references_agree()) return 1;
-    std::cout << write_cases(argv[1]).dump(1) << '\n';
+    std::cout << write_cases(argv[1], time_s).dump(1) << '\n';
     return 0;
   } catch (const std::exception& ex) {
     std::fprintf(stderr, "approximations: %s\n", ex.what());

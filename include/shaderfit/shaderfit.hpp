@@ -2,6 +2,7 @@
 // shaderfit's own sources include the one header per concept they use instead.
 #pragma once
 
+#include "shaderfit/batch/manifest.hpp"
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/core.hpp"
 #include "shaderfit/core/error.hpp"

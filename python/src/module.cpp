@@ -278,11 +278,7 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
   SearchOptions options = make_options(option_texts);
   SearchProblem problem;
   if (from != nullptr) {
-    const Problem& p = from->problem;
-    problem.input_names = p.inputs;
-    for (const std::string& n : p.inputs) problem.inputs.push_back(p.data.numeric(n).values);
-    problem.target = p.data.numeric(p.target).values;
-    problem.reference = p.reference;
+    problem = search_problem(from->problem);
     problem.reference_samples = from->source.samples;
   } else {
     problem.input_names = names;

@@ -1,11 +1,37 @@
 #include "shaderfit/report/html.hpp"
 
+#include <fmt/format.h>
+
+#include <cmath>
 #include <fstream>
 #include <sstream>
 
 #include "shaderfit/core/error.hpp"
 
 namespace shaderfit {
+
+namespace {
+
+// Clicking a header of a sortable table sorts its rows by that column, the next click the other
+// way: by data-sort or the text, as numbers in numeric columns (NaN last either way).
+constexpr const char* kSortScript =
+    "<script>\n(function(){function key(r,c,num){var e=r.cells[c];if(!e)return num?NaN:'';"
+    "var t=e.hasAttribute('data-sort')?e.getAttribute('data-sort'):e.textContent;"
+    "return num?parseFloat(t):t;}\n"
+    "function sort(){var th=this,t=th.closest('table'),b=t.tBodies[0],c=th.cellIndex,"
+    "num=th.classList.contains('num'),d=th.getAttribute('data-order')==='up'?-1:1,"
+    "hs=t.tHead.rows[0].cells,rows=Array.prototype.slice.call(b.rows);"
+    "for(var k=0;k<hs.length;k++)hs[k].removeAttribute('data-order');"
+    "th.setAttribute('data-order',d>0?'up':'down');"
+    "rows.sort(function(x,y){var p=key(x,c,num),q=key(y,c,num);if(!num)return "
+    "d*p.localeCompare(q,undefined,{numeric:true});if(isNaN(p)||isNaN(q))return "
+    "isNaN(p)-isNaN(q);return p===q?0:d*(p<q?-1:1);});"
+    "for(var i=0;i<rows.length;i++)b.appendChild(rows[i]);}\n"
+    "var ts=document.querySelectorAll('table.sortable');for(var i=0;i<ts.length;i++){"
+    "var hs=ts[i].tHead.rows[0].cells;for(var j=0;j<hs.length;j++)"
+    "hs[j].addEventListener('click',sort);}})();\n</script>\n";
+
+}  // namespace
 
 std::string html_escape(const std::string& text) {
   std::string out;
@@ -59,25 +85,58 @@ void HtmlReport::paragraph(const std::string& text) {
   body_ += "<p>" + html_escape(text) + "</p>\n";
 }
 
+void HtmlReport::heading(const std::string& text, int level, const std::string& id) {
+  const std::string tag = "h" + std::to_string(level < 1 ? 1 : level > 4 ? 4 : level);
+  body_ += "<" + tag + " id=\"" + html_escape(id) + "\">" + html_escape(text) + "</" + tag + ">\n";
+}
+
 void HtmlReport::table(const std::vector<std::string>& header,
                        const std::vector<std::vector<std::string>>& rows,
                        const std::vector<bool>& numeric) {
+  HtmlTable t{header, {}, numeric, false};
+  t.rows.reserve(rows.size());
+  for (const auto& row : rows) {
+    std::vector<HtmlCell> cells;
+    cells.reserve(row.size());
+    for (const std::string& text : row) cells.push_back({text, {}, std::nullopt});
+    t.rows.push_back(std::move(cells));
+  }
+  table(t);
+}
+
+void HtmlReport::table(const HtmlTable& t) {
   auto cls = [&](std::size_t c) {
-    return c < numeric.size() && numeric[c] ? " class=\"num\"" : "";
+    return c < t.numeric.size() && t.numeric[c] ? " class=\"num\"" : "";
+  };
+  // The sort key as JavaScript's parseFloat reads it.
+  auto sort_text = [](double v) -> std::string {
+    if (std::isnan(v)) return "NaN";
+    if (std::isinf(v)) return v > 0 ? "Infinity" : "-Infinity";
+    return fmt::format("{:.17g}", v);
   };
   std::ostringstream s;
-  s << "<table>\n<thead><tr>";
-  for (std::size_t c = 0; c < header.size(); ++c)
-    s << "<th" << cls(c) << ">" << html_escape(header[c]) << "</th>";
+  s << (t.sortable ? "<table class=\"sortable\">\n" : "<table>\n") << "<thead><tr>";
+  for (std::size_t c = 0; c < t.header.size(); ++c)
+    s << "<th" << cls(c) << ">" << html_escape(t.header[c]) << "</th>";
   s << "</tr></thead>\n<tbody>\n";
-  for (const auto& row : rows) {
+  for (const auto& row : t.rows) {
     s << "<tr>";
-    for (std::size_t c = 0; c < row.size(); ++c)
-      s << "<td" << cls(c) << ">" << html_escape(row[c]) << "</td>";
+    for (std::size_t c = 0; c < row.size(); ++c) {
+      const HtmlCell& cell = row[c];
+      s << "<td" << cls(c);
+      if (cell.sort_value) s << " data-sort=\"" << sort_text(*cell.sort_value) << "\"";
+      s << ">";
+      if (cell.href.empty())
+        s << html_escape(cell.text);
+      else
+        s << "<a href=\"" << html_escape(cell.href) << "\">" << html_escape(cell.text) << "</a>";
+      s << "</td>";
+    }
     s << "</tr>\n";
   }
   s << "</tbody></table>\n";
   body_ += s.str();
+  sortable_ = sortable_ || t.sortable;
 }
 
 void HtmlReport::settings(const std::vector<std::pair<std::string, std::string>>& items) {
@@ -131,6 +190,10 @@ std::string HtmlReport::html() const {
     << ".code{margin:.8em "
        "0}.lang{font-size:.8em;color:#555;text-transform:uppercase;letter-spacing:.05em}"
        "pre{background:#f6f8fa;border:1px solid #ddd;padding:.7em;overflow-x:auto}\n"
+    << (sortable_ ? "table.sortable th{cursor:pointer;user-select:none}"
+                    "th[data-order=up]::after{content:' \\25B2'}"
+                    "th[data-order=down]::after{content:' \\25BC'}\n"
+                  : "")
     << "</style>\n</head>\n<body>\n<h1>" << html_escape(title_) << "</h1>\n"
     << body_
     // Self-check for the headless-browser test (and harmless for people): count the images that
@@ -152,10 +215,12 @@ std::string HtmlReport::html() const {
        "Math.round(b.top+imgs[k].clientTop+window.scrollY),imgs[k].clientWidth,imgs[k]."
        "clientHeight].join(','));}"
        "document.body.setAttribute('data-plot-boxes',boxes.join(';'));"
-       "document.body.setAttribute('data-page-height',String(document.documentElement.scrollHeight)"
+       "document.body.setAttribute('data-page-height',String(document.documentElement."
+       "scrollHeight)"
        ");"
-       "});})();\n</script>\n"
-    << "</body>\n</html>\n";
+       "});})();\n</script>\n";
+  if (sortable_) s << kSortScript;  // after the self-check, which counts its errors
+  s << "</body>\n</html>\n";
   return s.str();
 }
 

@@ -12,6 +12,7 @@
 #include <map>
 #include <mutex>
 #include <set>
+#include <stdexcept>
 #include <thread>
 
 #include "search/exact_json.hpp"
@@ -78,6 +79,14 @@ class LocalRank final : public Communicator {
     }
     return out;
   }
+
+  // Not used by the distributed search.
+  void send(int /*to*/, std::string_view /*bytes*/) override { throw std::logic_error("send"); }
+  std::optional<std::pair<int, std::string>> receive(double /*timeout_s*/) override {
+    throw std::logic_error("receive");
+  }
+  void forget(int /*rank*/) override {}
+  [[nodiscard]] bool lost() const override { return false; }
 
   std::vector<std::string> gathered;  // what this rank gave every all_gather
 

@@ -180,8 +180,9 @@ json front_member_json(const FrontMember& m, FrontJson style) {
 
 namespace {
 
-// The exact form: every field of a checkpoint's member (the float32 check is optional: it is
-// filled in for the final front only).
+// The exact form: every field of a checkpoint's member (the float32 and half checks, the check
+// between the samples and the certificate are optional: they are filled in for the final front
+// only).
 FrontMember exact_member_from(const json& j) {
   FrontMember m;
   m.expression = search_detail::exact_expression_from(j.at("expression"));
@@ -206,6 +207,22 @@ FrontMember exact_member_from(const json& j) {
   if (j.contains("float32_max_abs_diff"))
     m.float32_max_abs_diff = exact_number_from(j.at("float32_max_abs_diff"));
   if (j.contains("float32_stable")) m.float32_stable = j.at("float32_stable").get<bool>();
+  for (const auto& [key, field] : {std::pair{"float32_max_abs", &FrontMember::float32_max_abs},
+                                   std::pair{"float32_max_rel", &FrontMember::float32_max_rel},
+                                   std::pair{"half_max_abs", &FrontMember::half_max_abs},
+                                   std::pair{"half_max_rel", &FrontMember::half_max_rel}})
+    if (j.contains(key)) m.*field = exact_number_from(j.at(key));
+  if (j.contains("max_abs_checked")) {
+    m.checked_between_samples = true;
+    m.worst_point = j.at("worst_point").get<std::vector<double>>();
+  }
+  if (j.contains("certified_max_abs")) {
+    const json& c = j.at("certified_max_abs");
+    m.certified_max_abs = c.is_null() ? std::numeric_limits<double>::infinity() : c.get<double>();
+    m.certified_converged = j.at("certified_converged").get<bool>();
+    m.certify_time_s = exact_number_from(j.at("certify_time_s"));
+    m.certify_note = j.value("certify_note", "");
+  }
   return m;
 }
 

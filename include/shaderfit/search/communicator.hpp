@@ -10,6 +10,7 @@
 // order. Messages are bytes; the search encodes them (CBOR) and counts what it sends.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -33,6 +34,18 @@ class Communicator {
   // each rank in `from`, returned in that order.
   virtual std::vector<std::string> exchange(const std::vector<std::pair<int, std::string>>& sends,
                                             const std::vector<int>& from) = 0;
+
+  // Messages between any two ranks, for work handed out as ranks become free (a batch,
+  // batch/batch.hpp), apart from the messages above: send returns at once (the bytes are copied)
+  // and never waits for the receiver; receive returns the next message sent to this rank by any
+  // rank, with its sender, waiting at most `timeout_s`, or nullopt when none came.
+  virtual void send(int to, std::string_view bytes) = 0;
+  virtual std::optional<std::pair<int, std::string>> receive(double timeout_s) = 0;
+  // `rank` is taken for dead (it stopped answering; -1: one this rank did not talk to): no
+  // collective call follows, and the process ends without waiting for it (lost() tells the
+  // program to).
+  virtual void forget(int rank) = 0;
+  [[nodiscard]] virtual bool lost() const = 0;
 };
 
 }  // namespace shaderfit

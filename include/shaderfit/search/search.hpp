@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "shaderfit/core.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/loss.hpp"
@@ -61,6 +62,13 @@ struct SearchProblem {
   // weight, or weights that sum to 0.
   void validate() const;
 };
+
+// The search's view of a loaded problem (data/problem.hpp): its input and target columns, its
+// reference, and the row weights of `weights_column` (else the problem's own, a scene's; else
+// none). Throws shaderfit::Error located at `weights_where` when that column is missing or not
+// numeric, and as SearchProblem::validate.
+SearchProblem search_problem(const Problem& problem, const std::string& weights_column = "",
+                             const SourceLocation& weights_where = {"SearchProblem::weights"});
 
 // Why a search stopped.
 enum class Termination { Done, TimeLimit, CandidateLimit, TargetReached, Interrupted };
