@@ -37,12 +37,13 @@ endif()
 # suite, scripts/sanitize, does not fit CI's time; docs/reliability.md): the code that reads what
 # users type and give (formula parser and printer, CSV reader and data sets, the search front's
 # JSON) and what it hands on to (the evaluators, the cost model, code generation, the image
-# writers), with the tests beside it and the fuzz targets' seed and regression inputs. It is its
-# own library of just those areas, so that CI compiles about a fifth of the code a second time.
+# writers, the scenes), with the tests beside it and the fuzz targets' seed and regression inputs.
+# It is its own library of just those areas, so that CI compiles about a fifth of the code a
+# second time.
 # Not registered with ctest (the full suite already runs these tests): scripts/test runs the
 # program itself.
 function(shaderfit_sanitized_part)
-  set(areas core expr data eval image cost codegen reference)
+  set(areas core expr data eval image scene cost codegen reference)
   set(sources "")
   foreach(area ${areas})
     file(GLOB found CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${area}/*.cpp)

@@ -18,52 +18,18 @@
 #include <thread>
 #include <vector>
 
+#include "mpi_test_util.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
+using shaderfit::mpi_testing::mpirun;
+using shaderfit::mpi_testing::Outcome;
+using shaderfit::mpi_testing::run;
 
-struct Outcome {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-Outcome run(const std::string& command) {
-  Outcome r;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  if (p == nullptr) return r;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, p) != nullptr) r.output += buffer;
-  const int s = pclose(p);
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  return r;
-}
-
-// As mpi_search_test.cpp's, and with recovery on: a rank that dies does not end the job.
-std::string mpirun(int ranks) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-         "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_rmaps_base_oversubscribe=1 "
-         "OMPI_MCA_orte_enable_recovery=1 " +
-         std::string(SHADERFIT_MPIEXEC) + " -np " + std::to_string(ranks) + " " +
-         SHADERFIT_MPI_PATH;
-}
-
-const std::string& cannot_run_ranks() {
-  static const std::string why = [] {
-    if (!fs::exists(SHADERFIT_MPIEXEC) && run("command -v mpirun").status != 0)
-      return std::string("mpirun not found");
-    const Outcome r = run(mpirun(2) + " --version");
-    if (r.status == 0) return std::string();
-    return "mpirun cannot start 2 ranks here: " + r.output.substr(0, r.output.find('\n'));
-  }();
-  return why;
-}
-
-#define REQUIRE_MPIRUN() \
-  if (!cannot_run_ranks().empty()) GTEST_SKIP() << "skipped: " << cannot_run_ranks()
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("shaderfit_mpi_batch_test_" + std::to_string(getpid())) / name;
+// A fresh directory for one test.
+fs::path scratch_dir(const std::string& name) {
+  const fs::path dir = shaderfit::mpi_testing::scratch(name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -97,7 +63,7 @@ std::map<std::string, std::string> chosen(const fs::path& out) {
 
 TEST(MpiBatch, TwoRanksGiveTheResultsOfOneProcess) {
   REQUIRE_MPIRUN();
-  const fs::path dir = scratch("same");
+  const fs::path dir = scratch_dir("same");
   std::ofstream(dir / "m.toml") << manifest(20000);
   const std::string m = (dir / "m.toml").string();
   const Outcome one = run(std::string(SHADERFIT_CLI_PATH) + " batch " + m + " --out " +
@@ -121,10 +87,10 @@ int rank_of(pid_t p) {
 
 TEST(MpiBatch, AKilledRanksEntryIsFinishedByAnother) {
   REQUIRE_MPIRUN();
-  const fs::path dir = scratch("killed");
+  const fs::path dir = scratch_dir("killed");
   std::ofstream(dir / "m.toml") << manifest(400000);
   const fs::path out = dir / "out", log = dir / "log";
-  const std::string command = mpirun(2) + " batch " + (dir / "m.toml").string() + " --out " +
+  const std::string command = mpirun(2, true) + " batch " + (dir / "m.toml").string() + " --out " +
                               out.string() + " --rank-timeout 3 > " + log.string() + " 2>&1";
   const pid_t launcher = fork();
   ASSERT_GE(launcher, 0);

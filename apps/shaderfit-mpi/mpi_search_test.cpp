@@ -19,43 +19,16 @@
 #include <thread>
 #include <vector>
 
+#include "mpi_test_util.hpp"
 #include "shaderfit/core/random.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-struct Outcome {
-  int status = -1;
-  std::string output;  // stdout and stderr
-};
-
-Outcome run(const std::string& command) {
-  Outcome r;
-  FILE* p = popen((command + " 2>&1").c_str(), "r");
-  if (p == nullptr) return r;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, p) != nullptr) r.output += buffer;
-  const int s = pclose(p);
-  r.status = WIFEXITED(s) ? WEXITSTATUS(s) : -1;
-  return r;
-}
-
-// mpirun for the tests: as root too (CI), any number of ranks on few cores, and without the
-// shared-memory single-copy mechanism that containers often forbid.
-std::string mpirun(int ranks) {
-  return "OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 "
-         "OMPI_MCA_btl_vader_single_copy_mechanism=none OMPI_MCA_rmaps_base_oversubscribe=1 " +
-         std::string(SHADERFIT_MPIEXEC) + " -np " + std::to_string(ranks) + " " +
-         SHADERFIT_MPI_PATH;
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("shaderfit_mpi_test_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir / name;
-}
+using shaderfit::mpi_testing::mpirun;
+using shaderfit::mpi_testing::Outcome;
+using shaderfit::mpi_testing::run;
+using shaderfit::mpi_testing::scratch;
 
 nlohmann::json read_json(const fs::path& p) {
   std::ifstream in(p);
@@ -67,22 +40,6 @@ std::vector<std::string> formulas(const nlohmann::json& doc) {
   for (const auto& m : doc.at("front")) out.push_back(m.at("formula").get<std::string>());
   return out;
 }
-
-// Why two ranks cannot run here ("" when they can): no mpirun, or one that fails to start them
-// (a sandbox without shared memory, say).
-const std::string& cannot_run_ranks() {
-  static const std::string why = [] {
-    if (!fs::exists(SHADERFIT_MPIEXEC) && run("command -v mpirun").status != 0)
-      return std::string("mpirun not found");
-    const Outcome r = run(mpirun(2) + " --version");
-    if (r.status == 0) return std::string();
-    return "mpirun cannot start 2 ranks here: " + r.output.substr(0, r.output.find('\n'));
-  }();
-  return why;
-}
-
-#define REQUIRE_MPIRUN() \
-  if (!cannot_run_ranks().empty()) GTEST_SKIP() << "skipped: " << cannot_run_ranks()
 
 // The seed task under a count budget, one thread per rank: a short enumeration (rank 0's), then
 // about 50,000 candidates of evolution spread over the ranks.

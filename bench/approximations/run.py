@@ -9,7 +9,8 @@ into --out, then the whole yardstick as one batch,
 
     shaderfit batch OUT/manifest.toml --out OUT/batch
 
-every case with loss max_abs, seed 1, one thread, operators `auto` (one rule applied to each
+every case with loss max_abs, seed 1, --threads per case (default 1; cases run cores / threads at
+once), operators `auto` (one rule applied to each
 case's data, not tuned per case), the published formula as its baseline and the goal to beat it:
 the front member with the least max |err| among those no costlier than the published formula,
 and whether it wins (cost <= and max |err| <=). It prints a Markdown table, also written to
@@ -29,6 +30,14 @@ EVOLVE_OPS = "auto"
 SEED = 1
 
 
+def set_default(manifest: str, line: str) -> None:
+    """Adds `line` to the [defaults] table of `manifest`."""
+    with open(manifest, encoding="utf-8") as f:
+        text = f.read()
+    with open(manifest, "w", encoding="utf-8") as f:
+        f.write(text.replace("[defaults]\n", "[defaults]\n" + line + "\n", 1))
+
+
 def keep_only(manifest: str, names: set) -> None:
     """Drops the [[function]] tables of `manifest` whose name is not in `names`."""
     with open(manifest, encoding="utf-8") as f:
@@ -42,8 +51,9 @@ def main() -> int:
     root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--time", type=float, default=5.0, help="search seconds per case (default 5)")
+    ap.add_argument("--threads", type=int, default=1, help="search threads per case (default 1)")
     ap.add_argument("--parallel", type=int, default=0,
-                    help="cases searched at once (default: one per core)")
+                    help="cases searched at once (default: cores / threads)")
     ap.add_argument("--build", default=os.path.join(root, "build", "release"),
                     help="build folder with shaderfit and bench/approximations")
     ap.add_argument("--out", default=os.path.join(root, "build", "approximations"),
@@ -70,11 +80,13 @@ def main() -> int:
             return 2
         cases = [c for c in cases if c["name"] in wanted]
         keep_only(os.path.join(args.out, "manifest.toml"), wanted)
+    if args.threads != 1:
+        set_default(os.path.join(args.out, "manifest.toml"), f"threads = {args.threads}")
+    parallel = args.parallel or max(1, (os.cpu_count() or 1) // args.threads)
 
     cmd = [shaderfit, "batch", os.path.join(args.out, "manifest.toml"), "--out",
            os.path.join(args.out, "batch"), "--quiet"]
-    if args.parallel:
-        cmd += ["--parallel", str(args.parallel)]
+    cmd += ["--parallel", str(parallel)]
     run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     sys.stderr.write(run.stdout + run.stderr)
     with open(os.path.join(args.out, "batch", "batch.json"), encoding="utf-8") as f:
@@ -137,14 +149,15 @@ def main() -> int:
     wins = sum(r["win"] for r in results)
     lines.append("")
     lines.append(f"Won {wins} of {len(results)} ({100.0 * wins / max(len(results), 1):.0f}%) with "
-                 f"--time {args.time:g}, one thread per case, --seed {SEED} "
+                 f"--time {args.time:g} --threads {args.threads} (per case, {parallel} at once) "
+                 f"--seed {SEED} "
                  f"--ops {OPS} --evolve-ops {EVOLVE_OPS}, in {batch['seconds']:.0f} s.")
     table = "\n".join(lines)
     print(table)
     with open(os.path.join(args.out, "table.md"), "w", encoding="utf-8") as f:
         f.write(table + "\n")
     with open(os.path.join(args.out, "results.json"), "w", encoding="utf-8") as f:
-        json.dump({"time": args.time, "threads": 1, "seed": SEED, "ops": OPS,
+        json.dump({"time": args.time, "threads": args.threads, "seed": SEED, "ops": OPS,
                    "evolve_ops": EVOLVE_OPS, "results": results}, f, indent=1)
     return 0
 

@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "core/files.hpp"
 #include "search/exact_json.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
@@ -133,17 +134,14 @@ std::optional<BatchEntryResult> read_finished(const std::string& directory,
 // Written to a temporary file and renamed, so that an interrupted write never leaves a file
 // that reads as finished.
 void write_finished(const std::string& directory, const BatchEntryResult& r) {
-  std::error_code ec;
-  std::filesystem::create_directories(directory, ec);
-  if (ec)
-    throw Error("cannot create the directory '" + directory + "': " + ec.message(),
-                SourceLocation{directory});
+  make_directories(directory);
   const std::string path = checkpoint_path(directory, r.name);
   const std::string tmp = path + ".tmp";
   {
     std::ofstream f(tmp, std::ios::binary);
     if (!(f << batch_entry_json(r))) throw Error("cannot write '" + tmp + "'", {tmp});
   }
+  std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) throw Error("cannot write '" + path + "': " + ec.message(), {path});
 }

@@ -10,7 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "core/files.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -325,8 +327,14 @@ void add_batch_report(HtmlReport& r, const BatchResult& result, const Manifest* 
       "it); instructions saved: the baseline's cost minus ours; error ratio: our error over the "
       "baseline's (below 1: more accurate); float32 max |error|: our formula computed in float32 "
       "as a shader computes it.");
-  for (const BatchEntryResult& e : result.entries)
-    add_entry_section(r, e, problem_of(manifest, e.name));
+  // Each entry's section on its own (its plots are gnuplot runs), then in order.
+  std::vector<HtmlReport> sections(result.entries.size(), HtmlReport(""));
+  parallel_for(result.entries.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      add_entry_section(sections[i], result.entries[i],
+                        problem_of(manifest, result.entries[i].name));
+  });
+  for (const HtmlReport& section : sections) r.append(section);
   if (!result.bad.empty()) {
     r.heading("Not run", 1, kNotRunId);
     std::vector<std::vector<std::string>> rows;
@@ -338,11 +346,7 @@ void add_batch_report(HtmlReport& r, const BatchResult& result, const Manifest* 
 
 std::vector<std::string> write_batch_outputs(const BatchResult& result, const Manifest* manifest,
                                              const std::string& directory) {
-  std::error_code ec;
-  std::filesystem::create_directories(directory, ec);
-  if (ec)
-    throw Error("cannot create the directory '" + directory + "': " + ec.message(),
-                SourceLocation{directory});
+  make_directories(directory);
   std::vector<std::string> written;
   // Each file made then written; an error names the file it was for.
   auto output = [&](const char* name, auto make) {

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "core/files.hpp"
 #include "fv_internal.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/image/dds.hpp"
@@ -185,11 +186,7 @@ std::string fv_summary_json(const FvBake& bake, const FvLutOptions& o) {
 
 std::vector<std::string> write_fv_bake(const FvBake& bake, const FvLutOptions& o,
                                        const std::string& directory) {
-  std::error_code ec;
-  std::filesystem::create_directories(directory, ec);
-  if (ec)
-    throw Error("cannot create the directory '" + directory + "': " + ec.message(),
-                SourceLocation{directory});
+  make_directories(directory);
   std::vector<std::string> files;
   auto path = [&](const std::string& name) {
     files.push_back((std::filesystem::path(directory) / name).string());

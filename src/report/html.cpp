@@ -171,6 +171,11 @@ void HtmlReport::code(const std::string& language, const std::string& source) {
            "</div><pre><code>" + html_escape(source) + "</code></pre></div>\n";
 }
 
+void HtmlReport::append(const HtmlReport& other) {
+  body_ += other.body_;
+  sortable_ = sortable_ || other.sortable_;
+}
+
 std::string HtmlReport::html() const {
   std::ostringstream s;
   s << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"

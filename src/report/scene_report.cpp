@@ -3,8 +3,10 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 
+#include "core/files.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/precision.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -68,15 +70,12 @@ namespace {
 
 std::string png_path(const std::string& directory, int n) {
   if (!directory.empty()) {
-    std::error_code ec;
-    std::filesystem::create_directories(directory, ec);
-    if (ec)
-      throw Error("cannot create the directory '" + directory + "': " + ec.message(),
-                  SourceLocation{directory});
+    make_directories(directory);
     return (std::filesystem::path(directory) / fmt::format("scene-{}.png", n)).string();
   }
+  static std::atomic<int> counter{0};  // unique across threads (a batch's pages)
   return (std::filesystem::temp_directory_path() /
-          fmt::format("shaderfit-scene-{}-{}.png", getpid(), n))
+          fmt::format("shaderfit-scene-{}-{}-{}.png", getpid(), n, counter++))
       .string();
 }
 

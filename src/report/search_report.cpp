@@ -4,12 +4,14 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "core/files.hpp"
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
@@ -93,7 +95,7 @@ bool is_image_path(const json& v) {
 }
 
 std::string temp_png(const std::string& stem) {
-  static int counter = 0;
+  static std::atomic<int> counter{0};  // pages may be made on several threads (a batch's)
   return (std::filesystem::temp_directory_path() /
           fmt::format("shaderfit-report-{}-{}-{}.png", getpid(), stem, counter++))
       .string();
@@ -131,11 +133,7 @@ struct Figures {
       std::filesystem::remove(png);
       return;
     }
-    std::error_code ec;
-    std::filesystem::create_directories(directory, ec);
-    if (ec)
-      throw Error("cannot create the directory '" + directory + "': " + ec.message(),
-                  SourceLocation{directory});
+    make_directories(directory);
     const std::string stem = (std::filesystem::path(directory) / name).string();
     render(chart, stem + ".png");
     render(chart, stem + ".svg");

@@ -59,6 +59,8 @@ class HtmlReport {
   // Embeds a PNG file. Throws shaderfit::Error if it cannot be read or is not a PNG.
   void image(const std::string& png_path, const std::string& caption);
   void code(const std::string& language, const std::string& source);
+  // Everything `other` holds, after what this holds (sections made apart, on other threads).
+  void append(const HtmlReport& other);
 
   [[nodiscard]] std::string html() const;
   // Throws shaderfit::Error when the file cannot be written.
