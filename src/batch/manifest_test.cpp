@@ -94,6 +94,16 @@ void expect_manifest_error(const std::function<void()>& f, const std::string& pa
   }
 }
 
+// docs/batch.md's worked example.
+TEST(Manifest, TheDocsExampleReads) {
+  const Manifest m = read_manifest(SHADERFIT_SOURCE_DIR "/docs/examples/shader-library.toml");
+  ASSERT_TRUE(m.bad.empty()) << m.bad[0].message;
+  std::vector<std::string> names;
+  for (const ManifestEntry& e : m.entries) names.push_back(e.name);
+  EXPECT_EQ(names, (std::vector<std::string>{"fast_fresnel", "fast_acos", "fast_erf", "fast_tanh",
+                                             "srgb_encode"}));
+}
+
 TEST(Manifest, TheIssuesManifestReadsAsWritten) {
   Scratch dir("issue");
   dir.write("fresnel.csv", fresnel_csv());

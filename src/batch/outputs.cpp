@@ -304,14 +304,18 @@ std::string batch_json(const BatchResult& result) {
 }
 
 void add_batch_report(HtmlReport& r, const BatchResult& result, const Manifest* manifest) {
-  std::size_t met = 0;
-  for (const BatchEntryResult& e : result.entries) met += e.goal_met ? 1 : 0;
-  r.paragraph(fmt::format("{}: {} function{} searched in {:.1f} s, {} meeting {} goal{}{}{}.",
-                          result.manifest, result.entries.size(),
-                          result.entries.size() == 1 ? "" : "s", result.seconds, met,
-                          met == 1 ? "its" : "their", met == 1 ? "" : "s",
-                          result.bad.empty() ? "" : fmt::format("; {} not run", result.bad.size()),
-                          result.interrupted ? "; interrupted, the others did not finish" : ""));
+  std::size_t met = 0, earlier = 0;
+  for (const BatchEntryResult& e : result.entries) {
+    met += e.goal_met ? 1 : 0;
+    earlier += e.from_checkpoint ? 1 : 0;
+  }
+  r.paragraph(fmt::format(
+      "{}: {} function{}{} in {:.1f} s, {} meeting {} goal{}{}{}.", result.manifest,
+      result.entries.size(), result.entries.size() == 1 ? "" : "s",
+      earlier == 0 ? std::string() : fmt::format(" ({} finished by an earlier run)", earlier),
+      result.seconds, met, met == 1 ? "its" : "their", met == 1 ? "" : "s",
+      result.bad.empty() ? "" : fmt::format("; {} not run", result.bad.size()),
+      result.interrupted ? "; interrupted, the others did not finish" : ""));
   r.heading("Functions");
   HtmlTable t;
   t.header = {
