@@ -35,8 +35,9 @@ fs::path scratch_dir(const std::string& name) {
   return dir;
 }
 
-// Eight functions under a candidate budget (results depend on the seed only).
-std::string manifest(std::size_t evals) {
+// Eight functions under a candidate budget (results depend on the seed only); the one named
+// `across` is searched by every rank together.
+std::string manifest(std::size_t evals, const std::string& across = "") {
   std::string m = "[defaults]\ntime = 600\nevals = " + std::to_string(evals) +
                   "\nseed = 2\nloss = \"max_abs\"\nsamples = 400\n";
   const char* entries[][3] = {
@@ -47,7 +48,7 @@ std::string manifest(std::size_t evals) {
   };
   for (const auto& e : entries)
     m += std::string("\n[[function]]\nname = \"") + e[0] + "\"\nreference = \"" + e[1] +
-         "\"\ndomain = { x = [" + e[2] + "] }\n";
+         "\"\ndomain = { x = [" + e[2] + "] }\n" + (across == e[0] ? "across_ranks = true\n" : "");
   return m;
 }
 
@@ -74,6 +75,38 @@ TEST(MpiBatch, TwoRanksGiveTheResultsOfOneProcess) {
   const auto a = chosen(dir / "one"), b = chosen(dir / "two");
   EXPECT_EQ(a.size(), 8u);
   EXPECT_EQ(a, b);
+}
+
+// An entry too large for one rank: both ranks search it, its islands shared, before the others
+// are handed out; the result is one process's.
+TEST(MpiBatch, AnEntryAcrossRanksSharesItsIslands) {
+  REQUIRE_MPIRUN();
+  const fs::path dir = scratch_dir("across");
+  std::ofstream(dir / "m.toml") << manifest(20000, "f_atan");
+  const std::string m = (dir / "m.toml").string();
+  const Outcome one = run(std::string(SHADERFIT_CLI_PATH) + " batch " + m + " --out " +
+                          (dir / "one").string() + " --parallel 1");
+  ASSERT_EQ(one.status, 0) << one.output;
+  const Outcome two = run(mpirun(2) + " batch " + m + " --out " + (dir / "two").string());
+  ASSERT_EQ(two.status, 0) << two.output;
+  EXPECT_EQ(chosen(dir / "one"), chosen(dir / "two"));
+  std::ifstream in(dir / "two" / "batch.json");
+  const nlohmann::json doc = nlohmann::json::parse(in);
+  for (const auto& e : doc.at("entries")) {
+    const int rank = e.at("rank").get<int>();
+    if (e.at("name") == "f_atan") {
+      EXPECT_EQ(rank, -1);  // every rank
+      EXPECT_EQ(e.at("run").at("summary").at("ranks").get<int>(), 2);
+    } else {
+      EXPECT_GE(rank, 0);
+    }
+  }
+  // Run again: read back, not searched.
+  const Outcome again = run(mpirun(2) + " batch " + m + " --out " + (dir / "two").string());
+  ASSERT_EQ(again.status, 0) << again.output;
+  EXPECT_NE(again.output.find("8 of 8 functions done (8 finished by an earlier run)"),
+            std::string::npos)
+      << again.output;
 }
 
 // The rank of a process of this job, from its environment (Open MPI's OMPI_COMM_WORLD_RANK).

@@ -209,10 +209,12 @@ std::string batch_entry_line(const BatchEntryResult& r) {
   if (r.baseline) line += fmt::format(" (baseline {:.3g})", r.baseline->loss);
   line += r.goal.kind == BatchGoal::Kind::Knee ? "" : r.goal_met ? "  goal met" : "  goal missed";
   line += r.from_checkpoint ? "  (finished earlier)" : fmt::format("  {:.1f} s", r.seconds);
+  if (!r.from_checkpoint && r.rank == BatchEntryResult::kAllRanks) line += " on every rank";
   return line;
 }
 
-BatchEntryResult run_batch_entry(const ManifestEntry& entry, const std::atomic<bool>* interrupt) {
+BatchEntryResult run_batch_entry(const ManifestEntry& entry, const std::atomic<bool>* interrupt,
+                                 Communicator* communicator) {
   if (!entry.loaded)
     throw Error("entry '" + entry.name + "' has no loaded problem", {"ManifestEntry::loaded"});
   const Problem& p = *entry.loaded;
@@ -228,11 +230,13 @@ BatchEntryResult run_batch_entry(const ManifestEntry& entry, const std::atomic<b
       std::find(o.start.begin(), o.start.end(), entry.baseline) == o.start.end())
     o.start.push_back(entry.baseline);
   o.interrupt = interrupt;
+  o.communicator = communicator;
   SearchProblem sp = search_problem(p, entry.weights, {"ManifestEntry::weights"});
   sp.reference_samples = entry.problem.samples;
   o = resolve_auto_operators(o, sp);
   SearchSummary summary;
   run_search(o, sp, &summary);
+  if (communicator != nullptr && communicator->rank() != 0) return {};  // rank 0 has the result
 
   BatchEntryResult r;
   r.name = entry.name;
@@ -325,16 +329,87 @@ std::pair<std::string, std::string> split_message(const std::string& m) {
   return {m.substr(0, nl), m.substr(nl + 1)};
 }
 
+// What the across-ranks phase leaves for the rest of the batch (on rank 0).
+struct AcrossRanks {
+  std::vector<std::optional<BatchEntryResult>> done;  // by manifest index; reported already
+  std::vector<std::pair<std::size_t, std::string>> failed;
+  Clock::time_point start = Clock::now();
+};
+
+// Every rank: the entries marked across_ranks, in manifest order, each searched by all ranks
+// together. Rank 0 decides what runs (not finished earlier, not interrupted) and tells the
+// others; an entry whose digest differs between ranks runs nowhere.
+AcrossRanks search_across_ranks(const Manifest& manifest, const BatchOptions& options,
+                                Communicator& comm) {
+  AcrossRanks out;
+  out.done.resize(manifest.entries.size());
+  const bool leader = comm.rank() == 0;
+  auto stopped = [&] { return options.interrupt != nullptr && options.interrupt->load(); };
+  std::size_t finished = 0;
+  for (std::size_t i = 0; i < manifest.entries.size(); ++i) {
+    const ManifestEntry& e = manifest.entries[i];
+    if (!e.across_ranks) continue;
+    std::string decision = "skip";
+    if (leader) {
+      if (!options.checkpoint_directory.empty())
+        out.done[i] = read_finished(options.checkpoint_directory, e);
+      if (out.done[i]) {
+        ++finished;
+        if (options.on_entry) options.on_entry(*out.done[i]);
+      } else if (!stopped()) {
+        decision = "run";
+      }
+    }
+    if (comm.broadcast(decision, 0) != "run") continue;
+    const std::vector<std::string> digests = comm.all_gather(e.hash);
+    if (std::any_of(digests.begin(), digests.end(), [&](const auto& d) { return d != e.hash; })) {
+      if (leader)
+        out.failed.emplace_back(i, "the ranks read different manifests (its digest differs)");
+      continue;
+    }
+    if (leader && options.on_progress)
+      options.on_progress({finished, manifest.entries.size(), seconds_since(out.start), {e.name}});
+    std::optional<BatchEntryResult> r;
+    std::string error;
+    try {
+      r = run_batch_entry(e, options.interrupt, &comm);
+    } catch (const std::exception& ex) {  // thrown alike on every rank: checked before any message
+      error = ex.what();
+    }
+    if (!leader) continue;
+    if (r && !stopped()) {
+      r->rank = BatchEntryResult::kAllRanks;
+      if (!options.checkpoint_directory.empty()) write_finished(options.checkpoint_directory, *r);
+      ++finished;
+      if (options.on_entry) options.on_entry(*r);
+      out.done[i] = std::move(r);
+    } else if (!error.empty()) {
+      out.failed.emplace_back(i, error);
+    }
+  }
+  return out;
+}
+
 // Runs a batch: the entries not finished by an earlier run, on local worker threads and, with a
 // communicator, on the other ranks as they ask for work. Everything is on rank 0's side: the
 // queue, the results, the checkpoints and the callbacks (on the calling thread).
 class Coordinator {
  public:
-  Coordinator(const Manifest& m, const BatchOptions& o, Communicator* comm)
-      : manifest_(m), options_(o), comm_(comm), done_(m.entries.size()) {}
+  // `earlier`: what the across-ranks phase finished (already reported) or failed, and when the
+  // batch started.
+  Coordinator(const Manifest& m, const BatchOptions& o, Communicator* comm,
+              AcrossRanks earlier = {})
+      : manifest_(m),
+        options_(o),
+        comm_(comm),
+        done_(std::move(earlier.done)),
+        failed_(std::move(earlier.failed)),
+        t0_(earlier.start) {
+    done_.resize(m.entries.size());
+  }
 
   BatchResult run() {
-    const auto t0 = Clock::now();
+    const auto t0 = t0_;
     BatchResult result;
     result.manifest = manifest_.path;
     result.bad = manifest_.bad;
@@ -343,6 +418,12 @@ class Coordinator {
     std::vector<std::size_t> todo_index;
     for (std::size_t i = 0; i < manifest_.entries.size(); ++i) {
       const ManifestEntry& e = manifest_.entries[i];
+      if (done_[i]) {  // searched across the ranks, or read back then
+        ++progress_.done;
+        continue;
+      }
+      if (std::any_of(failed_.begin(), failed_.end(), [i](const auto& f) { return f.first == i; }))
+        continue;
       if (!options_.checkpoint_directory.empty())
         done_[i] = read_finished(options_.checkpoint_directory, e);
       if (done_[i]) {
@@ -537,6 +618,7 @@ class Coordinator {
   std::set<int> dead_;
   std::vector<std::string> notes_;
   BatchProgress progress_;
+  Clock::time_point t0_;
 };
 
 // A rank other than 0: asks for an entry, searches it on a thread while it beats every second
@@ -613,11 +695,12 @@ BatchResult run_batch(const Manifest& manifest, const BatchOptions& options) {
 
 BatchResult run_batch_distributed(const Manifest& manifest, const BatchOptions& options,
                                   Communicator& communicator) {
+  AcrossRanks earlier = search_across_ranks(manifest, options, communicator);
   if (communicator.rank() != 0) {
     serve_as_worker(manifest, options, communicator);
     return {};
   }
-  return Coordinator(manifest, options, &communicator).run();
+  return Coordinator(manifest, options, &communicator, std::move(earlier)).run();
 }
 
 }  // namespace shaderfit

@@ -46,7 +46,7 @@ constexpr std::string_view kEntryKeys[] = {
     "reference", "reference_file", "function",       "domain",
     "define",    "samples",        "drop_nonfinite", "inputs",
     "target",    "weights",        "baseline",       "start_from_baseline",
-    "goal"};
+    "goal",      "across_ranks"};
 
 Error unknown_key(std::string_view key, const SourceLocation& at) {
   std::string known;
@@ -248,6 +248,7 @@ struct Settings {
   SearchOptions options;
   std::string baseline, weights;
   bool start_from_baseline = true;
+  bool across_ranks = false;
   BatchGoal goal;
   std::map<std::string, Where, std::less<>> where;   // by key (a search option: its field's name)
   std::vector<SourceLocation> domain_at, define_at;  // each variable's, each definition's
@@ -329,10 +330,10 @@ void apply_key(Settings& s, std::string_view key, const toml::node& v, const Rea
     s.weights = string_of(key, v, r);
   } else if (key == "baseline") {
     s.baseline = string_of(key, v, r);
-  } else if (key == "start_from_baseline") {
+  } else if (key == "start_from_baseline" || key == "across_ranks") {
     const auto* b = v.as_boolean();
     if (b == nullptr) bad_type(key, "true or false", v, r);
-    s.start_from_baseline = b->get();
+    (key == "across_ranks" ? s.across_ranks : s.start_from_baseline) = b->get();
   } else if (key == "goal") {
     s.goal = goal_of(v, r);
   } else {
@@ -511,6 +512,7 @@ ManifestEntry read_entry(const toml::table& t, const Settings& defaults, const R
   e.options = std::move(s.options);
   e.baseline = std::move(s.baseline);
   e.start_from_baseline = s.start_from_baseline;
+  e.across_ranks = s.across_ranks;
   e.goal = s.goal;
   e.weights = std::move(s.weights);
   e.hash = entry_hash(e, s);

@@ -196,6 +196,7 @@ stop_at = [1e-3, 6]
 loss = "mse"
 threads = 3
 goal = { cost = 6 }
+across_ranks = true
 )toml");
   const Manifest m = read_manifest(path);
   ASSERT_TRUE(m.bad.empty()) << m.bad[0].message;
@@ -228,6 +229,8 @@ goal = { cost = 6 }
   EXPECT_EQ(b.options.threads, 3);
   EXPECT_EQ(b.goal.kind, BatchGoal::Kind::MaxCost);
   EXPECT_EQ(b.goal.limit, 6);
+  EXPECT_FALSE(m.entries[0].across_ranks);
+  EXPECT_TRUE(b.across_ranks);
   // The domain in the manifest's order, and the inputs in the same order.
   EXPECT_EQ(b.problem.domain, (std::vector<std::string>{"y=0:1", "x=-1:pi/2"}));
   EXPECT_EQ(b.loaded->inputs, (std::vector<std::string>{"y", "x"}));
@@ -361,6 +364,8 @@ TEST(Manifest, BadEntriesSayWhichAndWhere) {
              "m.toml:4:12: entry 'f': baseline:1:6: unknown variable 'y'");
   expect_bad("[[function]]\nname = \"f\"\ndata = \"fresnel.csv\"\ngoal = \"fast\"\n", "f", 1,
              "m.toml:4:8: entry 'f': goal: expected \"knee\"");
+  expect_bad("[[function]]\nname = \"f\"\ndata = \"fresnel.csv\"\nacross_ranks = 1\n", "f", 1,
+             "m.toml:4:16: entry 'f': across_ranks: expected true or false");
   expect_bad("[[function]]\nname = \"2f\"\ndata = \"fresnel.csv\"\n", "2f", 1,
              "m.toml:2:8: entry '2f': name: not a C identifier");
   expect_bad("[[function]]\ndata = \"fresnel.csv\"\n", "function 1", 1,

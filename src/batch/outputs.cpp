@@ -227,7 +227,10 @@ void add_entry_section(HtmlReport& r, const BatchEntryResult& e, const Problem* 
   facts.push_back({"search", e.from_checkpoint
                                  ? "finished by an earlier run (read back)"
                                  : fmt::format("{:.1f} s", e.seconds) +
-                                       (e.rank != 0 ? fmt::format(" on rank {}", e.rank) : "")});
+                                       (e.rank == BatchEntryResult::kAllRanks
+                                            ? std::string(" on every rank, islands shared")
+                                        : e.rank != 0 ? fmt::format(" on rank {}", e.rank)
+                                                      : std::string())});
   r.settings(facts);
 
   const json run = run_of(e);

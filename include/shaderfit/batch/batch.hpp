@@ -53,7 +53,8 @@ struct BatchEntryResult {
   std::string run_json;  // the entry's search JSON (report/search_json.hpp), as `search --json`
   double seconds = 0;    // the search's wall time when it ran
   bool from_checkpoint = false;  // finished by an earlier run, read back
-  int rank = 0;                  // the MPI rank that ran it (0 without MPI)
+  int rank = 0;  // the MPI rank that ran it (0 without MPI); kAllRanks: across_ranks
+  static constexpr int kAllRanks = -1;
 };
 
 // The rule that picks an entry's member (search/choice.hpp) from its goal: beat-baseline is the
@@ -106,17 +107,23 @@ struct BatchResult {
 BatchResult run_batch(const Manifest& manifest, const BatchOptions& options);
 
 // The same across the ranks of `communicator`, every rank calling it with the same manifest
-// (docs/batch.md, "Across machines"): rank 0 hands out the entries longest first as ranks ask
-// for work, runs entries itself on its own worker threads too, gathers the results, writes the
-// checkpoints and calls the callbacks; the others search what they are given, one at a time.
-// A rank that goes silent (BatchOptions::rank_timeout_s) loses only its entry, which is handed
-// out again. Rank 0's result holds every entry; the others return an empty one.
+// (docs/batch.md, "Across machines"). First the entries marked across_ranks, one after another,
+// each searched by every rank together; then rank 0 hands out the others longest first as ranks
+// ask for work, runs entries itself on its own worker threads too, gathers the results, writes
+// the checkpoints and calls the callbacks; the others search what they are given, one at a
+// time. A rank that goes silent (BatchOptions::rank_timeout_s) while it searches a handed-out
+// entry loses only that entry, which is handed out again; one that dies during an across_ranks
+// entry ends the job, as in a distributed search. Rank 0's result holds every entry; the others
+// return an empty one.
 BatchResult run_batch_distributed(const Manifest& manifest, const BatchOptions& options,
                                   Communicator& communicator);
 
 // One entry, on the calling thread: the search, the baseline's score and the goal's member.
+// With a communicator, every rank calls it for the same entry and the search runs across them
+// (SearchOptions::communicator); rank 0's result is the entry's, the others' front is empty.
 BatchEntryResult run_batch_entry(const ManifestEntry& entry,
-                                 const std::atomic<bool>* interrupt = nullptr);
+                                 const std::atomic<bool>* interrupt = nullptr,
+                                 Communicator* communicator = nullptr);
 
 // The checkpoint form of a result (JSON text) and back; from_json throws shaderfit::Error located
 // at `source` for a file it cannot read.

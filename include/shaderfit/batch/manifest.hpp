@@ -19,7 +19,7 @@
 // reference_file, function, domain (a table of [lo, hi], [lo, hi, count] or "lo:hi" per
 // variable, whose order is the inputs'), define (an array of "name = formula"), samples,
 // drop_nonfinite, inputs, target; weights (a numeric column that weighs the rows, left out of a
-// CSV's inferred inputs); baseline; start_from_baseline; goal; every search option
+// CSV's inferred inputs); baseline; start_from_baseline; goal; across_ranks; every search option
 // (search_option_fields(), by name; lists as TOML arrays or the option's text). [defaults] takes
 // the same keys except name and baseline; a key of [defaults] holds for every entry that does not
 // give it. The paths of data and reference_file are relative to the manifest's folder.
@@ -66,6 +66,11 @@ struct ManifestEntry {
   // The search starts from the baseline, its constants refitted (SearchOptions::start); false:
   // the search alone (a yardstick that compares a search with the formula, not a refit of it).
   bool start_from_baseline = true;
+  // Too large for one rank: across MPI ranks (run_batch_distributed) every rank searches it
+  // together, the islands shared out as one distributed search shares them
+  // (SearchOptions::communicator), before the other entries are handed out. Without MPI, an
+  // entry like the others. Not in the hash: under a candidate budget the result is the same.
+  bool across_ranks = false;
   BatchGoal goal;
   std::string weights;  // a column of row weights ("" : none)
   // Hex digest of everything that decides the entry's result (its problem with the paths as the
