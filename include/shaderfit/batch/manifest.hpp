@@ -69,7 +69,8 @@ struct ManifestEntry {
   // Too large for one rank: across MPI ranks (run_batch_distributed) every rank searches it
   // together, the islands shared out as one distributed search shares them
   // (SearchOptions::communicator), before the other entries are handed out. Without MPI, an
-  // entry like the others. Not in the hash: under a candidate budget the result is the same.
+  // entry like the others. Not in the hash: a finished entry is read back however many ranks
+  // searched it (a shared search's front depends on their number: docs/distributed.md).
   bool across_ranks = false;
   BatchGoal goal;
   std::string weights;  // a column of row weights ("" : none)

@@ -143,7 +143,7 @@ struct SearchOptions {
   // When set (and of more than one rank), the search runs across the ranks, each calling
   // run_search with the same data and options (docs/distributed.md): rank 0 enumerates, the
   // evolution's islands are shared out in blocks (islands >= ranks), and rank 0's summary holds
-  // the result, the same as one process with the same islands would give under a count budget.
+  // the result: under a count budget and a seed, the same on the same number of ranks.
   // Only rank 0 writes checkpoints and calls on_new_member and on_progress.
   Communicator* communicator = nullptr;
 
