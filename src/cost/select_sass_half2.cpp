@@ -328,16 +328,8 @@ class Half2Selector {
       case StepOp::Log: return "h2log";
       case StepOp::Sin: return "sf_h2sin";
       case StepOp::Cos: return "sf_h2cos";
-      case StepOp::Sign: return "sign";
-      case StepOp::CopySign: return "copysign";
       case StepOp::Select: return "select";
-      case StepOp::Asin: return "asin";
-      case StepOp::Acos: return "acos";
-      case StepOp::Atan: return "atan";
-      case StepOp::Atan2: return "atan2";
-      case StepOp::Tanh: return "tanh";
-      case StepOp::Erf: return "erf";
-      default: return "?";
+      default: return step_call_name(st.op);
     }
   }
 

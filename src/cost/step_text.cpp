@@ -25,7 +25,9 @@ int level(StepOp op) {
   }
 }
 
-const char* call_name(StepOp op) {
+}  // namespace
+
+const char* step_call_name(StepOp op) {
   switch (op) {
     case StepOp::Fma: return "fma";
     case StepOp::Abs: return "abs";
@@ -51,8 +53,6 @@ const char* call_name(StepOp op) {
     default: return "?";
   }
 }
-
-}  // namespace
 
 StepText::StepText(const Dag& dag, const Program& program) : dag_(dag), p_(program) {
   powers_.resize(p_.steps.size());
@@ -116,7 +116,7 @@ std::string StepText::step(int i, int min_level, std::size_t limit) const {
             operand(st.args[1], 0, limit) + ", " + operand(st.args[2], 0, limit) + ")";
         break;
       default:
-        t = std::string(call_name(st.op)) + "(";
+        t = std::string(step_call_name(st.op)) + "(";
         if (st.neg_arg) t += "-" + operand(st.args[0], 4, limit);
         for (int k = st.neg_arg ? 1 : 0; k < st.arity && t.size() <= limit; ++k) {
           if (k) t += ", ";

@@ -9,6 +9,10 @@
 
 namespace shaderfit::lowering {
 
+// The name of the function a call step prints as ("sqrt", "fma", "saturate"), "?" for an
+// operator step.
+const char* step_call_name(StepOp op);
+
 class StepText {
  public:
   StepText(const Dag& dag, const Program& program);
