@@ -30,7 +30,7 @@
 #include "gpu/pack.hpp"
 #include "gpu/population_test_util.hpp"
 #include "gpu/screen.hpp"
-#include "search/enum_kernels.hpp"
+#include "search/enumeration/enum_kernels.hpp"
 #include "seed_task.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "search/seed_problem_test_util.hpp"
+#include "search/run/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/search/search.hpp"

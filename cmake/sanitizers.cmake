@@ -29,7 +29,7 @@ if(SHADERFIT_FUZZ)
   # Clang 14 rejects the GCC vector helpers of the enumeration kernels (target_clones callers
   # passing 32-byte vectors to always_inline helpers: "AVX vector argument ... changes the ABI").
   # The fuzz programs never reach those kernels, so compile that one file for AVX2 here only.
-  set_source_files_properties(${PROJECT_SOURCE_DIR}/src/search/enum_kernels.cpp
+  set_source_files_properties(${PROJECT_SOURCE_DIR}/src/search/enumeration/enum_kernels.cpp
                               PROPERTIES COMPILE_OPTIONS -mavx2)
 endif()
 

@@ -61,7 +61,7 @@ void add_name_options(CLI::App* cmd, std::vector<std::string>& inputs,
 void add_uniform_option(CLI::App* cmd, std::vector<std::string>& uniform);
 
 // --choose for search and report: "knee" (the default), "cost=N" or "error=E" (the rule in
-// shaderfit/search/choice.hpp); the help text, and the closing lines that name the chosen
+// shaderfit/search/front/choice.hpp); the help text, and the closing lines that name the chosen
 // formula, how it was chosen (with the flag that changes it) and why.
 extern const char* const kChooseHelp;
 std::string chosen_formula_lines(const std::string& formula, const std::string& how,

@@ -14,7 +14,7 @@
 #include "shaderfit/report/html.hpp"
 #include "shaderfit/report/search_json.hpp"
 #include "shaderfit/report/search_report.hpp"
-#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/front/choice.hpp"
 
 namespace shaderfit::cli {
 

@@ -22,9 +22,9 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/report/scene_report.hpp"
 #include "shaderfit/report/search_json.hpp"
-#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/front/choice.hpp"
 #include "shaderfit/search/options.hpp"
-#include "shaderfit/search/report.hpp"
+#include "shaderfit/search/front/front_table.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit::cli {

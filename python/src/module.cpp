@@ -38,7 +38,7 @@
 #include "shaderfit/image/flip.hpp"
 #include "shaderfit/report/command_json.hpp"
 #include "shaderfit/report/search_json.hpp"
-#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/front/choice.hpp"
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/search.hpp"
 

@@ -26,7 +26,7 @@
 #include "shaderfit/expr/precision.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/report/search_json.hpp"
-#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/front/choice.hpp"
 #include "shaderfit/verify/worst_case.hpp"
 
 namespace shaderfit {

@@ -21,7 +21,7 @@
 #include <string_view>
 #include <utility>
 
-#include "search/checkpoint.hpp"  // fnv1a64, the library's one hash of bytes
+#include "core/hash.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/report/search_json.hpp"
@@ -451,7 +451,7 @@ Problem load_entry_problem(const Settings& s) {
 }
 
 std::string entry_hash(const ManifestEntry& e, const Settings& s) {
-  using search_detail::fnv1a64;
+  using core_detail::fnv1a64;
   ProblemSource as_written = e.problem;
   as_written.csv_path = s.data;
   as_written.reference.shader_path = s.reference_file;

@@ -17,7 +17,7 @@
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/report/search_report.hpp"
-#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/front/choice.hpp"
 
 namespace shaderfit {
 

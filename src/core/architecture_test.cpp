@@ -1,7 +1,8 @@
 // docs/architecture.md lists each area and the areas it may include; this test holds the code to
 // that list, so the map and the code cannot drift apart: every area of src/ and include/shaderfit/
 // is listed, the listed arrows form no cycle, and no library file (tests and their helpers aside)
-// includes an area its own may not.
+// includes an area its own may not. A folder inside an area is a wing of it, an area of its own
+// named "area/wing" (search/enumeration): the files at the area's root are the area itself.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -47,12 +48,28 @@ Arrows read_arrows() {
   return arrows;
 }
 
+// The areas ("expr") and their wings ("search/front").
 std::set<std::string> area_folders() {
   std::set<std::string> out;
   for (const fs::path& dir : {kRoot / "src", kRoot / "include" / "shaderfit"})
-    for (const auto& e : fs::directory_iterator(dir))
-      if (e.is_directory()) out.insert(e.path().filename().string());
+    for (const auto& e : fs::directory_iterator(dir)) {
+      if (!e.is_directory()) continue;
+      const std::string area = e.path().filename().string();
+      out.insert(area);
+      for (const auto& w : fs::directory_iterator(e.path()))
+        if (w.is_directory()) out.insert(area + "/" + w.path().filename().string());
+    }
   return out;
+}
+
+// The area or wing of a path relative to src/ or include/shaderfit/ whose first part is an area:
+// "search/front/tidy.hpp" is in search/front, "search/options.hpp" in search.
+std::string area_of(const fs::path& rel, const std::set<std::string>& areas) {
+  auto part = rel.begin();
+  const std::string area = part->string();
+  if (++part == rel.end() || std::next(part) == rel.end()) return area;
+  const std::string wing = area + "/" + part->string();
+  return areas.count(wing) ? wing : area;
 }
 
 bool is_test_code(const fs::path& p) {
@@ -60,9 +77,9 @@ bool is_test_code(const fs::path& p) {
   return name.find("_test.") != std::string::npos || name.find("test_") != std::string::npos;
 }
 
-// The area of `#include "shaderfit/<area>/..."` (public) or `#include "<area>/..."` (internal,
-// under src/); "" for any other line.
-std::string included_area(const std::string& line) {
+// The area (or wing) of `#include "shaderfit/<area>/..."` (public) or `#include "<area>/..."`
+// (internal, under src/); "" for any other line.
+std::string included_area(const std::string& line, const std::set<std::string>& areas) {
   std::size_t at = line.find_first_not_of(" \t");
   if (at == std::string::npos || line[at] != '#') return {};
   at = line.find_first_not_of(" \t", at + 1);
@@ -71,8 +88,8 @@ std::string included_area(const std::string& line) {
   if (open == std::string::npos) return {};
   std::string path = line.substr(open + 1, line.find('"', open + 1) - open - 1);
   if (path.rfind("shaderfit/", 0) == 0) path.erase(0, 10);
-  const std::size_t slash = path.find('/');
-  return slash == std::string::npos ? std::string() : path.substr(0, slash);
+  if (path.find('/') == std::string::npos) return {};
+  return area_of(fs::path(path), areas);
 }
 
 TEST(Architecture, EveryAreaIsOnTheMap) {
@@ -119,12 +136,12 @@ TEST(Architecture, LibraryIncludesFollowTheMap) {
       if (!e.is_regular_file() || is_test_code(e.path())) continue;
       const fs::path rel = e.path().lexically_relative(dir);
       if (rel.begin() == rel.end() || std::next(rel.begin()) == rel.end()) continue;  // top level
-      const std::string from = rel.begin()->string();
+      const std::string from = area_of(rel, areas);
       const auto allowed = arrows.find(from);
       std::ifstream f(e.path());
       std::string line;
       for (int n = 1; std::getline(f, line); ++n) {
-        const std::string to = included_area(line);
+        const std::string to = included_area(line, areas);
         if (to == from || !areas.count(to)) continue;
         ++checked;
         EXPECT_TRUE(allowed != arrows.end() && allowed->second.count(to))

@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "core/hash.hpp"
 #include "search/exact_json.hpp"
 
 // The build defines it for this file from the CMake project version (CMakeLists.txt).
@@ -24,6 +25,8 @@
 #endif
 
 namespace shaderfit::search_detail {
+
+using core_detail::fnv1a64;
 
 namespace {
 
@@ -216,14 +219,6 @@ bool take_line(std::string_view& rest, std::string_view* line) {
 }  // namespace
 
 std::string_view checkpoint_writer_version() { return SHADERFIT_VERSION; }
-
-std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h) {
-  for (unsigned char c : bytes) {
-    h ^= c;
-    h *= 0x100000001b3ULL;
-  }
-  return h;
-}
 
 std::uint64_t problem_hash(const SearchProblem& p) {
   auto column = [](std::uint64_t h, const std::vector<double>& v) {

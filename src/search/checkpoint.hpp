@@ -91,8 +91,6 @@ struct Checkpoint {
 // The version of shaderfit that this build writes into checkpoints (and accepts in them).
 std::string_view checkpoint_writer_version();
 
-// FNV-1a, 64 bits.
-std::uint64_t fnv1a64(std::string_view bytes, std::uint64_t h = 0xcbf29ce484222325ULL);
 // Hash of the data: input names and the bits of every input, target and weight value.
 std::uint64_t problem_hash(const SearchProblem& problem);
 // The options that decide what the search does (OptionRole::Search), as (name, value) text

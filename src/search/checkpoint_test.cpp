@@ -2,6 +2,7 @@
 // a run stopped at a generation boundary or during the enumeration, then resumed with one
 // thread, ends with the front the uninterrupted run ends with.
 #include "search/checkpoint.hpp"
+#include "core/hash.hpp"
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
@@ -14,12 +15,14 @@
 #include <limits>
 #include <sstream>
 
-#include "search/seed_problem_test_util.hpp"
+#include "search/run/seed_problem_test_util.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/expr/parse.hpp"
 
 namespace shaderfit::search_detail {
 namespace {
+
+using core_detail::fnv1a64;
 
 // Seed 001's Fresnel data, every 8th row (512), to keep the searches below short.
 SearchProblem seed_problem() {

@@ -17,7 +17,7 @@
 
 #include "search/exact_json.hpp"
 #include "search/search_context.hpp"
-#include "search/seed_problem_test_util.hpp"
+#include "search/run/seed_problem_test_util.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/expr/print.hpp"

@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "search/seed_problem_test_util.hpp"
+#include "search/run/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 

@@ -12,13 +12,13 @@
 #include <set>
 #include <tuple>
 
-#include "search/seed_problem_test_util.hpp"
+#include "search/run/seed_problem_test_util.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/report/search_json.hpp"
-#include "shaderfit/search/report.hpp"
+#include "shaderfit/search/front/front_table.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "shaderfit/batch/manifest.hpp"
-#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/front/choice.hpp"
 #include "shaderfit/search/communicator.hpp"
 #include "shaderfit/search/front_member.hpp"
 #include "shaderfit/search/search.hpp"

@@ -22,7 +22,7 @@
 #include "shaderfit/expr/precision.hpp"
 #include "shaderfit/reference/function.hpp"
 #include "shaderfit/report/html.hpp"
-#include "shaderfit/search/choice.hpp"
+#include "shaderfit/search/front/choice.hpp"
 
 namespace shaderfit {
 

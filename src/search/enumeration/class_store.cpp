@@ -1,0 +1,167 @@
+#include "search/enumeration/class_store.hpp"
+
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <cstring>
+#include <new>
+
+namespace shaderfit::search_detail {
+
+namespace {
+
+constexpr std::size_t kHugePage = std::size_t{2} << 20;
+
+// Anonymous memory: zero pages committed by the OS on first touch, in 2 MiB pages where the
+// kernel allows it (far fewer page faults while the arena fills).
+void* map_arena(std::size_t bytes) {
+  void* p = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (p == MAP_FAILED) throw std::bad_alloc();
+#ifdef MADV_HUGEPAGE
+  madvise(p, bytes, MADV_HUGEPAGE);
+#endif
+  return p;
+}
+
+std::size_t table_size_for(std::size_t entries) {
+  std::size_t n = 1024;
+  while (n < 4 * entries) n *= 2;  // at most a quarter full: short probes
+  return n;
+}
+
+}  // namespace
+
+ClassRecord make_record(EKind kind, std::uint16_t cost) {
+  ClassRecord r{};
+  r.kind = kind;
+  r.cost = cost;
+  r.op = Op::Const;
+  return r;
+}
+
+ClassStore::ClassStore(std::size_t screen_rows, std::size_t capacity, std::size_t verify_rows)
+    : rows_(screen_rows), verify_rows_(std::min(verify_rows, screen_rows)), capacity_(capacity) {
+  // One reservation: the column pointers, the records, then the columns themselves (with room
+  // for the candidates that a merge drops after their worker kept them).
+  const std::size_t pointer_bytes = (capacity * sizeof(const float*) + 63) / 64 * 64;
+  const std::size_t record_bytes = (capacity * sizeof(ClassRecord) + 63) / 64 * 64;
+  column_arena_columns_ = capacity + capacity / 2 + 65536;
+  const std::size_t column_bytes = column_arena_columns_ * rows_ * sizeof(float);
+  arena_bytes_ =
+      (pointer_bytes + record_bytes + column_bytes + kHugePage - 1) / kHugePage * kHugePage;
+  auto* base = static_cast<unsigned char*>(map_arena(arena_bytes_));
+  arena_ = base;
+  columns_ = reinterpret_cast<const float**>(base);
+  records_ = reinterpret_cast<ClassRecord*>(base + pointer_bytes);
+  column_arena_ = reinterpret_cast<float*>(base + pointer_bytes + record_bytes);
+  committed_table_.assign(1024, 0);
+  pending_table_.assign(1024, 0);
+}
+
+ClassStore::~ClassStore() { munmap(arena_, arena_bytes_); }
+
+std::int64_t ClassStore::probe(const std::vector<std::uint64_t>& table, const float* column,
+                               const ColumnStats& stats) const {
+  // Everything the check needs is in the slot and the two columns: no record is read.
+  const std::size_t mask = table.size() - 1;
+  const std::uint64_t fingerprint = stats.hash >> 33;
+  for (std::size_t i = stats.hash & mask;; i = (i + 1) & mask) {
+    const std::uint64_t slot = table[i];
+    if (slot == 0) return -1;
+    if ((slot >> 33) != fingerprint) continue;
+    const auto id = static_cast<std::uint32_t>((slot & 0xffffffffu) - 1);
+    const bool negate = (((slot >> 32) & 1u) != 0) != stats.canonical_neg;
+    if (columns_equivalent(column, this->column(id), negate, stats.scale, verify_rows_)) return id;
+  }
+}
+
+void ClassStore::prefetch_pending_column(const ColumnStats& stats) const {
+  const std::uint64_t slot = pending_table_[stats.hash & (pending_table_.size() - 1)];
+  if (slot == 0 || (slot >> 33) != (stats.hash >> 33)) return;
+  const auto* column = reinterpret_cast<const char*>(columns_[(slot & 0xffffffffu) - 1]);
+  for (std::size_t b = 0; b < verify_rows_ * sizeof(float); b += 64) __builtin_prefetch(column + b);
+}
+
+std::int64_t ClassStore::find_committed(const float* column, const ColumnStats& stats) const {
+  return probe(committed_table_, column, stats);
+}
+
+std::int64_t ClassStore::find_pending(const float* column, const ColumnStats& stats) const {
+  return probe(pending_table_, column, stats);
+}
+
+void ClassStore::place(std::vector<std::uint64_t>& table, std::uint32_t id) const {
+  const std::uint64_t hash = hashes_[id];
+  const std::uint64_t neg = records_[id].has(ClassRecord::kCanonicalNeg) ? 1 : 0;
+  const std::size_t mask = table.size() - 1;
+  std::size_t i = hash & mask;
+  while (table[i] != 0) i = (i + 1) & mask;
+  table[i] = ((hash >> 33) << 33) | (neg << 32) | (std::uint64_t{id} + 1);
+}
+
+std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats,
+                                 ClassRecord record) {
+  const std::uint32_t id = size_++;
+  record.scale = stats.scale;
+  if (stats.canonical_neg) record.flags |= ClassRecord::kCanonicalNeg;
+  records_[id] = record;
+  columns_[id] = column;
+  hashes_.push_back(stats.hash);
+  const std::uint32_t pending = size_ - committed_;
+  if (pending_table_.size() < 2 * pending) {  // keep it at most half full
+    std::vector<std::uint64_t> bigger(2 * pending_table_.size(), 0);
+    for (std::uint32_t j = committed_; j + 1 < size_; ++j) place(bigger, j);
+    pending_table_.swap(bigger);
+  }
+  place(pending_table_, id);
+  return id;
+}
+
+void ClassStore::improve(std::uint32_t id, const float* column, const ColumnStats& stats,
+                         ClassRecord record) {
+  record.scale = stats.scale;
+  record.flags &= static_cast<std::uint8_t>(~ClassRecord::kCanonicalNeg);
+  if (stats.canonical_neg) record.flags |= ClassRecord::kCanonicalNeg;
+  const bool sign_changed =
+      records_[id].has(ClassRecord::kCanonicalNeg) != record.has(ClassRecord::kCanonicalNeg);
+  records_[id] = record;
+  columns_[id] = column;
+  if (!sign_changed) return;
+  // The slot records the stored column's canonical sign: flip it.
+  std::vector<std::uint64_t>& table = id >= committed_ ? pending_table_ : committed_table_;
+  const std::size_t mask = table.size() - 1;
+  for (std::size_t i = hashes_[id] & mask;; i = (i + 1) & mask) {
+    if ((table[i] & 0xffffffffu) == std::uint64_t{id} + 1) {
+      table[i] ^= std::uint64_t{1} << 32;
+      return;
+    }
+  }
+}
+
+std::uint32_t ClassStore::insert_copy(const float* column, const ColumnStats& stats,
+                                      ClassRecord record) {
+  float* kept = allocate_block(1);
+  if (kept == nullptr) throw std::bad_alloc();
+  std::copy(column, column + rows_, kept);
+  return insert(kept, stats, record);
+}
+
+float* ClassStore::allocate_block(std::size_t columns) {
+  const std::size_t at = column_arena_used_.fetch_add(columns, std::memory_order_relaxed);
+  if (at + columns > column_arena_columns_) return nullptr;
+  return column_arena_ + at * rows_;
+}
+
+void ClassStore::commit() {
+  if (committed_table_.size() < 2 * std::size_t{size_}) {  // over half full: rebuild bigger
+    committed_table_.assign(table_size_for(size_), 0);
+    for (std::uint32_t j = 0; j < size_; ++j) place(committed_table_, j);
+  } else {
+    for (std::uint32_t j = committed_; j < size_; ++j) place(committed_table_, j);
+  }
+  committed_ = size_;
+  // Cleared, not shrunk: reallocating it every batch would fault its pages in again.
+  std::fill(pending_table_.begin(), pending_table_.end(), 0);
+}
+
+}  // namespace shaderfit::search_detail
