@@ -107,7 +107,8 @@ class ExpressionGrammar {
   // A unary operator of the language's own before `-` and `+` are tried (the current token).
   virtual std::optional<Value> prefix() { return std::nullopt; }
   virtual Value negate(Value v) = 0;
-  // A number literal, just read; `negative`: a '-' came right before it.
+  // A number literal, just read; `negative`: a '-' came right before it (then what follows is
+  // the hook's to check_postfix(); primary() checks after the other operands).
   virtual Value literal(const Token& number, bool negative) = 0;
   // base ^ exponent, after the '^' (`caret`): reads the exponent.
   virtual Value power_of(Value base, const Token& caret) = 0;
