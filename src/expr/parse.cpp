@@ -1,5 +1,5 @@
-// Recursive-descent parser that emits postfix nodes as it goes: operands are parsed (and so
-// emitted) before their operator, which is exactly postfix order.
+// The approximation's parser: expr/grammar.hpp's grammar emitting postfix nodes as it goes
+// (operands are parsed, and so emitted, before their operator, which is exactly postfix order).
 #include "shaderfit/expr/parse.hpp"
 
 #include <algorithm>
@@ -11,144 +11,65 @@
 #include <string>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/grammar.hpp"
+#include "shaderfit/expr/lexer.hpp"
 
 namespace shaderfit {
 
 namespace {
 
-struct Token {
-  enum Kind { Number, Ident, Symbol, End } kind = End;
-  std::string_view text;
-  double number = 0.0;
-  bool integral = false;  // the literal has no '.' and no exponent part
-  int column = 1;         // 1-based
+// The lexer and the nesting count, made before the grammar that reads them.
+struct ParserState {
+  Lexer lexer;
+  int nesting = 0;
 };
 
-class Parser {
+// The grammar's values are the index of the subtree's first node.
+class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
  public:
-  Parser(std::string_view text, const ParseOptions& opts) : text_(text), opts_(opts) {
+  Parser(std::string_view text, const ParseOptions& opts)
+      : ParserState{Lexer(text, formula_syntax(), opts.source, opts.line)},
+        ExpressionGrammar(TokenStream(lexer), formula_syntax(), opts.source, nesting, true),
+        text_(text),
+        opts_(opts) {
     expr_.variables = opts.variables;
     expr_.parameters = opts.parameters;
     expr_.parameter_values = opts.parameter_values;
     expr_.parameter_values.resize(expr_.parameters.size(), 0.0);
-    advance();
   }
 
   Expression run() {
-    if (tok_.kind == Token::End) fail("empty formula", tok_.column);
-    parse_sum();
-    if (tok_.kind != Token::End) fail("unexpected '" + std::string(tok_.text) + "'", tok_.column);
+    if (peek().kind == Token::End) fail("empty formula", peek().column);
+    expression();
+    if (peek().kind != Token::End)
+      fail("unexpected '" + std::string(peek().text) + "'", peek().column);
     if (opts_.literals_as_parameters) free_literals();
     expr_.update_lengths();
     return std::move(expr_);
   }
 
+  // A sum where a comparison may not follow: comparisons only appear in select's condition.
+  std::size_t expression() override {
+    const std::size_t v = binary();
+    if (is_comparison()) {
+      fail("a comparison ('" + std::string(peek().text) +
+               "') is only allowed as the first argument of select",
+           peek().column);
+    }
+    return v;
+  }
+
  private:
+  using ExpressionGrammar::fail;
   [[noreturn]] void fail(const std::string& msg, int column) const {
     throw Error(msg, SourceLocation{opts_.source, opts_.line, column});
   }
 
-  // --- lexer -------------------------------------------------------------------------------
-  void advance() {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-    tok_ = Token{};
-    tok_.column = static_cast<int>(pos_) + 1;
-    if (pos_ >= text_.size()) {
-      tok_.kind = Token::End;
-      tok_.text = "end of formula";
-      return;
-    }
-    const char c = text_[pos_];
-    const std::size_t start = pos_;
-    if (std::isdigit(static_cast<unsigned char>(c)) ||
-        (c == '.' && pos_ + 1 < text_.size() &&
-         std::isdigit(static_cast<unsigned char>(text_[pos_ + 1])))) {
-      bool integral = true;
-      while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-      if (pos_ < text_.size() && text_[pos_] == '.') {
-        integral = false;
-        ++pos_;
-        while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_]))) ++pos_;
-      }
-      if (pos_ < text_.size() && (text_[pos_] == 'e' || text_[pos_] == 'E')) {
-        std::size_t p = pos_ + 1;
-        if (p < text_.size() && (text_[p] == '+' || text_[p] == '-')) ++p;
-        if (p < text_.size() && std::isdigit(static_cast<unsigned char>(text_[p]))) {
-          integral = false;
-          pos_ = p;
-          while (pos_ < text_.size() && std::isdigit(static_cast<unsigned char>(text_[pos_])))
-            ++pos_;
-        } else {
-          fail("malformed number: exponent has no digits", static_cast<int>(start) + 1);
-        }
-      }
-      tok_.kind = Token::Number;
-      tok_.text = text_.substr(start, pos_ - start);
-      tok_.integral = integral;
-      const char* b = text_.data() + start;
-      const char* e = text_.data() + pos_;
-      auto [ptr, ec] = std::from_chars(b, e, tok_.number);
-      if (ec == std::errc::result_out_of_range) {
-        fail("number out of range: '" + std::string(tok_.text) + "'", tok_.column);
-      }
-      if (ec != std::errc() || ptr != e) {
-        fail("malformed number '" + std::string(tok_.text) + "'", tok_.column);
-      }
-      if (pos_ < text_.size() &&
-          (std::isalpha(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_')) {
-        fail("unexpected '" + std::string(1, text_[pos_]) + "' after the number " +
-                 std::string(tok_.text),
-             static_cast<int>(pos_) + 1);
-      }
-      return;
-    }
-    if (std::isalpha(static_cast<unsigned char>(c)) || c == '_') {
-      while (pos_ < text_.size() &&
-             (std::isalnum(static_cast<unsigned char>(text_[pos_])) || text_[pos_] == '_'))
-        ++pos_;
-      tok_.kind = Token::Ident;
-      tok_.text = text_.substr(start, pos_ - start);
-      return;
-    }
-    if (c == '<' || c == '>') {  // comparisons: < <= > >=
-      pos_ += pos_ + 1 < text_.size() && text_[pos_ + 1] == '=' ? 2 : 1;
-      tok_.kind = Token::Symbol;
-      tok_.text = text_.substr(start, pos_ - start);
-      return;
-    }
-    static constexpr std::string_view kSymbols = "+-*/^(),";
-    if (kSymbols.find(c) != std::string_view::npos) {
-      ++pos_;
-      tok_.kind = Token::Symbol;
-      tok_.text = text_.substr(start, 1);
-      return;
-    }
-    const unsigned char uc = static_cast<unsigned char>(c);
-    if (uc < 0x20 || uc >= 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "0x%02X", uc);
-      fail(std::string("unexpected character ") + buf, tok_.column);
-    }
-    fail(std::string("unexpected character '") + c + "'", tok_.column);
+  bool is_comparison() const {
+    const Token& t = peek();
+    return t.is("<") || t.is("<=") || t.is(">") || t.is(">=");
   }
 
-  bool is_symbol(char c) const { return tok_.kind == Token::Symbol && tok_.text[0] == c; }
-  bool is_comparison() const { return is_symbol('<') || is_symbol('>'); }
-
-  void expect(char c, const std::string& what) {
-    if (!is_symbol(c)) {
-      fail("expected '" + std::string(1, c) + "' " + what + ", found " + describe(tok_),
-           tok_.column);
-    }
-    advance();
-  }
-
-  static std::string describe(const Token& t) {
-    if (t.kind == Token::End) return "end of formula";
-    return "'" + std::string(t.text) + "'";
-  }
-
-  // --- grammar -----------------------------------------------------------------------------
   // Appends a node, tracking the depth of the subtree it closes (kMaxFormulaDepth).
   void emit(Node n) {
     std::size_t depth = 1;
@@ -159,7 +80,7 @@ class Parser {
     if (depth > static_cast<std::size_t>(kMaxFormulaDepth)) {
       fail("formula too deep: more than " + std::to_string(kMaxFormulaDepth) +
                " operations applied one to another",
-           tok_.column);
+           peek().column);
     }
     depths_.push_back(depth);
     expr_.nodes.push_back(n);
@@ -169,100 +90,46 @@ class Parser {
     expr_.nodes.pop_back();
   }
 
-  // A sum where a comparison may not follow: comparisons only appear in select's condition.
-  void parse_sum() {
-    parse_terms();
-    if (is_comparison()) {
-      fail("a comparison ('" + std::string(tok_.text) +
-               "') is only allowed as the first argument of select",
-           tok_.column);
-    }
+  // --- the grammar's hooks -------------------------------------------------------------------
+  std::size_t binary_op(const Token& op, std::size_t a, std::size_t /*b*/) override {
+    emit(Node::op_node(op.is("+")   ? Op::Add
+                       : op.is("-") ? Op::Sub
+                       : op.is("*") ? Op::Mul
+                                    : Op::Div));
+    return a;
   }
 
-  // sum := product (('+' | '-') product)*
-  void parse_terms() {
-    parse_product();
-    while (is_symbol('+') || is_symbol('-')) {
-      const Op op = is_symbol('+') ? Op::Add : Op::Sub;
-      advance();
-      parse_product();
-      emit(Node::op_node(op));
-    }
+  std::size_t negate(std::size_t v) override {
+    emit(Node::op_node(Op::Neg));
+    return v;
   }
 
-  // product := unary (('*' | '/') unary)*
-  void parse_product() {
-    parse_unary();
-    while (is_symbol('*') || is_symbol('/')) {
-      const Op op = is_symbol('*') ? Op::Mul : Op::Div;
-      advance();
-      parse_unary();
-      emit(Node::op_node(op));
-    }
+  std::size_t literal(const Token& number, bool negative) override {
+    emit(Node::constant(negative ? -number.number : number.number));
+    return expr_.nodes.size() - 1;
   }
 
-  // unary := '-' unary | '+' unary | power; '-' right before a number literal that is not the
-  // base of '^' makes a negative constant.
-  void parse_unary() {
-    // Every nested operand passes through here: parentheses, call arguments and signs.
-    if (nesting_ >= kMaxFormulaNesting) {
-      fail("formula nested more than " + std::to_string(kMaxFormulaNesting) +
-               " levels deep (parentheses, calls and signs)",
-           tok_.column);
-    }
-    ++nesting_;
-    struct Leave {
-      int& n;
-      ~Leave() { --n; }
-    } leave{nesting_};
-    if (is_symbol('-')) {
-      advance();
-      if (tok_.kind == Token::Number && !next_is_caret()) {
-        const double v = tok_.number;
-        advance();
-        emit(Node::constant(-v));
-        return;
-      }
-      parse_unary();
-      emit(Node::op_node(Op::Neg));
-      return;
-    }
-    if (is_symbol('+')) {
-      advance();
-      parse_unary();
-      return;
-    }
-    parse_power();
+  std::size_t name(const Token& t) override {
+    emit_name(t);
+    return expr_.nodes.size() - 1;
   }
 
-  bool next_is_caret() const {
-    std::size_t p = pos_;
-    while (p < text_.size() && std::isspace(static_cast<unsigned char>(text_[p]))) ++p;
-    return p < text_.size() && text_[p] == '^';
-  }
-
-  // power := primary ('^' integer)*   (left-associative: x^2^3 = (x^2)^3)
-  void parse_power() {
-    parse_primary();
-    while (is_symbol('^')) {
-      const int caret_col = tok_.column;
-      advance();
-      int sign = 1;
-      int col = tok_.column;
-      if (is_symbol('-') || is_symbol('+')) {
-        sign = is_symbol('-') ? -1 : 1;
-        advance();
-      }
-      if (tok_.kind != Token::Number || !tok_.integral) {
-        fail(
-            "the exponent after '^' must be an integer literal from -16 to 16 (use pow(a, b) or "
-            "exp2 for others), found " +
-                describe(tok_),
-            tok_.kind == Token::End ? caret_col : tok_.column);
-      }
-      emit_ipow(sign * tok_.number, col);
-      advance();
+  // '^' takes an integer literal from -16 to 16 with at most one sign: x^4, x^-2.
+  std::size_t power_of(std::size_t base, const Token& caret) override {
+    int sign = 1;
+    const int col = peek().column;
+    if (peek().is("-") || peek().is("+")) sign = next().is("-") ? -1 : 1;
+    const Token& k = peek();
+    if (k.kind != Token::Number || !k.integral) {
+      fail(
+          "the exponent after '^' must be an integer literal from -16 to 16 (use pow(a, b) or "
+          "exp2 for others), found " +
+              describe(k),
+          k.kind == Token::End ? caret.column : k.column);
     }
+    emit_ipow(sign * k.number, col);
+    next();
+    return base;
   }
 
   void emit_ipow(double k, int column) {
@@ -276,40 +143,6 @@ class Parser {
   static std::string format_int(double k) {
     if (std::abs(k) < 1e15) return std::to_string(static_cast<long long>(k));
     return "beyond 1e15";
-  }
-
-  void parse_primary() {
-    if (tok_.kind == Token::Number) {
-      emit(Node::constant(tok_.number));
-      advance();
-      return;
-    }
-    if (is_symbol('(')) {
-      const int col = tok_.column;
-      advance();
-      if (is_symbol(')')) fail("empty parentheses", col);
-      parse_sum();
-      if (!is_symbol(')')) {
-        fail("expected ')' to close the '(' at column " + std::to_string(col) + ", found " +
-                 describe(tok_),
-             tok_.column);
-      }
-      advance();
-      return;
-    }
-    if (tok_.kind == Token::Ident) {
-      const Token name = tok_;
-      advance();
-      if (is_symbol('(')) {
-        parse_call(name);
-      } else {
-        emit_name(name);
-      }
-      return;
-    }
-    if (tok_.kind == Token::End)
-      fail("unexpected end of formula: an operand is missing", tok_.column);
-    fail("unexpected " + describe(tok_) + ": an operand is missing", tok_.column);
   }
 
   void emit_name(const Token& name) {
@@ -344,47 +177,35 @@ class Parser {
     emit(Node::variable(v));
   }
 
-  void parse_call(const Token& name) {
+  std::size_t call(const Token& name) override {
+    const std::size_t first = expr_.nodes.size();
     const std::string s(name.text);
     Op op = op_from_name(s);
     if (s == "inversesqrt") op = Op::Rsqrt;  // GLSL spelling
     if (op == Op::Count_ || op_info(op).infix) fail("unknown function '" + s + "'", name.column);
-    advance();  // '('
     if (op == Op::Select) {
+      next();  // '('
       parse_select(name);
-      return;
+      return first;
     }
     const int want = arity(op);
-    int got = 0;
     std::size_t second_start = 0;
     std::size_t second_text_begin = 0;
-    if (!is_symbol(')')) {
-      while (true) {
-        if (got == 1) {
-          second_start = expr_.nodes.size();
-          second_text_begin = static_cast<std::size_t>(tok_.column - 1);
-        }
-        parse_sum();
-        ++got;
-        if (is_symbol(',')) {
-          advance();
-          continue;
-        }
-        break;
+    const int got = arguments(name, [&](int index) {
+      if (index == 1) {
+        second_start = expr_.nodes.size();
+        second_text_begin = static_cast<std::size_t>(peek().column - 1);
       }
-    }
-    if (!is_symbol(')')) {
-      fail("expected ',' or ')' in the arguments of " + s + ", found " + describe(tok_),
-           tok_.column);
-    }
+      expression();
+    });
     if (op == Op::Atan && got == 2) op = Op::Atan2;  // GLSL spelling: atan(y, x)
     if (got != arity(op)) {
       fail(s + " takes " + std::to_string(want) + (want == 1 ? " argument" : " arguments") +
                ", got " + std::to_string(got),
            name.column);
     }
-    const std::size_t close = static_cast<std::size_t>(tok_.column - 1);
-    advance();  // ')'
+    const std::size_t close = static_cast<std::size_t>(peek().column - 1);
+    next();  // ')'
     // pow(a, k) with an integer literal k ("5", "-2"; not "5.0") in range is the integer power.
     if (op == Op::Pow && expr_.nodes.size() == second_start + 1 &&
         expr_.nodes.back().op == Op::Const &&
@@ -393,10 +214,11 @@ class Parser {
       if (k >= kMinIntegerPower && k <= kMaxIntegerPower && k != 0 && k != 1) {
         drop_last_leaf();
         emit(Node::ipow(static_cast<int>(k)));
-        return;
+        return first;
       }
     }
     emit(Node::op_node(op));
+    return first;
   }
 
   // select(X cmp Y, b, c), after the '('. The condition becomes the one operand a of
@@ -407,20 +229,19 @@ class Parser {
   // where the difference is NaN: equal infinities, and NaN operands, where > and < take b.)
   void parse_select(const Token& name) {
     const std::size_t x_begin = expr_.nodes.size();
-    const int x_column = tok_.column;
-    if (is_symbol(')')) fail("select takes 3 arguments, got 0", name.column);
-    parse_terms();
+    const int x_column = peek().column;
+    if (peek().is(")")) fail("select takes 3 arguments, got 0", name.column);
+    binary();
     if (!is_comparison()) {
       fail(
           "the first argument of select must be a comparison (X >= Y, X > Y, X <= Y or X < Y), "
           "found " +
-              describe(tok_) + " after it",
-          is_symbol(',') || is_symbol(')') ? x_column : tok_.column);
+              describe(peek()) + " after it",
+          peek().is(",") || peek().is(")") ? x_column : peek().column);
     }
-    const std::string cmp(tok_.text);
-    advance();
+    const std::string cmp(next().text);
     const std::size_t y_begin = expr_.nodes.size();
-    parse_sum();
+    expression();
     // The condition as P >= Q, negated when `swap`.
     const bool y_first = cmp == "<=" || cmp == ">";
     const bool swap = cmp == ">" || cmp == "<";
@@ -437,17 +258,19 @@ class Parser {
     }
     std::size_t b_begin = 0, c_begin = 0;
     for (std::size_t* begin : {&b_begin, &c_begin}) {
-      if (!is_symbol(',')) {
-        fail("expected ',' and two more arguments of select, found " + describe(tok_), tok_.column);
+      if (!peek().is(",")) {
+        fail("expected ',' and two more arguments of select, found " + describe(peek()),
+             peek().column);
       }
-      advance();
+      next();
       *begin = expr_.nodes.size();
-      parse_sum();
+      expression();
     }
-    if (!is_symbol(')')) {
-      fail("expected ')' after the 3 arguments of select, found " + describe(tok_), tok_.column);
+    if (!peek().is(")")) {
+      fail("expected ')' after the 3 arguments of select, found " + describe(peek()),
+           peek().column);
     }
-    advance();
+    next();
     if (swap) swap_last_two(b_begin, c_begin);
     emit(Node::op_node(Op::Select));
   }
@@ -512,12 +335,9 @@ class Parser {
 
   std::string_view text_;
   const ParseOptions& opts_;
-  std::size_t pos_ = 0;
-  Token tok_;
   Expression expr_;
   std::vector<std::size_t> exact_;   // the nodes of named constants (pi)
   std::vector<std::size_t> depths_;  // per subtree on the postfix stack: its depth
-  int nesting_ = 0;                  // parse_unary calls in progress
 };
 
 }  // namespace

@@ -19,7 +19,6 @@ using detail::Dialect;
 using detail::ExpressionParser;
 using detail::ProgramBuilder;
 using detail::Reg;
-using detail::Token;
 using detail::Value;
 
 std::string_view trim(std::string_view s) {

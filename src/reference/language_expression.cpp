@@ -1,5 +1,6 @@
-// The one expression parser of the reference language: recursive descent with C's precedence,
-// emitting instructions as it goes (language_internal.hpp).
+// The reference language's expression parser: expr/grammar.hpp's grammar extended with C's
+// operators and types, the general `^` and the function library, emitting instructions as it goes
+// (language_internal.hpp); and the lexer's settings for its two dialects.
 #include <cmath>
 #include <limits>
 
@@ -9,18 +10,15 @@ namespace shaderfit::reference::detail {
 
 namespace {
 
-// Binding strength of the binary operators; 0: not one.
-int precedence(const Token& t) {
-  if (t.kind != Token::Symbol) return 0;
-  const std::string_view s = t.text;
-  if (s == "||") return 1;
-  if (s == "&&") return 2;
-  if (s == "==" || s == "!=") return 3;
-  if (s == "<" || s == "<=" || s == ">" || s == ">=") return 4;
-  if (s == "+" || s == "-") return 5;
-  if (s == "*" || s == "/" || s == "%") return 6;
-  return 0;
-}
+// Longest first, so that "<=" is one token and "<" another.
+constexpr std::string_view kFormulaSymbols[] = {"<=", ">=", "==", "!=", "&&", "||", "+",
+                                                "-",  "*",  "/",  "^",  "(",  ")",  ",",
+                                                "<",  ">",  "!",  "?",  ":",  "="};
+constexpr std::string_view kShaderSymbols[] = {
+    "<<=", ">>=", "<=", ">=", "==", "!=", "&&", "||", "++", "--", "+=", "-=",
+    "*=",  "/=",  "%=", "&=", "|=", "^=", "<<", ">>", "->", "::", "+",  "-",
+    "*",   "/",   "%",  "^",  "&",  "|",  "~",  "(",  ")",  "[",  "]",  "{",
+    "}",   ",",   ";",  ".",  "<",  ">",  "!",  "?",  ":",  "="};
 
 bool is_bitwise(const Token& t) {
   return t.kind == Token::Symbol &&
@@ -33,56 +31,35 @@ Type arithmetic_type(Value a, Value b) {
 
 }  // namespace
 
+const Syntax& syntax(Dialect dialect) {
+  static const Syntax formula{kFormulaSymbols};
+  static const Syntax shader{kShaderSymbols, true, true, true, "end of file"};
+  return dialect == Dialect::Formula ? formula : shader;
+}
+
+void fail_at(const std::string& message, const std::string& source, const Token& at) {
+  throw Error(message, SourceLocation{source, at.line, at.column});
+}
+
 ExpressionParser::ExpressionParser(std::span<const Token> tokens, std::size_t position,
                                    ProgramBuilder& builder, Dialect dialect,
                                    const std::string& source, int& nesting)
-    : tokens_(tokens),
-      pos_(position),
+    : ExpressionGrammar(TokenStream(tokens, position), syntax(dialect), source, nesting,
+                        dialect == Dialect::Formula),
       b_(builder),
-      dialect_(dialect),
-      source_(source),
-      nesting_(nesting) {}
+      dialect_(dialect) {}
 
-ExpressionParser::Nest::Nest(const ExpressionParser& p, const Token& at) : nesting_(p.nesting_) {
-  if (nesting_ >= kMaxNesting) {
-    const bool formula = p.dialect_ == Dialect::Formula;
-    p.fail(std::string(formula ? "formula" : "code") + " nested more than " +
-               std::to_string(kMaxNesting) + " levels deep (" +
-               (formula ? "parentheses, calls, signs and ?:"
-                        : "parentheses, calls, signs, ?:, blocks and inlined calls") +
-               ")",
-           at);
-  }
-  ++nesting_;
+std::string ExpressionParser::nesting_message() const {
+  const bool formula = dialect_ == Dialect::Formula;
+  return std::string(formula ? "formula" : "code") + " nested more than " +
+         std::to_string(kMaxFormulaNesting) + " levels deep (" +
+         (formula ? "parentheses, calls, signs and ?:"
+                  : "parentheses, calls, signs, ?:, blocks and inlined calls") +
+         ")";
 }
 
-const Token& ExpressionParser::peek(std::size_t ahead) const {
-  const std::size_t i = pos_ + ahead;
-  return i < tokens_.size() ? tokens_[i] : tokens_.back();
-}
-
-const Token& ExpressionParser::next() {
-  const Token& t = peek();
-  if (pos_ + 1 < tokens_.size()) ++pos_;
+void ExpressionParser::consumed(const Token& t) {
   if (t.kind != Token::End) b_.at(t);
-  return t;
-}
-
-bool ExpressionParser::accept(std::string_view symbol) {
-  if (!peek().is(symbol)) return false;
-  next();
-  return true;
-}
-
-void ExpressionParser::expect(std::string_view symbol, const std::string& what) {
-  if (!accept(symbol)) {
-    fail("expected '" + std::string(symbol) + "' " + what + ", found " + describe(peek(), dialect_),
-         peek());
-  }
-}
-
-void ExpressionParser::fail(const std::string& message, const Token& at) const {
-  fail_at(message, source_, at);
 }
 
 std::optional<Value> ExpressionParser::own_call(const Token&, std::span<const Value>) {
@@ -110,18 +87,23 @@ Value ExpressionParser::expression() {
   return {b_.emit(ProgramOp::Select, c.reg, a.reg, b.reg), t};
 }
 
-Value ExpressionParser::binary(int min_precedence) {
-  Value lhs = unary();
-  while (true) {
-    const Token& op = peek();
-    if (dialect_ == Dialect::Shader && is_bitwise(op))
-      fail("bitwise operators are not supported ('" + std::string(op.text) + "')", op);
-    const int p = precedence(op);
-    if (p == 0 || p < min_precedence) return lhs;
-    next();
-    const Value rhs = binary(p + 1);
-    lhs = apply_binary(op.text, lhs, rhs);
-  }
+// The formula's + - * / and C's other binary operators; in shaders, bitwise operators are an
+// error at the operator.
+int ExpressionParser::precedence(const Token& t) {
+  if (dialect_ == Dialect::Shader && is_bitwise(t))
+    fail("bitwise operators are not supported ('" + std::string(t.text) + "')", t);
+  if (t.kind != Token::Symbol) return 0;
+  const std::string_view s = t.text;
+  if (s == "||") return 1;
+  if (s == "&&") return 2;
+  if (s == "==" || s == "!=") return 3;
+  if (s == "<" || s == "<=" || s == ">" || s == ">=") return 4;
+  if (s == "%") return kMultiplicative;
+  return ExpressionGrammar::precedence(t);
+}
+
+Value ExpressionParser::binary_op(const Token& op, Value a, Value b) {
+  return apply_binary(op.text, a, b);
 }
 
 Value ExpressionParser::apply_binary(std::string_view s, Value a, Value b) {
@@ -144,50 +126,38 @@ Value ExpressionParser::apply_binary(std::string_view s, Value a, Value b) {
   return {t == Type::Int ? b_.emit(ProgramOp::Trunc, q) : q, t};
 }
 
-// unary := ('-' | '+' | '!') unary | power
-Value ExpressionParser::unary() {
-  // Every nested operand passes through here: parentheses, call arguments and signs.
-  const Nest nest(*this, peek());
+// '!' and, in shaders, the increments and '~' the subset leaves out.
+std::optional<Value> ExpressionParser::prefix() {
   if (dialect_ == Dialect::Shader && (peek().is("++") || peek().is("--") || peek().is("~"))) {
     fail(std::string(peek().is("~") ? "bitwise operators are"
                                     : "increments inside expressions are") +
              " not supported ('" + std::string(peek().text) + "')",
          peek());
   }
-  if (accept("-")) {
-    // A sign right before a number literal (not the base of '^') nests no further, as in
-    // expr/parse.hpp, so that every formula it reads is read here.
-    if (peek().kind == Token::Number && !peek(1).is("^")) {
-      const Token& t = next();
-      const bool integral = t.integral && dialect_ == Dialect::Shader;
-      if (dialect_ == Dialect::Shader) check_postfix();
-      return {b_.constant(-t.number), integral ? Type::Int : Type::Float};
-    }
-    const Value v = unary();
-    return {b_.emit(ProgramOp::Neg, v.reg), v.type == Type::Bool ? Type::Int : v.type};
-  }
-  if (accept("+")) return unary();
-  if (accept("!")) return {b_.emit(ProgramOp::Not, unary().reg), Type::Bool};
-  return power();
+  if (accept("!")) return Value{b_.emit(ProgramOp::Not, unary().reg), Type::Bool};
+  return std::nullopt;
 }
 
-// power := primary ('^' exponent)*, left-associative (x^2^3 = (x^2)^3) as in expr/parse.hpp;
-// an exponent that is one integer literal makes the exact integer power.
-Value ExpressionParser::power() {
-  Value base = primary();
-  if (dialect_ == Dialect::Shader) return base;
-  while (peek().is("^")) {
-    const Token& caret = next();
-    if (peek().kind == Token::End) fail("an exponent is missing after '^'", caret);
-    const std::size_t begin = pos_;
-    const Value e = exponent();
-    if (const auto k = integer_literal(begin, pos_)) {
-      base = {b_.emit(ProgramOp::IPow, std::span<const Reg>(&base.reg, 1), *k), Type::Float};
-    } else {
-      base = {b_.emit(ProgramOp::Pow, base.reg, e.reg), Type::Float};
-    }
-  }
-  return base;
+Value ExpressionParser::negate(Value v) {
+  return {b_.emit(ProgramOp::Neg, v.reg), v.type == Type::Bool ? Type::Int : v.type};
+}
+
+// In shaders, an integer literal is an int.
+Value ExpressionParser::literal(const Token& t, bool negative) {
+  const bool integral = t.integral && dialect_ == Dialect::Shader;
+  if (negative) check_postfix();
+  return {b_.constant(negative ? -t.number : t.number), integral ? Type::Int : Type::Float};
+}
+
+// After '^' (formulas): any exponent; one that is one integer literal makes the exact integer
+// power.
+Value ExpressionParser::power_of(Value base, const Token& caret) {
+  if (peek().kind == Token::End) fail("an exponent is missing after '^'", caret);
+  const std::size_t begin = position();
+  const Value e = exponent();
+  if (const auto k = integer_literal(begin, position()))
+    return {b_.emit(ProgramOp::IPow, std::span<const Reg>(&base.reg, 1), *k), Type::Float};
+  return {b_.emit(ProgramOp::Pow, base.reg, e.reg), Type::Float};
 }
 
 // exponent := ('-' | '+')* primary; the signs are counted, not nested (negation is exact, so
@@ -202,12 +172,12 @@ Value ExpressionParser::exponent() {
 std::optional<std::int32_t> ExpressionParser::integer_literal(std::size_t begin,
                                                               std::size_t end) const {
   double sign = 1;
-  if (end > begin && (tokens_[begin].is("-") || tokens_[begin].is("+"))) {
-    sign = tokens_[begin].is("-") ? -1 : 1;
+  if (end > begin && (token_at(begin).is("-") || token_at(begin).is("+"))) {
+    sign = token_at(begin).is("-") ? -1 : 1;
     ++begin;
   }
   if (end != begin + 1) return std::nullopt;
-  const Token& t = tokens_[begin];
+  const Token& t = token_at(begin);
   if (t.kind != Token::Number || !t.integral) return std::nullopt;
   const double k = sign * t.number;
   if (!(std::abs(k) <= static_cast<double>(std::numeric_limits<std::int32_t>::max())))
@@ -215,68 +185,26 @@ std::optional<std::int32_t> ExpressionParser::integer_literal(std::size_t begin,
   return static_cast<std::int32_t>(k);
 }
 
-Value ExpressionParser::primary() {
-  const Token& t = peek();
-  Value v;
-  if (t.kind == Token::Number) {
-    next();
-    v = {b_.constant(t.number),
-         t.integral && dialect_ == Dialect::Shader ? Type::Int : Type::Float};
-  } else if (t.is("(") && dialect_ == Dialect::Shader && peek(1).kind == Token::Ident &&
-             scalar_type(peek(1).text) && peek(2).is(")")) {
-    // A C-style cast, (float)x.
-    next();
-    const Type to = *scalar_type(next().text);
-    next();
-    return convert(b_, unary(), to);
-  } else if (t.is("(")) {
-    next();
-    if (peek().is(")")) fail("empty parentheses", t);
-    v = expression();
-    if (!peek().is(")")) {
-      fail("expected ')' to close the '(' at " +
-               (peek().line == t.line ? "column " + std::to_string(t.column)
-                                      : std::to_string(t.line) + ":" + std::to_string(t.column)) +
-               ", found " + describe(peek(), dialect_),
-           peek());
-    }
-    next();
-  } else if (t.kind == Token::Ident) {
-    next();
-    if (peek().is("(")) {
-      v = call(t);
-    } else {
-      // A member or subscript of a name is the error, whatever the name is.
-      if (dialect_ == Dialect::Shader) check_postfix();
-      v = name(t);
-    }
-  } else if (t.kind == Token::End) {
-    fail("unexpected " + describe(t, dialect_) + ": an operand is missing", t);
-  } else {
-    fail("unexpected " + describe(t, dialect_) + ": an operand is missing", t);
-  }
-  if (dialect_ == Dialect::Shader) check_postfix();
-  return v;
+// A C-style cast in shaders, (float)x.
+std::optional<Value> ExpressionParser::special_primary() {
+  if (!(peek().is("(") && dialect_ == Dialect::Shader && peek(1).kind == Token::Ident &&
+        scalar_type(peek(1).text) && peek(2).is(")")))
+    return std::nullopt;
+  next();
+  const Type to = *scalar_type(next().text);
+  next();
+  return convert(b_, unary(), to);
 }
 
 Value ExpressionParser::call(const Token& name) {
   before_call(name);
-  next();  // '('
   std::vector<Value> args;
   std::vector<std::optional<std::int32_t>> literals;
-  if (!peek().is(")")) {
-    while (true) {
-      const std::size_t begin = pos_;
-      args.push_back(expression());
-      literals.push_back(integer_literal(begin, pos_));
-      if (!accept(",")) break;
-    }
-  }
-  if (!peek().is(")")) {
-    fail("expected ',' or ')' in the arguments of " + std::string(name.text) + ", found " +
-             describe(peek(), dialect_),
-         peek());
-  }
+  arguments(name, [&](int) {
+    const std::size_t begin = position();
+    args.push_back(expression());
+    literals.push_back(integer_literal(begin, position()));
+  });
   next();
   if (const auto own = own_call(name, args)) return *own;
   const std::vector<const LibraryFunction*> found = find_library_function(

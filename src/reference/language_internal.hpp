@@ -1,7 +1,8 @@
 // The reference language's parts, shared by its two front ends (language.cpp: formulas and
-// definitions; language_shader.cpp: GLSL and HLSL functions): tokens (language_lexer.cpp), the
-// program builder with constant folding and the function library (language_library.cpp), and
-// the one expression parser (language_expression.cpp). Internal to src/reference/.
+// definitions; language_shader.cpp: GLSL and HLSL functions): the program builder with constant
+// folding and the function library (language_library.cpp), and the expression parser, which
+// extends expr/grammar.hpp's formula grammar (language_expression.cpp; tokens: expr/lexer.hpp).
+// Internal to src/reference/.
 #pragma once
 
 #include <cstddef>
@@ -14,15 +15,14 @@
 #include <vector>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/grammar.hpp"
+#include "shaderfit/expr/lexer.hpp"
 #include "shaderfit/reference/builtin.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/reference/program.hpp"
 
 namespace shaderfit::reference::detail {
 
-// Parentheses, calls, signs, `?:`, blocks and inlined calls nest at most this deep (as
-// expr/parse.hpp's kMaxFormulaNesting), so that no input can exhaust the parser's stack.
-inline constexpr int kMaxNesting = 256;
 // Instructions in one program at most (a shader's inlined calls can multiply its size).
 inline constexpr std::size_t kMaxInstructions = std::size_t{1} << 18;
 
@@ -30,26 +30,19 @@ inline constexpr std::size_t kMaxInstructions = std::size_t{1} << 18;
 // (C's symbols and comments, literal suffixes, preprocessor lines; `^` is C's exclusive or).
 enum class Dialect { Formula, Shader };
 
-struct Token {
-  enum Kind : std::uint8_t { Number, Ident, Symbol, Directive, End };
-  Kind kind = End;
-  bool integral = false;  // a number written without '.', exponent or float suffix
-  std::string_view text;  // Directive: the line after '#'
-  double number = 0;
-  int line = 1, column = 1;
-
-  [[nodiscard]] bool is(std::string_view symbol) const { return kind == Symbol && text == symbol; }
-  [[nodiscard]] bool is_word(std::string_view word) const { return kind == Ident && text == word; }
-};
+// The lexer's settings for each dialect (expr/lexer.hpp).
+const Syntax& syntax(Dialect dialect);
 
 // "'x'", or "end of formula" / "end of file" for End.
-std::string describe(const Token& t, Dialect dialect);
+inline std::string describe(const Token& t, Dialect dialect) {
+  return shaderfit::describe(t, syntax(dialect));
+}
 
-// The tokens of `text`, ending with one End token; `line` and `column` are the position of
-// text[0]. Throws Error at the offending character for a malformed number or a character
-// outside the dialect.
-std::vector<Token> tokenize(std::string_view text, Dialect dialect, const std::string& source,
-                            int line = 1, int column = 1);
+// The tokens of `text` (expr/lexer.hpp's tokenize in the dialect's syntax).
+inline std::vector<Token> tokenize(std::string_view text, Dialect dialect,
+                                   const std::string& source, int line = 1, int column = 1) {
+  return shaderfit::tokenize(text, syntax(dialect), source, line, column);
+}
 
 [[noreturn]] void fail_at(const std::string& message, const std::string& source, const Token& at);
 
@@ -139,56 +132,29 @@ std::optional<Type> scalar_type(std::string_view name);
 // truncates, anything to Bool compares with 0.
 Value convert(ProgramBuilder& b, Value v, Type to);
 
-// Recursive descent over a token range with C's precedence (?: || && == != < <= > >= + - * / %,
-// unary - + !, then the formula's `^`), emitting as it goes. The front ends resolve names and
-// calls of their own (variables, definitions, locals, the shader's functions) through the
-// virtual functions.
-class ExpressionParser {
+// expr/grammar.hpp's formula grammar over a token range, extended to the reference language:
+// C's operators and precedence (?: || && == != < <= > >= + - * / %, unary - + !), the formula's
+// `^` with any exponent, C casts and types in shaders, and the function library; it emits
+// instructions as it goes. The front ends resolve names and calls of their own (variables,
+// definitions, locals, the shader's functions) through the virtual functions.
+class ExpressionParser : public ExpressionGrammar<Value> {
  public:
   ExpressionParser(std::span<const Token> tokens, std::size_t position, ProgramBuilder& builder,
                    Dialect dialect, const std::string& source, int& nesting);
-  virtual ~ExpressionParser() = default;
-  ExpressionParser(const ExpressionParser&) = delete;
-  ExpressionParser& operator=(const ExpressionParser&) = delete;
 
   // expression := binary ('?' expression ':' expression)?
-  Value expression();
-
-  [[nodiscard]] const Token& peek(std::size_t ahead = 0) const;
-  const Token& next();
-  bool accept(std::string_view symbol);
-  void expect(std::string_view symbol, const std::string& what);
-  [[nodiscard]] std::size_t position() const { return pos_; }
-  void seek(std::size_t position) { pos_ = position; }
-  [[noreturn]] void fail(const std::string& message, const Token& at) const;
+  Value expression() override;
 
   ProgramBuilder& builder() { return b_; }
   [[nodiscard]] Dialect dialect() const { return dialect_; }
-  [[nodiscard]] const std::string& source() const { return source_; }
-
-  // One more level of nesting for as long as it lives (kMaxNesting).
-  class Nest {
-   public:
-    Nest(const ExpressionParser& p, const Token& at);
-    ~Nest() { --nesting_; }
-    Nest(const Nest&) = delete;
-    Nest& operator=(const Nest&) = delete;
-
-   private:
-    int& nesting_;
-  };
 
  protected:
-  // The value of a name that is not called.
-  virtual Value name(const Token& name) = 0;
   // A call the front end handles itself (a shader's own functions, type constructors), before
   // the library is looked up; nullopt: not its own.
   virtual std::optional<Value> own_call(const Token& name, std::span<const Value> args);
   // Called at a call's name before its arguments are read (shader: vector constructors and
   // texture functions are errors at the name).
   virtual void before_call(const Token& /*name*/) {}
-  // What follows a primary in the shader dialect ('.', '[', '++') is an error here.
-  virtual void check_postfix() {}
   // A message for a call of a name nobody knows.
   virtual std::string unknown_function(const Token& name);
 
@@ -196,26 +162,27 @@ class ExpressionParser {
   // division truncates).
   Value apply_binary(std::string_view op, Value a, Value b);
 
+  // The grammar's hooks.
+  int precedence(const Token& t) override;
+  Value binary_op(const Token& op, Value a, Value b) override;
+  std::optional<Value> prefix() override;
+  Value negate(Value v) override;
+  Value literal(const Token& number, bool negative) override;
+  Value power_of(Value base, const Token& caret) override;
+  std::optional<Value> special_primary() override;
+  Value call(const Token& name) override;
+  void consumed(const Token& t) override;
+  std::string nesting_message() const override;
+
  private:
-  Value binary(int min_precedence);
-  Value unary();
-  Value power();
   Value exponent();
-  Value primary();
-  Value call(const Token& name);
-  Value library_call(const Token& name, std::span<const Value> args,
-                     const std::vector<std::size_t>& literal_arguments);
   // The integer written by tokens [begin, end) when they are one integer literal with at most
   // one sign, in the int32 range.
   [[nodiscard]] std::optional<std::int32_t> integer_literal(std::size_t begin,
                                                             std::size_t end) const;
 
-  std::span<const Token> tokens_;
-  std::size_t pos_;
   ProgramBuilder& b_;
   Dialect dialect_;
-  const std::string& source_;
-  int& nesting_;
 };
 
 // The shader front end (language_shader.cpp): text.function of text.shader_source compiled into

@@ -72,8 +72,7 @@ class FunctionCompiler : public ExpressionParser {
       p.type = declared_type(type);
       ++i;
       if (tokens_[i].kind != Token::Ident)
-        fail("expected a parameter name, found " + describe(tokens_[i], Dialect::Shader),
-             tokens_[i]);
+        fail("expected a parameter name, found " + describe(tokens_[i]), tokens_[i]);
       p.name = &tokens_[i++];
       if (tokens_[i].is("[")) unsupported("arrays", file_.path(), tokens_[i]);
       if (tokens_[i].is(":") && tokens_[i + 1].kind == Token::Ident) i += 2;
@@ -81,9 +80,7 @@ class FunctionCompiler : public ExpressionParser {
       out.push_back(p);
       if (i == f_.close) return out;
       if (!tokens_[i].is(","))
-        fail(
-            "expected ',' or ')' after a parameter, found " + describe(tokens_[i], Dialect::Shader),
-            tokens_[i]);
+        fail("expected ',' or ')' after a parameter, found " + describe(tokens_[i]), tokens_[i]);
       ++i;
     }
   }
@@ -207,7 +204,7 @@ class FunctionCompiler : public ExpressionParser {
     if (t.is_word("struct")) unsupported("structs", file_.path(), t);
     if (const Global* g = file_.global(t.text); g != nullptr && g->what == "structs")
       unsupported("structs", file_.path(), t);
-    fail("unknown type " + describe(t, Dialect::Shader) + " (float, half, double, int or bool)", t);
+    fail("unknown type " + describe(t) + " (float, half, double, int or bool)", t);
   }
 
   Variable* find(std::string_view n) {
@@ -281,8 +278,7 @@ class FunctionCompiler : public ExpressionParser {
     const Type type = declared_type(next());
     while (true) {
       const Token& n = next();
-      if (n.kind != Token::Ident)
-        fail("expected a variable name, found " + describe(n, Dialect::Shader), n);
+      if (n.kind != Token::Ident) fail("expected a variable name, found " + describe(n), n);
       if (peek().is("[")) unsupported("arrays", file_.path(), peek());
       for (const Variable& v : state_.scopes.back())
         if (v.name == n.text)
