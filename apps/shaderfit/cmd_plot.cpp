@@ -22,6 +22,7 @@
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/fit.hpp"
+#include "shaderfit/lut/fv_lut.hpp"
 #include "shaderfit/plot/chart.hpp"
 #include "shaderfit/plot/sphere.hpp"
 #include "shaderfit/report/scene_report.hpp"
@@ -379,8 +380,9 @@ void run_sphere(SphereArgs& a, Context& ctx) {
   }
   std::string label;
   std::function<double(double)> fv;
+  a.scene.validate();
   if (a.fv.empty()) {
-    const auto [A, B] = fit_fv_constrained(a.scene.roughness, a.scene.f0);
+    const auto [A, B] = lut::fit_fv_constrained(a.scene.roughness, a.scene.f0);
     const double f0 = a.scene.f0;
     fv = [=](double lh) {
       const double x = 1 - lh;

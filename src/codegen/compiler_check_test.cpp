@@ -227,22 +227,30 @@ TEST(CompilerCheck, TwoHundredRandomFormulasPtxAndSpirv) {
   if (!nvcc && !glslang) GTEST_SKIP() << "skipped: nvcc not found; skipped: glslangValidator not found";
   Rng rng(2024);
   const std::vector<Expression> formulas = testing::random_formulas(rng, 200, {"a", "b", "c"});
-  int ptx_diff = 0, sass_diff = 0, spirv_diff = 0;
+  int ptx_diff = 0, spirv_diff = 0;
   if (nvcc) {
     const CompiledCounts cuda = testing::compile_cuda(formulas, *nvcc, "random_cuda");
     ASSERT_TRUE(cuda.ok) << cuda.log;
+    int sass_agree = 0;
+    std::string sass_differs;
     for (std::size_t i = 0; i < formulas.size(); ++i) {
       const int p = instruction_count(formulas[i], InstructionTarget::Ptx);
       EXPECT_EQ(cuda.ptx[i], p) << "formula " << i << ": " << to_infix(formulas[i]);
       ptx_diff += cuda.ptx[i] != p;
-      if (cuda.have_sass && cuda.sass[i] != instruction_count(formulas[i], InstructionTarget::Sass)) {
-        ++sass_diff;
-        std::cout << "SASS differs (" << instruction_count(formulas[i], InstructionTarget::Sass) << " model, "
-                  << cuda.sass[i] << " ptxas): " << to_infix(formulas[i]) << '\n';
-      }
+      const int s = instruction_count(formulas[i], InstructionTarget::Sass);
+      if (cuda.sass[i] == s)
+        ++sass_agree;
+      else
+        sass_differs += "\n  " + std::to_string(s) + " model, " + std::to_string(cuda.sass[i]) +
+                        " ptxas: " + to_infix(formulas[i]);
     }
-    std::cout << formulas.size() << " random formulas: PTX differs on " << ptx_diff << ", SASS on "
-              << (cuda.have_sass ? std::to_string(sass_diff) : std::string("(no cuobjdump)")) << '\n';
+    std::cout << formulas.size() << " random formulas: PTX differs on " << ptx_diff << '\n';
+    // docs/cost-model.md: the SASS count equals the model's for 198 of the 200 (ptxas cancels a
+    // double reciprocal in the two others).
+    if (cuda.have_sass)
+      EXPECT_GE(sass_agree, 198) << "SASS differs from the model on" << sass_differs;
+    else
+      std::cout << "skipped: cuobjdump not found (no SASS counts)\n";
   } else {
     std::cout << "skipped: nvcc not found\n";
   }

@@ -41,7 +41,7 @@ inline std::string printed_source(const std::vector<Expression>& formulas, Langu
 
 // All formulas as CUDA functions f<i> (printed_source) and kernels k<i> after them in one .cu
 // file, compiled by one nvcc call (--use_fast_math -arch=sm_90, keeping the PTX); SASS counts when
-// cuobjdump is found.
+// cuobjdump is found (have_sass). A cuobjdump that is found but fails makes the result !ok.
 inline CompiledCounts compile_cuda(const std::vector<Expression>& formulas, const std::string& nvcc,
                                    const std::string& folder_name) {
   const auto dir = scratch_folder(folder_name);
@@ -62,13 +62,9 @@ inline CompiledCounts compile_cuda(const std::vector<Expression>& formulas, cons
   if (run_command(cmd, &r.log) != 0) return r;
   const auto ptx = count_ptx(read_text(dir / "all.ptx"));
   std::map<std::string, int> sass;
-  if (const auto cuobjdump = find_tool("cuobjdump")) {
-    std::string dump;
-    if (run_command(fmt::format("'{}' -sass '{}'", *cuobjdump, (dir / "all.cubin").string()), &dump) == 0) {
-      sass = count_sass(dump);
-      r.have_sass = true;
-    }
-  }
+  const SassDump dumped = dump_sass(dir / "all.cubin", &sass, &r.log);
+  if (dumped == SassDump::Failed) return r;
+  r.have_sass = dumped == SassDump::Done;
   for (std::size_t i = 0; i < formulas.size(); ++i) {
     const std::string k = "k" + std::to_string(i);
     r.ptx.push_back(ptx.count(k) ? ptx.at(k) : -1);

@@ -177,6 +177,23 @@ inline std::map<std::string, int> count_sass(const std::string& dump) {
   return counts;
 }
 
+// SASS counts (count_sass) of a cubin through cuobjdump. Absent: cuobjdump is not installed, and
+// the caller skips its SASS checks; Failed: cuobjdump is installed but failed (its messages in
+// *log), which fails the caller's test instead of silently dropping the SASS checks.
+enum class SassDump { Done, Absent, Failed };
+inline SassDump dump_sass(const std::filesystem::path& cubin, std::map<std::string, int>* counts,
+                          std::string* log) {
+  const auto cuobjdump = find_tool("cuobjdump");
+  if (!cuobjdump) return SassDump::Absent;
+  std::string dump;
+  if (run_command("'" + *cuobjdump + "' -sass '" + cubin.string() + "'", &dump) != 0) {
+    *log = "cuobjdump failed on " + cubin.string() + ":\n" + dump;
+    return SassDump::Failed;
+  }
+  *counts = count_sass(dump);
+  return SassDump::Done;
+}
+
 // Arithmetic SPIR-V instructions per function (named by its OpName up to the '(' of glslang's
 // mangling): OpFNegate OpFAdd OpFSub OpFMul OpFDiv OpFRem OpFMod OpVectorTimesScalar OpDot,
 // every OpExtInst (GLSL.std.450 sqrt, exp2, fma, clamp, ...), the ordered float comparisons,

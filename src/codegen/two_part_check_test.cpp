@@ -220,20 +220,17 @@ TEST(TwoPartCheck, EachPartAsTheCompilersCountIt) {
         << src;
     const auto ptx = testing::count_ptx(testing::read_text(dir / "all.ptx"));
     std::map<std::string, int> sass;
-    if (const auto cuobjdump = testing::find_tool("cuobjdump")) {
-      std::string dump;
-      if (testing::run_command(
-              fmt::format("'{}' -sass '{}'", *cuobjdump, (dir / "all.cubin").string()), &dump) == 0)
-        sass = testing::count_sass(dump);
-    } else {
+    std::string dump_log;
+    const testing::SassDump dumped = testing::dump_sass(dir / "all.cubin", &sass, &dump_log);
+    ASSERT_NE(dumped, testing::SassDump::Failed) << dump_log;
+    if (dumped == testing::SassDump::Absent)
       std::cout << "skipped: cuobjdump not found (no SASS counts)\n";
-    }
     for (std::size_t i = 0; i < cases().size(); ++i) {
       const std::string k = "f" + std::to_string(i);
       const SplitCost s = model(i, InstructionTarget::Sass), p = model(i, InstructionTarget::Ptx);
       EXPECT_EQ(ptx.at("kp" + k), p.per_pixel) << cases()[i].formula;
       EXPECT_EQ(ptx.at("km" + k), p.per_material) << cases()[i].formula;
-      if (!sass.empty()) {
+      if (dumped == testing::SassDump::Done) {
         EXPECT_EQ(sass.at("kp" + k), s.per_pixel) << cases()[i].formula;
         EXPECT_EQ(sass.at("km" + k), s.per_material) << cases()[i].formula;
       }

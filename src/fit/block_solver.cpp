@@ -204,16 +204,10 @@ Failure levenberg_marquardt(Context& c, std::span<const double> w, std::vector<d
                       free_names(c, e), c.o.rank_tolerance, &q);
 }
 
-// A least-squares solve with per-row weights w: linear when the model is, else LM.
+// A least-squares solve with per-row weights w, by the solver SolverChoice picks.
 Failure least_squares(Context& c, std::span<const double> w, std::vector<double>* p) {
-  if (c.m.linear && c.o.solver != SolverKind::levenberg_marquardt) {
-    Failure f = linear_solve(c, w, p);
-    if (f.kind != FailureKind::not_linear) return f;
-    if (c.o.solver == SolverKind::linear)
-      return {FailureKind::not_linear,
-              "the fitted quantity is not linear in the parameters (use the LM solver)"};
-  }
-  return levenberg_marquardt(c, w, p);
+  return SolverChoice::of(c.m, c.o).least_squares([&] { return linear_solve(c, w, p); },
+                                                  [&] { return levenberg_marquardt(c, w, p); });
 }
 
 Failure minimax(Context& c, std::vector<double>* p) {
@@ -250,10 +244,10 @@ BlockResult solve_block(const Model& m, const PreparedBlock& b, const FixedFormO
   {
     std::vector<double> v;
     values(m, b, p, &v);
-    r.initial_cost =
-        fit_cost(m.loss == Loss::MaxAbs ? Loss::MaxAbs : Loss::Mse, v, b.target, b.weights);
+    r.initial_cost = fit_cost(SolverChoice::of(m, o).loss(), v, b.target, b.weights);
   }
-  const Failure f = m.loss == Loss::MaxAbs ? minimax(c, &p) : least_squares(c, b.weights, &p);
+  const Failure f =
+      SolverChoice::of(m, o).minimax ? minimax(c, &p) : least_squares(c, b.weights, &p);
   r.iterations = c.iterations;
   if (f) {
     if (kind != nullptr) *kind = f.kind;

@@ -286,14 +286,10 @@ struct Coupled {
                         o.rank_tolerance, &q);
   }
 
+  // By the solver SolverChoice picks.
   Failure least_squares(Eigen::VectorXd* x) {
-    if (m.linear && o.solver != SolverKind::levenberg_marquardt) {
-      const Failure f = linear(x);
-      if (f.kind != FailureKind::not_linear) return f;
-      if (o.solver == SolverKind::linear)
-        return {FailureKind::not_linear, "the fitted quantity is not linear in the parameters"};
-    }
-    return levenberg_marquardt(x);
+    return SolverChoice::of(m, o).least_squares([&] { return linear(x); },
+                                                [&] { return levenberg_marquardt(x); });
   }
 
   // Lawson's reweighting over the rows of all blocks, in one flat order.
@@ -379,12 +375,13 @@ std::vector<BlockResult> solve_coupled(const Model& m, std::span<const PreparedB
   for (std::size_t a = 0; a < lay.active.size(); ++a) c.w.push_back(c.block(a).weights);
   std::vector<double> initial(blocks.size());
   std::vector<double> v;
-  const Loss loss = m.loss == Loss::MaxAbs ? Loss::MaxAbs : Loss::Mse;
+  const SolverChoice choice = SolverChoice::of(m, o);
+  const Loss loss = choice.loss();
   for (std::size_t a = 0; a < lay.active.size(); ++a) {
     values(m, c.block(a), c.params(x, a), &v);
     results[lay.active[a]].initial_cost = fit_cost(loss, v, c.block(a).target, c.block(a).weights);
   }
-  *failure = m.loss == Loss::MaxAbs ? c.minimax(&x) : c.least_squares(&x);
+  *failure = choice.minimax ? c.minimax(&x) : c.least_squares(&x);
   for (std::size_t b = 0; b < blocks.size(); ++b) {
     if (blocks[b].rows() == 0) {
       results[b].ok = false;

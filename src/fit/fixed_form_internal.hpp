@@ -121,6 +121,38 @@ std::vector<BlockResult> solve_coupled(const Model& m, std::span<const PreparedB
                                        std::span<const std::vector<double>> starts,
                                        Failure* failure);
 
+// The one choice of solver, for a single block (block_solver.cpp) and for coupled blocks
+// (coupled_solver.cpp) alike. The max-abs loss runs Lawson's reweighting (`lawson`), each of
+// whose steps is a weighted least-squares solve; every other loss is one least-squares solve in
+// the fitted space. A least-squares solve is linear (exact in one step) when the model is and the
+// options allow it; otherwise, or when the linear solve finds the block not linear after all,
+// Levenberg-Marquardt, unless the options ask for the linear solver alone, which then fails.
+struct SolverChoice {
+  bool minimax = false;      // Lawson's reweighting around least-squares solves
+  bool try_linear = false;   // a least-squares solve tries the linear solve first
+  bool linear_only = false;  // ... and fails rather than fall back to Levenberg-Marquardt
+
+  static SolverChoice of(const Model& m, const FixedFormOptions& o) {
+    return {m.loss == Loss::MaxAbs, m.linear && o.solver != SolverKind::levenberg_marquardt,
+            o.solver == SolverKind::linear};
+  }
+  // The loss the solver minimises (and the initial and final costs are stated in).
+  [[nodiscard]] Loss loss() const { return minimax ? Loss::MaxAbs : Loss::Mse; }
+
+  // One least-squares solve: `linear()` and `levenberg_marquardt()` each return a Failure.
+  template <typename Linear, typename LevenbergMarquardt>
+  Failure least_squares(Linear&& linear, LevenbergMarquardt&& levenberg_marquardt) const {
+    if (try_linear) {
+      Failure f = linear();
+      if (f.kind != FailureKind::not_linear) return f;
+      if (linear_only)
+        return {FailureKind::not_linear,
+                "the fitted quantity is not linear in the parameters (use the LM solver)"};
+    }
+    return levenberg_marquardt();
+  }
+};
+
 // Lawson's reweighting for Loss::MaxAbs over rows with weights w (minimax.cpp). `solve` runs a
 // least-squares solve with the given per-row weights, `residuals` writes |r| per row at its
 // solution, `keep` remembers the current solution as the best so far, `restore` returns to it.

@@ -6,10 +6,13 @@
 #include <numbers>
 
 #include "fv_internal.hpp"
+#include "shaderfit/core/error.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/fixed_form.hpp"
+#include "shaderfit/fit/linear.hpp"
+#include "shaderfit/reference/smith_ggx.hpp"
 
 namespace shaderfit::lut::detail {
 
@@ -129,3 +132,25 @@ std::vector<FvCell> fit_cells(const FvLutOptions& o, FvVariant v, const FvRefere
 }
 
 }  // namespace shaderfit::lut::detail
+
+namespace shaderfit::lut {
+
+std::array<double, 2> fit_fv_constrained(double roughness, double f0) {
+  if (!(roughness > 0 && roughness <= 1))
+    throw Error("roughness must be in (0, 1], got " + std::to_string(roughness), {"roughness"});
+  if (!(f0 > 0 && f0 < 1)) throw Error("F0 must be in (0, 1), got " + std::to_string(f0), {"f0"});
+  const double alpha = roughness * roughness;
+  constexpr int kSamples = 256;
+  std::vector<double> x2(kSamples), x1(kSamples), y(kSamples);
+  for (int s = 0; s < kSamples; ++s) {
+    const double x = (s + 0.5) / kSamples;
+    x2[s] = x * x;
+    x1[s] = x;
+    y[s] = std::log2(reference::fv_lh(1 - x, f0, alpha) / f0);
+  }
+  const double* cols[] = {x2.data(), x1.data()};
+  const std::vector<double> c = solve_least_squares(cols, y);
+  return {c[0], c[1]};
+}
+
+}  // namespace shaderfit::lut

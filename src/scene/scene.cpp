@@ -102,49 +102,78 @@ class Renderer {
  private:
   void pixel(int x, int y) {
     const auto index = static_cast<std::uint32_t>(y * out_.width + x);
-    const std::optional<Hit> hit =
-        spec_.kind == SceneKind::Sphere ? sphere_hit(x, y) : plane_hit(x, y);
+    const std::optional<Hit> hit = spec_.lobe                        ? lobe_hit(x, y)
+                                   : spec_.kind == SceneKind::Sphere ? sphere_hit(x, y)
+                                                                     : plane_hit(x, y);
     double* base = &out_.base[3 * std::size_t{index}];
     if (!hit) {
-      const Vec bg = spec_.kind == SceneKind::Sphere ? kBackdrop : kSky;
+      const Vec bg = spec_.lobe                        ? Vec{NAN, NAN, NAN}
+                     : spec_.kind == SceneKind::Sphere ? kBackdrop
+                                                       : kSky;
       for (int c = 0; c < 3; ++c) base[c] = bg[static_cast<std::size_t>(c)];
       return;
     }
     const SceneMaterial& m = spec_.materials[hit->material];
     const Vec albedo = kAlbedo[hit->material % std::size(kAlbedo)];
-    for (int c = 0; c < 3; ++c) base[c] = kAmbient * albedo[static_cast<std::size_t>(c)];
-    const double alpha = m.roughness * m.roughness;
+    if (!spec_.lobe)
+      for (int c = 0; c < 3; ++c) base[c] = kAmbient * albedo[static_cast<std::size_t>(c)];
     const double nv = dot(hit->n, hit->v);
     if (!(nv > 0)) return;
+    if (spec_.lobe) {
+      add_light(*hit, index, m, normalized(spec_.lobe->direction), spec_.lobe->irradiance, nullptr);
+      return;
+    }
     for (const PointLight& light : lights()) {
       const Vec to_light = light.position - hit->p;
       const double d2 = dot(to_light, to_light);
-      const Vec l = normalized(to_light);
-      const double nl = dot(hit->n, l);
-      if (!(nl > 0)) continue;
-      const double e = light.intensity / d2;
-      for (int c = 0; c < 3; ++c)
-        base[c] += e * nl * albedo[static_cast<std::size_t>(c)] / std::numbers::pi;
-      const Vec h = normalized(l + hit->v);
-      const double nh = std::max(dot(hit->n, h), 0.0), vh = std::clamp(dot(hit->v, h), 0.0, 1.0);
-      // The factors besides the term, in reference/'s convention: specular = D F V / 4 with
-      // V = G2 / ((n.l)(n.v)).
-      const double D = reference::ggx_distribution(nh, alpha);
-      const double F = reference::fresnel_dielectric(vh, reference::ior_from_f0(m.f0));
-      const double V = reference::smith_ggx_g2_height_correlated(nl, nv, alpha) / (nl * nv);
-      double others = 0;
-      switch (*spec_.term) {
-        case ShadingTerm::F: others = D * V; break;
-        case ShadingTerm::V: others = D * F; break;
-        case ShadingTerm::D: others = F * V; break;
-        case ShadingTerm::FV: others = D; break;
-      }
-      const double q[kCount] = {
-          nl, nv, nh, vh, vh, m.roughness, alpha, m.f0, reference::ior_from_f0(m.f0)};
-      for (std::size_t k = 0; k < kCount; ++k) out_.quantities[k].push_back(q[k]);
-      out_.pixel.push_back(index);
-      out_.coefficient.push_back(e * nl * others / 4);
+      add_light(*hit, index, m, normalized(to_light), light.intensity / d2, &albedo);
     }
+  }
+
+  // The sample of a light from unit direction l with irradiance e (at normal incidence) at a
+  // surface point whose n.v > 0, when it lights it; its diffuse part joins the pixel's base when
+  // an albedo is given.
+  void add_light(const Hit& hit, std::uint32_t index, const SceneMaterial& m, const Vec& l,
+                 double e, const Vec* albedo) {
+    const double alpha = m.roughness * m.roughness;
+    const double nv = dot(hit.n, hit.v);
+    const double nl = dot(hit.n, l);
+    if (!(nl > 0)) return;
+    if (albedo != nullptr) {
+      double* base = &out_.base[3 * std::size_t{index}];
+      for (int c = 0; c < 3; ++c)
+        base[c] += e * nl * (*albedo)[static_cast<std::size_t>(c)] / std::numbers::pi;
+    }
+    const Vec h = normalized(l + hit.v);
+    const double nh = std::max(dot(hit.n, h), 0.0), vh = std::clamp(dot(hit.v, h), 0.0, 1.0);
+    // The factors besides the term, in reference/'s convention: specular = D F V / 4 with
+    // V = G2 / ((n.l)(n.v)).
+    const double D = reference::ggx_distribution(nh, alpha);
+    const double F = reference::fresnel_dielectric(vh, reference::ior_from_f0(m.f0));
+    const double V = reference::smith_ggx_g2_height_correlated(nl, nv, alpha) / (nl * nv);
+    double others = 0;
+    switch (*spec_.term) {
+      case ShadingTerm::F: others = D * V; break;
+      case ShadingTerm::V: others = D * F; break;
+      case ShadingTerm::D: others = F * V; break;
+      case ShadingTerm::FV: others = D; break;
+    }
+    const double q[kCount] = {
+        nl, nv, nh, vh, vh, m.roughness, alpha, m.f0, reference::ior_from_f0(m.f0)};
+    for (std::size_t k = 0; k < kCount; ++k) out_.quantities[k].push_back(q[k]);
+    out_.pixel.push_back(index);
+    out_.coefficient.push_back(e * nl * others / 4);
+  }
+
+  // Cell by cell: a unit sphere touching the cell's edges, seen along -z by an orthographic
+  // camera; both coordinates are measured from the cell's lower left corner.
+  std::optional<Hit> lobe_hit(int x, int y) const {
+    const int s = spec_.size;
+    const double u = 2.0 * ((x % s) + 0.5) / s - 1.0, w = 2.0 * ((s - 1 - y) + 0.5) / s - 1.0;
+    const double r2 = u * u + w * w;
+    if (r2 >= 1) return std::nullopt;
+    const Vec p = {u, w, std::sqrt(1 - r2)};
+    return Hit{p, p, {0, 0, 1}, static_cast<std::size_t>(x / s)};
   }
 
   // Cell by cell: a unit sphere at the origin, the camera at distance 4 on +z with the sphere
@@ -206,9 +235,20 @@ void check_spec(const SceneSpec& s) {
   if (!s.term)
     throw Error("no term: which factor of the specular term (F, V, D or FV) the function is",
                 {"SceneSpec::term"});
-  if (s.size < 16 || s.size > 1024)
-    throw Error("the scene's size must be in [16, 1024] pixels, got " + std::to_string(s.size),
+  const int min_size = s.lobe ? 8 : 16, max_size = s.lobe ? 4096 : 1024;
+  if (s.size < min_size || s.size > max_size)
+    throw Error("the scene's size must be in [" + std::to_string(min_size) + ", " +
+                    std::to_string(max_size) + "] pixels, got " + std::to_string(s.size),
                 {"SceneSpec::size"});
+  if (s.lobe) {
+    const Vec d = s.lobe->direction;
+    if (s.kind != SceneKind::Sphere)
+      throw Error("lobe lighting shows spheres only", {"SceneSpec::lobe"});
+    if (!(dot(d, d) > 0) || !std::isfinite(dot(d, d)))
+      throw Error("the light direction must be a finite non-zero vector", {"SceneSpec::lobe"});
+    if (!(std::isfinite(s.lobe->irradiance) && s.lobe->irradiance > 0))
+      throw Error("the irradiance must be finite and > 0", {"SceneSpec::lobe"});
+  }
   if (s.materials.empty() || s.materials.size() > 16)
     throw Error("a scene needs 1 to 16 materials", {"SceneSpec::materials"});
   for (std::size_t i = 0; i < s.materials.size(); ++i) {

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "shaderfit/core/error.hpp"
 
@@ -85,6 +86,46 @@ TEST(Scene, BadSpecsNameTheField) {
   s = spec(SceneKind::Plane, ShadingTerm::F);
   s.exposure = 0;
   EXPECT_EQ(where(s), "SceneSpec::exposure:0");
+}
+
+TEST(Scene, LobeLightingShowsTheSpecularLobeAlone) {
+  SceneSpec s = spec(SceneKind::Sphere, ShadingTerm::FV, 16);
+  s.materials = {{0.5, 0.04}};
+  s.lobe = LobeLighting{{0.0, 0.0, 1.0}, 4.0};  // light from the camera: n.l = n.v
+  const SceneSamples r = render_scene(s);
+  ASSERT_EQ(r.width, 16);
+  ASSERT_EQ(r.height, 16);
+  // The sphere touches the picture's edges: the corners see nothing (NaN), the centre the sphere.
+  EXPECT_TRUE(std::isnan(r.base[0]));
+  const std::size_t centre = 3 * (8 * 16 + 8);
+  EXPECT_EQ(r.base[centre], 0.0);
+  std::size_t on_sphere = 0;
+  for (std::size_t p = 0; p < r.base.size(); p += 3) on_sphere += r.base[p] == 0.0;
+  EXPECT_EQ(r.samples(), on_sphere);  // one light, lighting every pixel the camera sees
+  const std::span<const double> nl = r.column("n_dot_l"), nv = r.column("n_dot_v");
+  for (std::size_t i = 0; i < r.samples(); ++i) {
+    EXPECT_DOUBLE_EQ(nl[i], nv[i]);
+    // Irradiance 4 cancels the 1/4 of D F V / 4: the coefficient is D (n.l), D at n.h = n.l.
+    const double alpha = 0.25, d = nl[i] * nl[i] * (alpha * alpha - 1) + 1;
+    EXPECT_NEAR(r.coefficient[i], alpha * alpha / (std::numbers::pi * d * d) * nl[i], 1e-12) << i;
+  }
+}
+
+TEST(Scene, BadLobeLightingNamesTheField) {
+  SceneSpec s = spec(SceneKind::Plane, ShadingTerm::FV);
+  s.lobe = LobeLighting{};
+  EXPECT_THROW((void)render_scene(s), Error);
+  s.kind = SceneKind::Sphere;
+  s.lobe->direction = {0, 0, 0};
+  try {
+    (void)render_scene(s);
+    FAIL();
+  } catch (const Error& e) {
+    EXPECT_EQ(e.where().source, "SceneSpec::lobe");
+  }
+  s.lobe = LobeLighting{};
+  s.size = 8;  // lobe pictures may be as small as 8 pixels
+  EXPECT_NO_THROW((void)render_scene(s));
 }
 
 TEST(Scene, DisplayTransformAndItsSlope) {

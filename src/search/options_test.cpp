@@ -5,6 +5,7 @@
 #include <optional>
 #include <set>
 
+#include "search/checkpoint.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/search/search.hpp"
@@ -179,6 +180,140 @@ TEST(SearchOptions, DescriptionReadsBackItsText) {
   EXPECT_EQ(search_option_text(edited, *find_search_option("start")),
             "r0 + (1 - r0)*x^5; min(x, 0.5) + pow(r0, 2.5)");
   EXPECT_EQ(find_search_option("max_candidates")->role, OptionRole::Budget);
+}
+
+// Every member of SearchOptions, in declaration order. A member added to SearchOptions breaks
+// this binding at compile time: name it here, then describe it in options.cpp (which gives it its
+// JSON and checkpoint key) or, for a callback or handle that nothing records, add it to
+// kUnrecordedMembers below.
+std::vector<const void*> member_addresses(const SearchOptions& o) {
+  const auto& [time_limit_s, max_candidates, stop_at, seed, threads, device, loss, cost, precision,
+               operators, evolution_operators, max_power, literals, start, symmetry, uniform,
+               enumerate, screen_rows, max_classes, max_enumeration_share, max_enumeration_cost,
+               evolve, max_nodes, population, islands, migration_interval, max_parameters, fit_rows,
+               linear_scaling, on_new_member, on_progress, progress_interval_s, interrupt,
+               communicator, checkpoint_path, checkpoint_interval_s, resume_path, certify,
+               certify_time_limit_s] = o;
+  return {&time_limit_s,
+          &max_candidates,
+          &stop_at,
+          &seed,
+          &threads,
+          &device,
+          &loss,
+          &cost,
+          &precision,
+          &operators,
+          &evolution_operators,
+          &max_power,
+          &literals,
+          &start,
+          &symmetry,
+          &uniform,
+          &enumerate,
+          &screen_rows,
+          &max_classes,
+          &max_enumeration_share,
+          &max_enumeration_cost,
+          &evolve,
+          &max_nodes,
+          &population,
+          &islands,
+          &migration_interval,
+          &max_parameters,
+          &fit_rows,
+          &linear_scaling,
+          &on_new_member,
+          &on_progress,
+          &progress_interval_s,
+          &interrupt,
+          &communicator,
+          &checkpoint_path,
+          &checkpoint_interval_s,
+          &resume_path,
+          &certify,
+          &certify_time_limit_s};
+}
+
+// Every described field changed from its default.
+SearchOptions every_field_edited() {
+  SearchOptions o;
+  o.time_limit_s = 2.5;
+  o.max_candidates = 12345;
+  o.stop_at = SearchTarget{1e-4, 4};
+  o.seed = 7;
+  o.threads = 3;
+  o.device = ComputeDevice::Cpu;
+  o.loss = Loss::MaxAbs;
+  o.cost = CostTarget::Nodes;
+  o.precision = Precision::Float;
+  o.operators = {Op::Add, Op::Mul, Op::Div};
+  o.evolution_operators = {Op::Sub};
+  o.max_power = 7;
+  o.literals = {0.1, 3.0};
+  o.start = {"r0 + (1 - r0)*x^5", "min(x, 0.5) + pow(r0, 2.5)"};
+  o.symmetry = false;
+  o.uniform = {"r0"};
+  o.enumerate = false;
+  o.screen_rows = 128;
+  o.max_classes = 1000;
+  o.max_enumeration_share = 0.25;
+  o.max_enumeration_cost = 9;
+  o.evolve = false;
+  o.max_nodes = 31;
+  o.population = 64;
+  o.islands = 3;
+  o.migration_interval = 7;
+  o.max_parameters = 3;
+  o.fit_rows = 100;
+  o.linear_scaling = false;
+  o.progress_interval_s = 0.5;
+  o.checkpoint_path = "run.ckpt";
+  o.checkpoint_interval_s = 30;
+  o.resume_path = "old.ckpt";
+  o.certify = true;
+  o.certify_time_limit_s = 3;
+  return o;
+}
+
+TEST(SearchOptions, EveryMemberIsDescribedOrNamedUnrecorded) {
+  const SearchOptions o;
+  // Callbacks and handles of the running search: no JSON or checkpoint can hold them.
+  const std::set<const void*> kUnrecordedMembers = {&o.on_new_member, &o.on_progress, &o.interrupt,
+                                                    &o.communicator};
+  std::set<const void*> described;
+  for (const SearchOptionField& f : search_option_fields())
+    described.insert(std::visit([&](auto m) -> const void* { return &(o.*m); }, f.member));
+  EXPECT_EQ(described.size(), search_option_fields().size()) << "a member is described twice";
+  const std::vector<const void*> members = member_addresses(o);
+  for (std::size_t k = 0; k < members.size(); ++k)
+    EXPECT_NE(described.count(members[k]) + kUnrecordedMembers.count(members[k]), 0u)
+        << "SearchOptions member " << k + 1 << " (declaration order) has no description";
+  EXPECT_EQ(described.size() + kUnrecordedMembers.size(), members.size());
+}
+
+TEST(SearchOptions, EveryFieldChangedSurvivesTheRoundTrips) {
+  const SearchOptions defaults, edited = every_field_edited();
+  SearchOptions back;
+  for (const SearchOptionField& f : search_option_fields()) {
+    const std::string text = search_option_text(edited, f);
+    EXPECT_NE(text, search_option_text(defaults, f)) << f.name << " is not changed by the test";
+    set_search_option(back, f, text);
+  }
+  // Through the text of every field (the JSON and the command line write and read it).
+  for (const SearchOptionField& f : search_option_fields())
+    EXPECT_EQ(search_option_text(back, f), search_option_text(edited, f)) << f.name;
+  // Through a checkpoint's options: every field that decides what the search does.
+  SearchOptions resumed;
+  for (const auto& [name, text] : search_detail::checkpoint_options(edited))
+    set_search_option(resumed, name, text);
+  std::size_t recorded = 0;
+  for (const SearchOptionField& f : search_option_fields()) {
+    if (f.role != OptionRole::Search) continue;
+    ++recorded;
+    EXPECT_EQ(search_option_text(resumed, f), search_option_text(edited, f)) << f.name;
+  }
+  EXPECT_EQ(search_detail::checkpoint_options(edited).size(), recorded);
 }
 
 TEST(SearchOptions, ErrorsNameTheField) {

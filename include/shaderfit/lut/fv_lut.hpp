@@ -129,6 +129,13 @@ EndpointAdjustment derive_endpoint_adjustment(const FvLutOptions& options);
 // FV rebuilt from a texel: exp2((p0 d + p1) d + p2), in double from the stored floats.
 double fv_from_texel(const float* rgba, double l_dot_h);
 
+// One cell's constrained fit in closed form (the default approximation `plot sphere` draws): A, B
+// with log2(FV / f0) ~ A x^2 + B x, x = 1 - dot(L,H), FV the seed's reference
+// (fv-schlick-smith-lh), by linear least squares over 256 midpoints of x in [0, 1] (C = 0 keeps
+// FV(dot(L,H) = 1) = f0). Throws shaderfit::Error located at "roughness" or "f0" for a roughness
+// outside (0, 1] or an F0 outside (0, 1).
+std::array<double, 2> fit_fv_constrained(double roughness, double f0);
+
 // The reference a bake fits: options.function, or the built-in named by options.reference.
 FvFunction reference_function(const FvLutOptions& options);
 

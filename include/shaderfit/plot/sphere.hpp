@@ -1,6 +1,7 @@
-// A sphere lit by one light with a GGX specular lobe, rendered twice: with the full reference
-// terms and with a combined Fresnel-visibility approximation in dot(L,H) alone, as in seed 002's
-// reference / approximation / difference images.
+// A sphere lit by one light with a GGX specular lobe, as the scene renders it (scene/scene.hpp,
+// LobeLighting), shaded twice: with the full reference terms and with a combined
+// Fresnel-visibility approximation in dot(L,H) alone, as in seed 002's reference / approximation /
+// difference images.
 //
 //   SphereScene scene;                 // roughness 0.5, F0 0.04, light from the upper right
 //   SphereImages im = render_sphere(scene, [](double l_dot_h) { return my_fv(l_dot_h); });
@@ -21,6 +22,10 @@ struct SphereScene {
   double f0 = 0.04;
   std::array<double, 3> light = {0.8, 0.45, 0.4};  // towards the light; normalised inside
   int size = 256;                                    // pixels per side
+
+  // Throws shaderfit::Error for roughness outside (0, 1], F0 outside (0, 1), a zero light vector
+  // or a size outside [8, 4096].
+  void validate() const;
 };
 
 struct SphereImages {
@@ -28,12 +33,7 @@ struct SphereImages {
   std::vector<double> reference, approximation;  // row-major, row 0 at the bottom
 };
 
-// Throws shaderfit::Error for roughness outside (0, 1], F0 outside (0, 1), a zero light vector or
-// a size below 8.
+// Throws as SphereScene::validate.
 SphereImages render_sphere(const SphereScene& scene, const std::function<double(double)>& fv);
-
-// The seed-002 constrained fit for one cell: A, B with log2(FV / F0) ~ A x^2 + B x, x = 1 - l.h,
-// least squares over x in [0, 1] (C = 0 keeps FV(l.h = 1) = F0).
-std::array<double, 2> fit_fv_constrained(double roughness, double f0);
 
 }  // namespace shaderfit

@@ -16,6 +16,7 @@
 // off with the squared distance; a small ambient light keeps the unlit side visible.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -47,8 +48,21 @@ struct SceneMaterial {
   double f0 = 0.04;        // normal-incidence reflectance (dielectric)
 };
 
+// The specular lobe alone, as a BRDF's textbook pictures show it (`plot sphere`): each sphere
+// fills its cell, seen along -z by an orthographic camera and lit by one distant light from
+// `direction` (towards the light; normalised inside) with the given irradiance; no diffuse,
+// ambient or backdrop: SceneSamples::base is 0 on the spheres and NaN beside them, so a pixel's
+// radiance is its sample's coefficient times the term.
+struct LobeLighting {
+  std::array<double, 3> direction = {0.8, 0.45, 0.4};
+  double irradiance = 1.0;
+};
+
 struct SceneSpec {
   SceneKind kind = SceneKind::Sphere;
+  // Set (the sphere kind only): the specular lobe alone, in place of the camera and the lights
+  // described at SceneKind.
+  std::optional<LobeLighting> lobe;
   // Required by render_scene (Error at "SceneSpec::term" when unset); a problem's scene takes it
   // from a built-in reference where not given (data/problem.hpp).
   std::optional<ShadingTerm> term;
@@ -85,8 +99,10 @@ struct SceneSamples {
 };
 
 // Throws shaderfit::Error located at "SceneSpec::size", "SceneSpec::materials" (line = the
-// material's 1-based position) or "SceneSpec::exposure" for a size outside [16, 1024], a
-// roughness outside (0, 1], an F0 outside (0, 1), or an exposure that is not finite and > 0.
+// material's 1-based position), "SceneSpec::exposure" or "SceneSpec::lobe" for a size outside
+// [16, 1024] (with lobe lighting [8, 4096]), a roughness outside (0, 1], an F0 outside (0, 1), an
+// exposure that is not finite and > 0, or lobe lighting of the plane, from a direction that is not
+// a finite non-zero vector or with an irradiance that is not finite and > 0.
 SceneSamples render_scene(const SceneSpec& spec);
 
 // The display transform, per channel: exposure, then the ACES filmic curve (Narkowicz's fit),
