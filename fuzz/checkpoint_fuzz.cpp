@@ -14,6 +14,7 @@
 #include <string>
 
 #include "fuzz_targets.hpp"
+#include "core/hash.hpp"
 #include "search/checkpoint.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/random.hpp"
@@ -49,7 +50,7 @@ std::string with_header(std::string_view text) {
                   search_detail::kCheckpointFormat, search_detail::checkpoint_writer_version());
   return head +
          fmt::format("fnv1a64 {:016x}\n",
-                     search_detail::fnv1a64(body, search_detail::fnv1a64(head))) +
+                     core_detail::fnv1a64(body, core_detail::fnv1a64(head))) +
          body;
 }
 
