@@ -135,9 +135,11 @@ inline constexpr OpInfo kOpInfo[kOpCount] = {
 #undef SHADERFIT_OP_INFO
 };
 
-constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<int>(op)]; }
-constexpr int arity(Op op) { return op_info(op).arity; }
-constexpr bool is_leaf(Op op) { return arity(op) == 0; }
+// SF_CPU_GPU for the `if constexpr` tests of device code (program.hpp, apply_unary); at run time
+// only host code reads the table.
+SF_CPU_GPU constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<int>(op)]; }
+SF_CPU_GPU constexpr int arity(Op op) { return op_info(op).arity; }
+SF_CPU_GPU constexpr bool is_leaf(Op op) { return arity(op) == 0; }
 
 // f.template operator()<O>() for the operator O that `op` names (O = Op::Count_ for a value outside
 // the table): code that treats operators differently dispatches through this, one instantiation
