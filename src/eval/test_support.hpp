@@ -2,6 +2,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -144,21 +145,7 @@ T reference(const Expression& e, Op op, int k, T x, T y, T z) {
 // SSE4, AVX2, AVX-512 and EMU128 (exp2, exp, log, acos: 1 ulp; log2, sin, cos, asin, atan,
 // atan2: 2 ulp; tanh: 3 ulp); 0 means the same bits.
 inline std::uint64_t ulp_tolerance(Op op) {
-  switch (op) {
-    case Op::Exp2:
-    case Op::Exp: return 2;
-    case Op::Log2:
-    case Op::Log:
-    case Op::Sin:
-    case Op::Cos: return 3;
-    case Op::Pow: return 4;  // plus the amplification in pow_tolerance
-    case Op::Asin:
-    case Op::Acos:
-    case Op::Atan:
-    case Op::Atan2: return 3;
-    case Op::Tanh: return 4;
-    default: return 0;  // erf: std::erf itself
-  }
+  return static_cast<std::uint64_t>(op_info(op).ulps);  // erf: std::erf itself
 }
 
 // pow = exp2(b log2 a) magnifies an error in log2 a by |b log2 a| ln 2 in the result, in the
@@ -223,15 +210,29 @@ inline float eval1(const Expression& e, float x, float y) {
 
 // A random tree over variables x0..x{num_vars-1}, constants and one parameter, at most depth 4.
 inline void grow(Rng& rng, int depth, int num_vars, bool arithmetic_only, std::vector<Node>& out) {
-  // CopySign last: it is left out with the transcendental ops, whose NaNs carry a sign bit that
-  // differs between the SIMD functions and libm, and copysign reads that bit.
-  static constexpr Op kArithmetic[] = {Op::Add,    Op::Sub,     Op::Mul,      Op::Div,  Op::Min,
-                                       Op::Max,    Op::Neg,     Op::IPow,     Op::Sqrt, Op::Rsqrt,
-                                       Op::Rcp,    Op::Abs,     Op::Saturate, Op::Fma,  Op::Sign,
-                                       Op::Select, Op::CopySign};
-  static constexpr Op kOther[] = {Op::Pow,   Op::Exp2, Op::Log2, Op::Exp,  Op::Log,
-                                  Op::Sin,   Op::Cos,  Op::Asin, Op::Acos, Op::Atan,
-                                  Op::Atan2, Op::Tanh, Op::Erf};
+  // The operators in enum order, the arithmetic ones first and CopySign last of them: it is left
+  // out with the library ones (op.hpp), whose NaNs carry a sign bit that differs between the
+  // SIMD functions and libm, and copysign reads that bit.
+  static constexpr auto kOps = [] {
+    std::array<Op, kOpCount> ops{};
+    std::size_t n = 0;
+    for (bool library : {false, true})
+      for (int i = 0; i < kOpCount; ++i) {
+        const Op op = static_cast<Op>(i);
+        if (!is_leaf(op) && op_info(op).library == library && op != Op::CopySign) ops[n++] = op;
+        if (!library && i == kOpCount - 1) ops[n++] = Op::CopySign;
+      }
+    return ops;
+  }();
+  static constexpr std::size_t kArithmeticCount = [] {
+    std::size_t n = 0;
+    for (int i = 0; i < kOpCount; ++i)
+      n += !is_leaf(static_cast<Op>(i)) && !op_info(static_cast<Op>(i)).library;
+    return n;
+  }();
+  static constexpr std::span<const Op> kArithmetic(kOps.data(), kArithmeticCount);
+  static constexpr std::span<const Op> kOther(kOps.data() + kArithmeticCount,
+                                              kOpCount - 3 - kArithmeticCount);
   if (depth == 0 || bernoulli(rng, 0.25)) {
     const double r = uniform01(rng);
     if (r < 0.6)

@@ -190,7 +190,6 @@ class LatexPrinter {
     const Node& n = e_.nodes[i];
     std::size_t c[3];
     if (n.arity > 0) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
-    auto call = [&](const char* f) { return std::string(f) + "\\left(" + text(c[0]) + "\\right)"; };
     switch (n.op) {
       case Op::Const: return number(n.value);
       case Op::Var: return latex_name(e_.variables.at(static_cast<std::size_t>(n.index)));
@@ -202,45 +201,32 @@ class LatexPrinter {
       }
       case Op::Add: return sum(c[0], c[1], false);
       case Op::Sub: return sum(c[0], c[1], true);
-      case Op::Mul: return factor(c[0]) + " \\cdot " + factor(c[1]);
-      case Op::Div: return "\\frac{" + text(c[0]) + "}{" + text(c[1]) + "}";
-      case Op::Neg: return "-" + factor(c[0]);
-      case Op::IPow: return base(c[0]) + "^{" + std::to_string(n.index) + "}";
-      case Op::Pow: return base(c[0]) + "^{" + text(c[1]) + "}";
-      case Op::Sqrt: return "\\sqrt{" + text(c[0]) + "}";
-      case Op::Rsqrt: return "\\frac{1}{\\sqrt{" + text(c[0]) + "}}";
-      case Op::Rcp: return "\\frac{1}{" + text(c[0]) + "}";
-      case Op::Exp2: return "2^{" + text(c[0]) + "}";
-      case Op::Exp: return "e^{" + text(c[0]) + "}";
-      case Op::Log2: return call("\\log_2");
-      case Op::Log: return call("\\ln");
-      case Op::Abs: return "\\left|" + text(c[0]) + "\\right|";
-      case Op::Saturate: return call("\\operatorname{saturate}");
-      case Op::Sin: return call("\\sin");
-      case Op::Cos: return call("\\cos");
-      case Op::Min:
-      case Op::Max:
-        return std::string(n.op == Op::Min ? "\\min" : "\\max") + "\\left(" + text(c[0]) + ", " +
-               text(c[1]) + "\\right)";
-      case Op::Fma: return factor(c[0]) + " \\cdot " + factor(c[1]) + " + " + text(c[2]);
-      case Op::Sign: return call("\\operatorname{sign}");
-      case Op::CopySign:
-        return "\\operatorname{copysign}\\left(" + text(c[0]) + ", " + text(c[1]) + "\\right)";
-      case Op::Asin: return call("\\arcsin");
-      case Op::Acos: return call("\\arccos");
-      case Op::Atan: return call("\\arctan");
-      case Op::Atan2:
-        return "\\operatorname{atan2}\\left(" + text(c[0]) + ", " + text(c[1]) + "\\right)";
-      case Op::Tanh: return call("\\tanh");
-      case Op::Erf: return call("\\operatorname{erf}");
-      case Op::Select:
-        return "\\begin{cases}" + text(c[1]) + " & " + text(c[0]) + " \\geq 0 \\\\ " + text(c[2]) +
-               " & \\text{otherwise}\\end{cases}";
-      default: return "?";
+      default: return pattern(op_info(n.op).latex, n, c);
     }
   }
 
  private:
+  // An operator's LaTeX pattern from op.hpp with its operands written in: $0 as text, $f0 as a
+  // factor, $b0 as the base of a power, $k the node's index.
+  std::string pattern(std::string_view p, const Node& n, const std::size_t* c) {
+    std::string s;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      if (p[i] != '$') {
+        s += p[i];
+        continue;
+      }
+      const char kind = p[++i];
+      if (kind == 'k') {
+        s += std::to_string(n.index);
+        continue;
+      }
+      if (kind == 'f' || kind == 'b') ++i;
+      const std::size_t child = c[p[i] - '0'];
+      s += kind == 'f' ? factor(child) : kind == 'b' ? base(child) : text(child);
+    }
+    return s;
+  }
+
   std::string number(double v) const {
     std::string s = format_number(v, o_);
     auto e = s.find('e');

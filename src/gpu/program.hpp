@@ -54,6 +54,32 @@ SF_CPU_GPU inline void binary_rows(float (&x)[R], const float (&y)[R]) {
   for (int j = 0; j < R; ++j) x[j] = apply_binary(O, x[j], y[j]);
 }
 
+// One instruction of operator O on R rows: pushes a leaf, or replaces the top operands by the
+// result. Always inlined into the switch of run_program, one case per operator.
+template <Op O, int R>
+SF_OP_INLINE void step(const GpuNode& n, float (&st)[kMaxStack][R], int& sp, const float* columns,
+                       std::size_t column_stride, const std::size_t (&row)[R]) {
+  if constexpr (O == Op::Var) {
+    const float* c = columns + static_cast<std::size_t>(n.index) * column_stride;
+    for (int j = 0; j < R; ++j) st[sp][j] = c[row[j]];
+    ++sp;
+  } else if constexpr (is_leaf(O)) {  // Const, and Param resolved to its value
+    for (int j = 0; j < R; ++j) st[sp][j] = n.value;
+    ++sp;
+  } else if constexpr (O == Op::IPow) {
+    for (int j = 0; j < R; ++j) st[sp - 1][j] = apply_ipow(st[sp - 1][j], int{n.index});
+  } else if constexpr (arity(O) == 1) {
+    unary_rows<O>(st[sp - 1]);
+  } else if constexpr (arity(O) == 2) {
+    --sp;
+    binary_rows<O>(st[sp - 1], st[sp]);
+  } else {
+    sp -= 2;
+    for (int j = 0; j < R; ++j)
+      st[sp - 1][j] = apply_ternary(O, st[sp - 1][j], st[sp][j], st[sp + 1][j]);
+  }
+}
+
 }  // namespace program_detail
 
 // Evaluates one packed program on R rows at once: columns holds the variables one after the
@@ -65,91 +91,15 @@ template <int R>
 SF_CPU_GPU inline void run_program(const GpuNode* code, std::uint32_t count, const float* columns,
                                    std::size_t column_stride, const std::size_t (&row)[R],
                                    float (&out)[R]) {
-  using program_detail::binary_rows;
-  using program_detail::unary_rows;
   float st[kMaxStack][R];
   int sp = 0;
   for (std::uint32_t i = 0; i < count; ++i) {
     const GpuNode n = code[i];
     switch (n.op) {
-      case Op::Const:
-      case Op::Param:
-        for (int j = 0; j < R; ++j) st[sp][j] = n.value;
-        ++sp;
-        break;
-      case Op::Var: {
-        const float* c = columns + static_cast<std::size_t>(n.index) * column_stride;
-        for (int j = 0; j < R; ++j) st[sp][j] = c[row[j]];
-        ++sp;
-        break;
-      }
-      case Op::Add:
-        --sp;
-        binary_rows<Op::Add>(st[sp - 1], st[sp]);
-        break;
-      case Op::Sub:
-        --sp;
-        binary_rows<Op::Sub>(st[sp - 1], st[sp]);
-        break;
-      case Op::Mul:
-        --sp;
-        binary_rows<Op::Mul>(st[sp - 1], st[sp]);
-        break;
-      case Op::Div:
-        --sp;
-        binary_rows<Op::Div>(st[sp - 1], st[sp]);
-        break;
-      case Op::Min:
-        --sp;
-        binary_rows<Op::Min>(st[sp - 1], st[sp]);
-        break;
-      case Op::Max:
-        --sp;
-        binary_rows<Op::Max>(st[sp - 1], st[sp]);
-        break;
-      case Op::Pow:
-        --sp;
-        binary_rows<Op::Pow>(st[sp - 1], st[sp]);
-        break;
-      case Op::CopySign:
-        --sp;
-        binary_rows<Op::CopySign>(st[sp - 1], st[sp]);
-        break;
-      case Op::Atan2:
-        --sp;
-        binary_rows<Op::Atan2>(st[sp - 1], st[sp]);
-        break;
-      case Op::Neg: unary_rows<Op::Neg>(st[sp - 1]); break;
-      case Op::IPow:
-        for (int j = 0; j < R; ++j) st[sp - 1][j] = apply_ipow(st[sp - 1][j], int{n.index});
-        break;
-      case Op::Sqrt: unary_rows<Op::Sqrt>(st[sp - 1]); break;
-      case Op::Rsqrt: unary_rows<Op::Rsqrt>(st[sp - 1]); break;
-      case Op::Rcp: unary_rows<Op::Rcp>(st[sp - 1]); break;
-      case Op::Exp2: unary_rows<Op::Exp2>(st[sp - 1]); break;
-      case Op::Log2: unary_rows<Op::Log2>(st[sp - 1]); break;
-      case Op::Exp: unary_rows<Op::Exp>(st[sp - 1]); break;
-      case Op::Log: unary_rows<Op::Log>(st[sp - 1]); break;
-      case Op::Abs: unary_rows<Op::Abs>(st[sp - 1]); break;
-      case Op::Saturate: unary_rows<Op::Saturate>(st[sp - 1]); break;
-      case Op::Sin: unary_rows<Op::Sin>(st[sp - 1]); break;
-      case Op::Cos: unary_rows<Op::Cos>(st[sp - 1]); break;
-      case Op::Sign: unary_rows<Op::Sign>(st[sp - 1]); break;
-      case Op::Asin: unary_rows<Op::Asin>(st[sp - 1]); break;
-      case Op::Acos: unary_rows<Op::Acos>(st[sp - 1]); break;
-      case Op::Atan: unary_rows<Op::Atan>(st[sp - 1]); break;
-      case Op::Tanh: unary_rows<Op::Tanh>(st[sp - 1]); break;
-      case Op::Erf: unary_rows<Op::Erf>(st[sp - 1]); break;
-      case Op::Fma:
-        sp -= 2;
-        for (int j = 0; j < R; ++j)
-          st[sp - 1][j] = apply_fma(st[sp - 1][j], st[sp][j], st[sp + 1][j]);
-        break;
-      case Op::Select:
-        sp -= 2;
-        for (int j = 0; j < R; ++j)
-          st[sp - 1][j] = apply_select(st[sp - 1][j], st[sp][j], st[sp + 1][j]);
-        break;
+#define SHADERFIT_GPU_STEP(name, ...) \
+  case Op::name: program_detail::step<Op::name>(n, st, sp, columns, column_stride, row); break;
+      SHADERFIT_OPERATORS(SHADERFIT_GPU_STEP)
+#undef SHADERFIT_GPU_STEP
       default: break;  // packing admits no other opcode
     }
   }

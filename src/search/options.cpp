@@ -17,23 +17,24 @@ namespace shaderfit {
 namespace {
 
 // The enumeration builds every unary and binary one; select (ternary) only the evolution does.
-constexpr Op kSearchable[] = {Op::Add,   Op::Sub,      Op::Mul,      Op::Div,    Op::IPow, Op::Sqrt,
-                              Op::Rsqrt, Op::Rcp,      Op::Exp2,     Op::Log2,   Op::Exp,  Op::Log,
-                              Op::Abs,   Op::Saturate, Op::Sin,      Op::Cos,    Op::Min,  Op::Max,
-                              Op::Pow,   Op::Sign,     Op::CopySign, Op::Select, Op::Asin, Op::Acos,
-                              Op::Atan,  Op::Atan2,    Op::Tanh,     Op::Erf};
-
-bool searchable(Op op) {
-  return std::find(std::begin(kSearchable), std::end(kSearchable), op) != std::end(kSearchable);
-}
+bool searchable(Op op) { return static_cast<int>(op) < kOpCount && op_info(op).search > 0; }
 
 std::string_view list_name(Op op) { return op == Op::IPow ? "^" : op_info(op).name; }
 
+// The searchable operators in their order in op.hpp's search column.
 std::string known_operators() {
+  std::vector<std::string_view> names;
+  for (int i = 0; i < kOpCount; ++i) {
+    const int place = op_info(static_cast<Op>(i)).search;
+    if (place == 0) continue;
+    if (names.size() < static_cast<std::size_t>(place))
+      names.resize(static_cast<std::size_t>(place));
+    names[static_cast<std::size_t>(place - 1)] = list_name(static_cast<Op>(i));
+  }
   std::string s;
-  for (Op op : kSearchable) {
+  for (std::string_view name : names) {
     if (!s.empty()) s += ' ';
-    s += list_name(op);
+    s += name;
   }
   return s;
 }

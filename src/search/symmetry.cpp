@@ -625,7 +625,6 @@ Parity parity_of(const Node& n, std::span<const Parity> a) {
     return p == Parity::Odd && q == Parity::Odd ? Parity::Odd : Parity::None;
   };
   switch (n.op) {
-    case Op::Neg: return a[0];
     case Op::Add:
     case Op::Sub: return sum(a[0], a[1]);
     case Op::Mul:
@@ -633,20 +632,17 @@ Parity parity_of(const Node& n, std::span<const Parity> a) {
     case Op::Fma: return sum(product(a[0], a[1]), a[2]);
     case Op::IPow:
       return a[0] == Parity::Odd ? (n.index % 2 == 0 ? Parity::Even : Parity::Odd) : Parity::None;
-    case Op::Abs: return a[0] == Parity::Odd ? Parity::Even : Parity::None;
-    case Op::Cos: return a[0] == Parity::Odd ? Parity::Even : Parity::None;
-    // Odd functions: f(-t) = -f(t).
-    case Op::Rcp:
-    case Op::Sin:
-    case Op::Asin:
-    case Op::Atan:
-    case Op::Tanh:
-    case Op::Erf:
-    case Op::Sign: return a[0];
     case Op::CopySign:  // |a| carries the sign of b
       if (a[0] == Parity::None) return Parity::None;
       return a[1];
-    default: return Parity::None;
+    default:
+      // An odd unary function keeps its operand's parity, an even one makes an odd operand even.
+      switch (op_info(n.op).parity) {
+        case OpParity::Odd: return a[0];
+        case OpParity::Even: return a[0] == Parity::Odd ? Parity::Even : Parity::None;
+        case OpParity::None: return Parity::None;
+      }
+      return Parity::None;
   }
 }
 

@@ -147,40 +147,28 @@ Dual select(const Dual& a, const Dual& b, const Dual& c) {
 }
 
 Dual apply_op(Op op, int index, std::span<const Dual> o) {
-  switch (op) {
-    case Op::Add: return o[0] + o[1];
-    case Op::Sub: return o[0] - o[1];
-    case Op::Mul: return o[0] * o[1];
-    case Op::Div: return o[0] / o[1];
-    case Op::Min: return fmin(o[0], o[1]);
-    case Op::Max: return fmax(o[0], o[1]);
-    case Op::Pow: return gpu_pow(o[0], o[1]);
-    case Op::Neg: return -o[0];
-    case Op::IPow: return ipow(o[0], index);
-    case Op::Sqrt: return sqrt(o[0]);
-    case Op::Rsqrt: return Dual(1.0) / sqrt(o[0]);
-    case Op::Rcp: return Dual(1.0) / o[0];
-    case Op::Exp2: return exp2(o[0]);
-    case Op::Log2: return log2(o[0]);
-    case Op::Exp: return exp(o[0]);
-    case Op::Log: return log(o[0]);
-    case Op::Abs: return abs(o[0]);
-    case Op::Saturate: return saturate(o[0]);
-    case Op::Sin: return sin(o[0]);
-    case Op::Cos: return cos(o[0]);
-    case Op::Fma: return o[0] * o[1] + o[2];
-    case Op::Sign: return sign(o[0]);
-    case Op::CopySign: return copysign(o[0], o[1]);
-    case Op::Select: return select(o[0], o[1], o[2]);
-    case Op::Asin: return asin(o[0]);
-    case Op::Acos: return acos(o[0]);
-    case Op::Atan: return atan(o[0]);
-    case Op::Atan2: return atan2(o[0], o[1]);
-    case Op::Tanh: return tanh(o[0]);
-    case Op::Erf: return erf(o[0]);
-    default: break;
-  }
-  throw Error("certify: operator '" + std::string(op_info(op).name) + "' is not an operation");
+  // op.hpp's forms, but for the operators whose forms compare (saturate, sign, select) or whose
+  // interval has a tighter form here (pow as the GPU computes it, ipow).
+  return visit_op(op, [&]<Op O>() -> Dual {
+    if constexpr (O == Op::Pow)
+      return gpu_pow(o[0], o[1]);
+    else if constexpr (O == Op::IPow)
+      return ipow(o[0], index);
+    else if constexpr (O == Op::Saturate)
+      return saturate(o[0]);
+    else if constexpr (O == Op::Sign)
+      return sign(o[0]);
+    else if constexpr (O == Op::Select)
+      return select(o[0], o[1], o[2]);
+    else if constexpr (O == Op::Fma)
+      return apply_fma(o[0], o[1], o[2]);
+    else if constexpr (O != Op::Count_ && arity(O) == 1)
+      return unary_value<O>(o[0]);
+    else if constexpr (O != Op::Count_ && arity(O) == 2)
+      return binary_value<O>(o[0], o[1]);
+    else
+      throw Error("certify: operator '" + std::string(op_info(op).name) + "' is not an operation");
+  });
 }
 
 }  // namespace shaderfit::verify

@@ -27,80 +27,133 @@
 
 namespace shaderfit {
 
+// The operators, one row each, in enum order (exact JSON stores operators by number: operators
+// added later go last). Columns: the enumerator; the name in formulas ("sqrt") or the infix
+// symbol ("+"); arity; commutative; infix (printed between its operands); library (computed by
+// a library approximation, libm's, Highway's or CUDA's, rather than exactly rounded
+// arithmetic); ulps (the bound on the vector forms' error against the scalar one,
+// docs/evaluation.md; 0: the same bits); parity (a unary operator's symmetry: Odd, f(-a) =
+// -f(a), or Even, f(-a) = f(a); ipow's depends on k); search (the operator's place in the list of
+// those the search may use, as its messages list them; 0: not searchable); the LaTeX form, a
+// pattern in which $0, $1, $2 stand for the operands as they are, $f0, $f1 for an operand as a
+// factor (parenthesised below a product), $b0 for one as the base of a power (parenthesised
+// unless an atom) and $k for Node::index; empty for the leaves and + and -, which
+// expr/print.cpp writes itself (numbers, names, signs folded into sums).
+//
+// The meaning of each operator (value, derivative) is the apply_* and *_derivative functions
+// below; a row's comment says what the name alone does not.
+#define SHADERFIT_OPERATORS(X)                                                                    \
+  /* Leaves: a literal constant (Node::value), a free parameter and an input variable */          \
+  /* (Node::index into Expression::parameters and ::variables). */                                \
+  X(Const, "const", 0, false, false, false, 0, None, 0, "")                                       \
+  X(Param, "param", 0, false, false, false, 0, None, 0, "")                                       \
+  X(Var, "var", 0, false, false, false, 0, None, 0, "")                                           \
+  /* Binary. */                                                                                   \
+  X(Add, "+", 2, true, true, false, 0, None, 1, "")                                               \
+  X(Sub, "-", 2, false, true, false, 0, None, 2, "")                                              \
+  X(Mul, "*", 2, true, true, false, 0, None, 3, "$f0 \\cdot $f1")                                 \
+  X(Div, "/", 2, false, true, false, 0, None, 4, "\\frac{$0}{$1}")                                \
+  X(Min, "min", 2, true, false, false, 0, None, 17, "\\min\\left($0, $1\\right)")                 \
+  X(Max, "max", 2, true, false, false, 0, None, 18, "\\max\\left($0, $1\\right)")                 \
+  /* pow(a, b) for real b, defined as exp2(b * log2(a)): NaN for a < 0, as on GPUs */             \
+  X(Pow, "pow", 2, false, false, true, 4, None, 19, "$b0^{$1}")                                   \
+  /* Unary. */                                                                                    \
+  X(Neg, "neg", 1, false, false, false, 0, Odd, 0, "-$f0")                                        \
+  /* integer power x^k, k = Node::index in [-16, -1] or [2, 16] */                                \
+  X(IPow, "ipow", 1, false, false, false, 0, None, 5, "$b0^{$k}")                                 \
+  X(Sqrt, "sqrt", 1, false, false, false, 0, None, 6, "\\sqrt{$0}")                               \
+  X(Rsqrt, "rsqrt", 1, false, false, false, 0, None, 7, "\\frac{1}{\\sqrt{$0}}")                  \
+  X(Rcp, "rcp", 1, false, false, false, 0, Odd, 8, "\\frac{1}{$0}")                               \
+  X(Exp2, "exp2", 1, false, false, true, 2, None, 9, "2^{$0}")                                    \
+  X(Log2, "log2", 1, false, false, true, 3, None, 10, "\\log_2\\left($0\\right)")                 \
+  X(Exp, "exp", 1, false, false, true, 2, None, 11, "e^{$0}")                                     \
+  X(Log, "log", 1, false, false, true, 3, None, 12, "\\ln\\left($0\\right)")                      \
+  X(Abs, "abs", 1, false, false, false, 0, Even, 13, "\\left|$0\\right|")                         \
+  /* clamp to [0, 1] */                                                                           \
+  X(Saturate, "saturate", 1, false, false, false, 0, None, 14,                                    \
+    "\\operatorname{saturate}\\left($0\\right)")                                                  \
+  X(Sin, "sin", 1, false, false, true, 3, Odd, 15, "\\sin\\left($0\\right)")                      \
+  X(Cos, "cos", 1, false, false, true, 3, Even, 16, "\\cos\\left($0\\right)")                     \
+  /* Ternary: fma(a, b, c) = a * b + c. */                                                        \
+  X(Fma, "fma", 3, false, false, false, 0, None, 0, "$f0 \\cdot $f1 + $2")                        \
+  /* Operators added later. Unary: 1 for a > 0, -1 for a < 0, a itself for +-0 and NaN. */        \
+  X(Sign, "sign", 1, false, false, false, 0, Odd, 20, "\\operatorname{sign}\\left($0\\right)")    \
+  /* binary: |a| with the sign bit of b, as C's copysign: copysign(2, -0.0) = -2. For a NaN b */  \
+  /* the sign is that NaN's sign bit, which backends set differently (x86 makes negative NaNs, */ \
+  /* CUDA positive ones): the search rejects formulas with a NaN there (not finite). */           \
+  X(CopySign, "copysign", 2, false, false, false, 0, None, 21,                                    \
+    "\\operatorname{copysign}\\left($0, $1\\right)")                                              \
+  /* ternary: select(a, b, c) = a >= 0 ? b : c; -0.0 takes b, NaN takes c */                      \
+  X(Select, "select", 3, false, false, false, 0, None, 22,                                        \
+    "\\begin{cases}$1 & $0 \\geq 0 \\\\ $2 & \\text{otherwise}\\end{cases}")                      \
+  /* As C's libm; unary but atan2 (NaN outside the domain: asin and acos of |a| > 1). */          \
+  X(Asin, "asin", 1, false, false, true, 3, Odd, 23, "\\arcsin\\left($0\\right)")                 \
+  X(Acos, "acos", 1, false, false, true, 3, None, 24, "\\arccos\\left($0\\right)")                \
+  X(Atan, "atan", 1, false, false, true, 3, Odd, 25, "\\arctan\\left($0\\right)")                 \
+  /* binary: atan2(a, b) as C's atan2(y = a, x = b), in [-pi, pi] */                              \
+  X(Atan2, "atan2", 2, false, false, true, 3, None, 26,                                           \
+    "\\operatorname{atan2}\\left($0, $1\\right)")                                                 \
+  X(Tanh, "tanh", 1, false, false, true, 4, Odd, 27, "\\tanh\\left($0\\right)")                   \
+  X(Erf, "erf", 1, false, false, true, 0, Odd, 28, "\\operatorname{erf}\\left($0\\right)")
+
 enum class Op : std::uint8_t {
-  // Leaves.
-  Const,  // literal constant (Node::value)
-  Param,  // named free parameter (Node::index into Expression::parameters)
-  Var,    // named input variable (Node::index into Expression::variables)
-  // Binary.
-  Add,
-  Sub,
-  Mul,
-  Div,
-  Min,
-  Max,
-  Pow,  // pow(a, b) for real b, defined as exp2(b * log2(a)): NaN for a < 0, as on GPUs
-  // Unary.
-  Neg,
-  IPow,  // integer power x^k, k = Node::index in [-16, -1] or [2, 16]
-  Sqrt,
-  Rsqrt,
-  Rcp,
-  Exp2,
-  Log2,
-  Exp,
-  Log,
-  Abs,
-  Saturate,  // clamp to [0, 1]
-  Sin,
-  Cos,
-  // Ternary.
-  Fma,  // fma(a, b, c) = a * b + c
-  // Operators added later go last: exact JSON stores operators by number.
-  Sign,  // unary: 1 for a > 0, -1 for a < 0, a itself for +-0 and NaN
-  // binary: |a| with the sign bit of b, as C's copysign: copysign(2, -0.0) = -2. For a NaN b the
-  // sign is that NaN's sign bit, which backends set differently (x86 makes negative NaNs, CUDA
-  // positive ones): the search rejects formulas with a NaN there (not finite everywhere).
-  CopySign,
-  Select,  // ternary: select(a, b, c) = a >= 0 ? b : c; -0.0 takes b, NaN takes c
-  // As C's libm; unary but atan2 (NaN outside the domain: asin and acos of |a| > 1).
-  Asin,
-  Acos,
-  Atan,
-  Atan2,  // binary: atan2(a, b) as C's atan2(y = a, x = b), in [-pi, pi]
-  Tanh,
-  Erf,
-  Count_
+#define SHADERFIT_OP_ENUMERATOR(name, ...) name,
+  SHADERFIT_OPERATORS(SHADERFIT_OP_ENUMERATOR)
+#undef SHADERFIT_OP_ENUMERATOR
+      Count_
 };
 
 inline constexpr int kOpCount = static_cast<int>(Op::Count_);
 inline constexpr int kMinIntegerPower = -16;
 inline constexpr int kMaxIntegerPower = 16;
 
+// How a unary operator's value at -a relates to its value at a.
+enum class OpParity : std::uint8_t {
+  None,
+  Odd,   // f(-a) = -f(a)
+  Even,  // f(-a) = f(a)
+};
+
+// One operator's row of SHADERFIT_OPERATORS.
 struct OpInfo {
   std::string_view name;  // function name in formulas ("sqrt"), or the operator symbol ("+")
   int arity;
   bool commutative;
-  bool infix;  // printed between its operands (+ - * /), not as a call
+  bool infix;    // printed between its operands (+ - * /), not as a call
+  bool library;  // computed by a library approximation (libm, Highway, CUDA), not exactly rounded
+  int ulps;      // the vector forms' error bound against the scalar one; 0: the same bits
+  OpParity parity;         // a unary operator's symmetry in its operand; None for the others
+  int search;              // 1-based place among the searchable operators; 0: not searchable
+  std::string_view latex;  // LaTeX pattern ($0, $f0, $b0, $k); empty where print.cpp writes it
 };
 
 inline constexpr OpInfo kOpInfo[kOpCount] = {
-    {"const", 0, false, false}, {"param", 0, false, false},    {"var", 0, false, false},
-    {"+", 2, true, true},       {"-", 2, false, true},         {"*", 2, true, true},
-    {"/", 2, false, true},      {"min", 2, true, false},       {"max", 2, true, false},
-    {"pow", 2, false, false},   {"neg", 1, false, false},      {"ipow", 1, false, false},
-    {"sqrt", 1, false, false},  {"rsqrt", 1, false, false},    {"rcp", 1, false, false},
-    {"exp2", 1, false, false},  {"log2", 1, false, false},     {"exp", 1, false, false},
-    {"log", 1, false, false},   {"abs", 1, false, false},      {"saturate", 1, false, false},
-    {"sin", 1, false, false},   {"cos", 1, false, false},      {"fma", 3, false, false},
-    {"sign", 1, false, false},  {"copysign", 2, false, false}, {"select", 3, false, false},
-    {"asin", 1, false, false},  {"acos", 1, false, false},     {"atan", 1, false, false},
-    {"atan2", 2, false, false}, {"tanh", 1, false, false},     {"erf", 1, false, false},
+#define SHADERFIT_OP_INFO(enumerator, name, arity, commutative, infix, library, ulps, parity, \
+                          search, latex)                                                      \
+  {name, arity, commutative, infix, library, ulps, OpParity::parity, search, latex},
+    SHADERFIT_OPERATORS(SHADERFIT_OP_INFO)
+#undef SHADERFIT_OP_INFO
 };
 
-constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<int>(op)]; }
-constexpr int arity(Op op) { return op_info(op).arity; }
-constexpr bool is_leaf(Op op) { return arity(op) == 0; }
+// SF_CPU_GPU for the `if constexpr` tests of device code (program.hpp, apply_unary); at run time
+// only host code reads the table.
+SF_CPU_GPU constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<int>(op)]; }
+SF_CPU_GPU constexpr int arity(Op op) { return op_info(op).arity; }
+SF_CPU_GPU constexpr bool is_leaf(Op op) { return arity(op) == 0; }
+
+// f.template operator()<O>() for the operator O that `op` names (O = Op::Count_ for a value outside
+// the table): code that treats operators differently dispatches through this, one instantiation
+// per operator, instead of a switch of its own that names them.
+template <typename F>
+constexpr decltype(auto) visit_op(Op op, F&& f) {
+  switch (op) {
+#define SHADERFIT_OP_VISIT_CASE(name, ...) \
+  case Op::name: return f.template operator()<Op::name>();
+    SHADERFIT_OPERATORS(SHADERFIT_OP_VISIT_CASE)
+#undef SHADERFIT_OP_VISIT_CASE
+    default: return f.template operator()<Op::Count_>();
+  }
+}
 
 // The operator whose formula name (or symbol) is `name`; Op::Count_ when there is none.
 // Accepts the names of functions with arguments (sqrt, pow, fma, ...) and the infix symbols.
@@ -128,49 +181,112 @@ SF_OP_INLINE T apply_ipow(T x, int k, T one = T(1)) {
   return inverse ? one / result : result;
 }
 
-template <typename T>
-SF_OP_INLINE T apply_unary(Op op, T a) {
+// The value of unary operator O (not ipow: apply_ipow) at a. Each operator's form is
+// instantiated alone, so a number type needs only what the operators it is used with need
+// (intervals: verify/interval.hpp, which gives saturate and sign forms of its own).
+template <Op O, typename T>
+SF_OP_INLINE T unary_value(T a) {
   using std::abs, std::acos, std::asin, std::atan, std::cos, std::erf, std::exp, std::exp2,
       std::log, std::log2, std::sin, std::sqrt, std::tanh;
-  switch (op) {
-    case Op::Neg: return -a;
-    case Op::Sqrt: return sqrt(a);
-    case Op::Rsqrt: return T(1) / sqrt(a);
-    case Op::Rcp: return T(1) / a;
-    case Op::Exp2: return exp2(a);
-    case Op::Log2: return log2(a);
-    case Op::Exp: return exp(a);
-    case Op::Log: return log(a);
-    case Op::Abs: return abs(a);
-    case Op::Saturate: return a < T(0) ? T(0) : (a > T(1) ? T(1) : a);
-    case Op::Sin: return sin(a);
-    case Op::Cos: return cos(a);
-    // a * 0 keeps the zero's sign and a NaN, and has no derivative part (Taylor jets).
-    case Op::Sign: return a > T(0) ? T(1) : (a < T(0) ? T(-1) : a * T(0));
-    case Op::Asin: return asin(a);
-    case Op::Acos: return acos(a);
-    case Op::Atan: return atan(a);
-    case Op::Tanh: return tanh(a);
-    case Op::Erf: return erf(a);
-    default: return a / T(0) * T(0);  // NaN: not a unary operator
-  }
+  if constexpr (O == Op::Neg)
+    return -a;
+  else if constexpr (O == Op::Sqrt)
+    return sqrt(a);
+  else if constexpr (O == Op::Rsqrt)
+    return T(1) / sqrt(a);
+  else if constexpr (O == Op::Rcp)
+    return T(1) / a;
+  else if constexpr (O == Op::Exp2)
+    return exp2(a);
+  else if constexpr (O == Op::Log2)
+    return log2(a);
+  else if constexpr (O == Op::Exp)
+    return exp(a);
+  else if constexpr (O == Op::Log)
+    return log(a);
+  else if constexpr (O == Op::Abs)
+    return abs(a);
+  else if constexpr (O == Op::Saturate)
+    return a < T(0) ? T(0) : (a > T(1) ? T(1) : a);
+  else if constexpr (O == Op::Sin)
+    return sin(a);
+  else if constexpr (O == Op::Cos)
+    return cos(a);
+  // a * 0 keeps the zero's sign and a NaN, and has no derivative part (Taylor jets).
+  else if constexpr (O == Op::Sign)
+    return a > T(0) ? T(1) : (a < T(0) ? T(-1) : a * T(0));
+  else if constexpr (O == Op::Asin)
+    return asin(a);
+  else if constexpr (O == Op::Acos)
+    return acos(a);
+  else if constexpr (O == Op::Atan)
+    return atan(a);
+  else if constexpr (O == Op::Tanh)
+    return tanh(a);
+  else if constexpr (O == Op::Erf)
+    return erf(a);
+  else
+    return a / T(0) * T(0);  // NaN: not a unary operator
 }
 
+// The value of binary operator O at (a, b).
+template <Op O, typename T>
+SF_OP_INLINE T binary_value(T a, T b) {
+  using std::atan2, std::copysign, std::exp2, std::fmax, std::fmin, std::log2;
+  if constexpr (O == Op::Add)
+    return a + b;
+  else if constexpr (O == Op::Sub)
+    return a - b;
+  else if constexpr (O == Op::Mul)
+    return a * b;
+  else if constexpr (O == Op::Div)
+    return a / b;
+  else if constexpr (O == Op::Min)
+    return fmin(a, b);
+  else if constexpr (O == Op::Max)
+    return fmax(a, b);
+  else if constexpr (O == Op::Pow)
+    return exp2(b * log2(a));
+  else if constexpr (O == Op::CopySign)
+    return copysign(a, b);
+  else if constexpr (O == Op::Atan2)
+    return atan2(a, b);
+  else
+    return a / T(0) * T(0);  // NaN: not a binary operator
+}
+
+// The unary operators by name (a switch over the table, each case unary_value).
+template <typename T>
+SF_OP_INLINE T apply_unary(Op op, T a) {
+  switch (op) {
+#define SHADERFIT_OP_UNARY_CASE(name, ...)                      \
+  case Op::name:                                                \
+    if constexpr (arity(Op::name) == 1 && Op::name != Op::IPow) \
+      return unary_value<Op::name>(a);                          \
+    else                                                        \
+      break;
+    SHADERFIT_OPERATORS(SHADERFIT_OP_UNARY_CASE)
+#undef SHADERFIT_OP_UNARY_CASE
+    default: break;
+  }
+  return a / T(0) * T(0);  // NaN: not a unary operator
+}
+
+// The binary operators by name.
 template <typename T>
 SF_OP_INLINE T apply_binary(Op op, T a, T b) {
-  using std::atan2, std::copysign, std::exp2, std::fmax, std::fmin, std::log2;
   switch (op) {
-    case Op::Add: return a + b;
-    case Op::Sub: return a - b;
-    case Op::Mul: return a * b;
-    case Op::Div: return a / b;
-    case Op::Min: return fmin(a, b);
-    case Op::Max: return fmax(a, b);
-    case Op::Pow: return exp2(b * log2(a));
-    case Op::CopySign: return copysign(a, b);
-    case Op::Atan2: return atan2(a, b);
-    default: return a / T(0) * T(0);
+#define SHADERFIT_OP_BINARY_CASE(name, ...) \
+  case Op::name:                            \
+    if constexpr (arity(Op::name) == 2)     \
+      return binary_value<Op::name>(a, b);  \
+    else                                    \
+      break;
+    SHADERFIT_OPERATORS(SHADERFIT_OP_BINARY_CASE)
+#undef SHADERFIT_OP_BINARY_CASE
+    default: break;
   }
+  return a / T(0) * T(0);
 }
 
 template <typename T>

@@ -24,18 +24,9 @@ int at_least_one(double c) { return std::max(1, static_cast<int>(c + 0.5)); }
 }  // namespace
 
 bool sign_sensitive(Op op) {
-  switch (op) {
-    case Op::Rcp:
-    case Op::Abs:
-    case Op::Sin:
-    case Op::Cos:
-    case Op::Sign:
-    case Op::Asin:  // odd: op(-a) = -op(a), and negating a class is free
-    case Op::Atan:
-    case Op::Tanh:
-    case Op::Erf: return false;
-    default: return true;  // acos(-a) = pi - acos(a) among them
-  }
+  // Odd (op(-a) = -op(a), and negating a class is free) and even ones are not; acos(-a) =
+  // pi - acos(a) is.
+  return op_info(op).parity == OpParity::None;
 }
 
 Enumerator::Costs::Costs(const SearchOptions& o) {
@@ -44,11 +35,16 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
   literal = static_cast<int>(cost_of(o, {Node::constant(2.0)}) + 0.5);
   unary.fill(-1);
   binary.fill(-1);
-  for (Op op :
-       {Op::Sqrt, Op::Rsqrt, Op::Rcp, Op::Exp2, Op::Log2, Op::Exp, Op::Log, Op::Abs, Op::Saturate,
-        Op::Sin, Op::Cos, Op::Sign, Op::Asin, Op::Acos, Op::Atan, Op::Tanh, Op::Erf}) {
-    if (has(o, op))
-      unary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, Node::op_node(op)}) - leaf);
+  // The searchable operators of one and two operands; ipow (by its powers), + and - (one cost)
+  // and the ternary ones apart.
+  for (int i = 0; i < kOpCount; ++i) {
+    const Op op = static_cast<Op>(i);
+    if (op_info(op).search == 0 || !has(o, op) || op == Op::IPow) continue;
+    if (arity(op) == 1)
+      unary[static_cast<std::size_t>(i)] = at_least_one(cost_of(o, {a, Node::op_node(op)}) - leaf);
+    else if (arity(op) == 2 && op != Op::Add && op != Op::Sub)
+      binary[static_cast<std::size_t>(i)] =
+          at_least_one(cost_of(o, {a, b, Node::op_node(op)}) - 2 * leaf);
   }
   if (has(o, Op::IPow)) {
     for (int k = 2; k <= o.max_power; ++k)
@@ -57,10 +53,6 @@ Enumerator::Costs::Costs(const SearchOptions& o) {
   if (has(o, Op::Add) || has(o, Op::Sub)) {
     binary[static_cast<int>(Op::Add)] =
         at_least_one(cost_of(o, {a, b, Node::op_node(Op::Add)}) - 2 * leaf);
-  }
-  for (Op op : {Op::Mul, Op::Div, Op::Min, Op::Max, Op::Pow, Op::CopySign, Op::Atan2}) {
-    if (has(o, op))
-      binary[static_cast<int>(op)] = at_least_one(cost_of(o, {a, b, Node::op_node(op)}) - 2 * leaf);
   }
   if (binary[static_cast<int>(Op::Add)] >= 0 && binary[static_cast<int>(Op::Mul)] >= 0) {
     const double product = cost_of(o, {a, b, Node::op_node(Op::Mul)});
