@@ -1,12 +1,14 @@
 // shaderfit core: read this header first.
 //
-// It fixes the scalar types, the one host/device macro, and forward-declares the main types of
-// every area, so that headers can name each other without including each other. The map of the
-// areas, what each may include and where to add an operator, loss, option or language is
-// docs/architecture.md.
+// It names the scalar types f32 and f64, defines the one host/device macro, and forward-declares
+// the types of core, expr, data and scene that headers of other areas name, so that those headers
+// need not include their definitions. The map of the areas, what each may include and where to
+// add an operator, loss, option or language is docs/architecture.md. A program may include the
+// umbrella header shaderfit/shaderfit.hpp instead of one header per concept:
 //
-//   #include <shaderfit/core.hpp>
-//   shaderfit::Expression e = shaderfit::parse_formula("r0 + (x - r0) * x^4", {"r0", "x"});
+//   #include <shaderfit/shaderfit.hpp>
+//   shaderfit::Expression e =
+//       shaderfit::parse_formula("r0 + (x - r0) * x^4", {.variables = {"r0", "x"}});
 #pragma once
 
 #include <cstddef>

@@ -1,4 +1,5 @@
-// The Fresnel data set of seed post 001, and the registry of built-in data sets.
+// The fresnel-seed data set (exact Fresnel reflectance of dielectrics and metals over the angle),
+// and the registry of built-in data sets.
 //
 //   Rng rng(1);
 //   Dataset d = make_fresnel_seed_dataset(rng);          // 4096 rows, theta in [0, pi]
@@ -8,16 +9,15 @@
 //   1. theta = uniform(0, pi), or uniform(0, pi/2) with half_range;
 //   2. u = uniform01: u < 0.4 glass (IOR 1.5); u < 0.8 a dielectric with IOR uniform(1.34, 1.7)
 //      (a third draw); otherwise one of the seven metals below, uniform_index(7) (a third draw).
-// Metals (complex IOR n + ik, from the seed post): 0.3+3i, 0.15+4i, 0.3+3.35i, 1.4+7i, 1.84+3.73i,
-// 2.1+4i, 2.9+3.1i.
+// Metals (complex IOR n + ik): 0.3+3i, 0.15+4i, 0.3+3.35i, 1.4+7i, 1.84+3.73i, 2.1+4i, 2.9+3.1i.
 //
 // Columns, in order:
 //   r0         normal-incidence reflectance: r0_from_ior(n) or r0_from_complex_ior(n, k)
 //   cos_theta  |cos theta|: directions with theta > pi/2 (behind the surface) are mirrored to the
-//              front. The post's error figures reproduce this way; with a signed cosine, x would
-//              exceed 1 on half the rows and both approximations would be meaningless there. So
-//              both ranges give the same distribution of cos_theta (that of cos theta, theta
-//              uniform in [0, pi/2]); they differ only in the random draws.
+//              front: with a signed cosine, x would exceed 1 on half the rows, where Schlick-type
+//              approximations mean nothing. So both ranges give the same distribution of
+//              cos_theta (that of cos theta, theta uniform in [0, pi/2]); they differ only in the
+//              random draws.
 //   x          1 - cos_theta
 //   R          exact unpolarized Fresnel reflectance: fresnel_dielectric(cos_theta, n) or
 //              fresnel_conductor(cos_theta, n, k) (from air, eta = IOR)
@@ -47,13 +47,13 @@ struct FresnelSeedOptions {
   bool half_range = false;  // theta in [0, pi/2] instead of [0, pi]
 };
 
-// The seed post's data set; its source is "fresnel-seed" or "fresnel-seed-half".
+// The data set described above; its source is "fresnel-seed" or "fresnel-seed-half".
 Dataset make_fresnel_seed_dataset(Rng& rng, const FresnelSeedOptions& options = {});
 
 // What a built-in data set is for: the columns formulas read and the one they approximate, and
 // the search's operators for it, as text that parse_operator_list (search/options.hpp) reads
-// (this area does not include search/). The seed data sets: inputs r0, x; target R; operators
-// "+,-,*,/,^" and evolution operators "pow,exp2" (seed 001's task, as searched before "auto").
+// (this area does not include search/). fresnel-seed and fresnel-seed-half: inputs r0, x;
+// target R; operators "+,-,*,/,^" and evolution operators "pow,exp2".
 struct BuiltinDatasetInfo {
   std::string name;
   std::vector<std::string> inputs;

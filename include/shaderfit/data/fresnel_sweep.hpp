@@ -1,10 +1,10 @@
 // Fresnel reflectance of chosen materials swept over the angle of incidence: the data behind
-// reflectance curves such as seed 001's figures.
+// reflectance-versus-angle curves.
 //
 //   std::vector<Material> m = {parse_material("aluminium"), parse_material("1.5")};
 //   Dataset d = make_fresnel_sweep(m, 181);   // 0, 0.5, ..., 90 degrees for each material
 //
-// Columns: theta_deg, then those of the seed data set: r0, cos_theta, x (= 1 - cos_theta), R (exact
+// Columns: theta_deg, then those of fresnel-seed: r0, cos_theta, x (= 1 - cos_theta), R (exact
 // unpolarized Fresnel), ior_n, ior_k, kind ("dielectric" / "metal"), material (its name).
 #pragma once
 
@@ -29,11 +29,11 @@ struct Material {
 std::vector<Material> named_materials();
 
 // "aluminium" or "gold"; a real IOR "1.5"; a complex IOR "0.3+3i" (n + k i, k >= 0). Names
-// follow the seed data set's labels ("ior1.5", "metal 0.3+3i"). Throws shaderfit::Error located
+// follow fresnel-seed's labels ("ior1.5", "metal 0.3+3i"). Throws shaderfit::Error located
 // at `where` for anything else (a non-positive n, a negative k, unknown names).
 Material parse_material(std::string_view text, const SourceLocation& where = {"Material"});
 
-// The seed 001 materials: IOR 1.5 and the seven metals of the post.
+// The fixed materials of the fresnel-seed data set: IOR 1.5 and its seven metals.
 std::vector<Material> seed_materials();
 
 // `angles` >= 2 evenly spaced angles from 0 to 90 degrees for each material, in order.

@@ -14,9 +14,9 @@
 namespace shaderfit {
 
 // fresnel-schlick, fresnel-seed, fresnel-dielectric, fresnel-conductor, fresnel-exact (dielectric
-// where ior_k = 0, else conductor), fv-schlick-smith-lh (seed 002's reference), fv-schlick-smith
-// (Schlick x Schlick-Smith at n = h), fv-exact (exact dielectric Fresnel x exact Smith GGX at
-// n = h), fv-exact-conductor. See reference/fv_reference.hpp for the FV conventions.
+// where ior_k = 0, else conductor), fv-schlick-smith-lh (Schlick x Hable's dot(L,H) visibility),
+// fv-schlick-smith (Schlick x Schlick-Smith at n = h), fv-exact (exact dielectric Fresnel x exact
+// Smith GGX at n = h), fv-exact-conductor. See reference/fv_reference.hpp for the FV conventions.
 std::vector<const reference::BuiltinFunction*> builtin_references();
 
 // The reference with this name, or nullptr.

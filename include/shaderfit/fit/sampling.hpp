@@ -30,7 +30,7 @@
 namespace shaderfit {
 
 // A conditioning variable divided into `cells` equal cells over [lo, hi]; with sqrt_spaced the
-// cells are equal in sqrt(value) (seed 002's F0 axis) and lo, hi must be >= 0.
+// cells are equal in sqrt(value) (finer near 0, as an F0 axis wants) and lo, hi must be >= 0.
 struct GridAxis {
   std::string name;
   double lo = 0, hi = 1;

@@ -1,16 +1,16 @@
-// Beyond seed 002: how close the fitted FV gets to the ground truth, exact Fresnel x exact Smith
-// GGX visibility (reference/fv_reference.hpp), compared with Schlick x Schlick-Smith.
+// How close the fitted FV gets to the ground truth, exact Fresnel x exact Smith GGX visibility
+// (reference/fv_reference.hpp), compared with Schlick x Schlick-Smith.
 //
 //   ExactComparison c = compare_with_exact(options, FvVariant::clamped);
 //   for (const auto& row : c.rows) row.exact_fit.mean_log2 ...
 //
 // Rows: the dielectrics of the size x size (roughness, sqrt F0) grid, each F0 read as the IOR
-// (1 + sqrt F0) / (1 - sqrt F0); then each metal of seed 001's list (complex IOR n + ik) over
-// `size` roughness cells at its own F0. Every column is an error against the ground truth, on the
-// error tables' angles (midpoints over 0..90 degrees):
-//   schlick_lh    the seed's reference, Schlick x Hable's dot(L,H) visibility
+// (1 + sqrt F0) / (1 - sqrt F0); then each metal of the fresnel-seed data set (complex IOR n + ik)
+// over `size` roughness cells at its own F0. Every column is an error against the ground truth,
+// on the error tables' angles (midpoints over 0..90 degrees):
+//   schlick_lh    fv-schlick-smith-lh, Schlick x Hable's dot(L,H) visibility
 //   schlick_peak  Schlick x Schlick-Smith at n = h (the same slice as the ground truth)
-//   seed_fit      the variant fitted to the seed's reference (the seed's table)
+//   seed_fit      the variant fitted to fv-schlick-smith-lh (bake_fv_luts's default table)
 //   exact_fit     the same variant fitted to the ground truth
 #pragma once
 

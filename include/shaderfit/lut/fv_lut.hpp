@@ -1,21 +1,22 @@
-// Seed 002's lookup tables: FV(dot(L,H)) = f0 exp2(A x^2 + B x + C), x = 1 - dot(L,H), fitted per
-// cell of a grid over roughness and F0, folded and expanded so that a shader evaluates
+// Lookup tables of the Fresnel-visibility term FV(dot(L,H)) = f0 exp2(A x^2 + B x + C),
+// x = 1 - dot(L,H), fitted per cell of a grid over roughness and F0, folded and expanded so that
+// a shader evaluates
 //   FV = exp2((P0 d + P1) d + P2),  d = dot(L,H)
 // with one exp2 and two FMAs (P0 = A, P1 = -(2A + B), P2 = A + B + C + log2 f0).
 //
-//   FvLutOptions options;                   // 128 x 128, the seed's reference
+//   FvLutOptions options;                   // 128 x 128, fv-schlick-smith-lh
 //   FvBake bake = bake_fv_luts(options, kAllFvVariants);
 //   const FvTable& t = bake.tables[2];      // the constrained solve
 //   float p0 = t.texels[4 * (j * t.size + i)];  // texel (i, j): roughness i, sqrt(F0) j
 //
 // Texel (i, j) holds the cell whose roughness is (i + 0.5) / size and whose sqrt(F0) is
-// (j + 0.5) / size (the seed indexes F0 by its square root for precision at dielectric values):
+// (j + 0.5) / size (F0 is indexed by its square root for precision at dielectric values):
 // u = roughness and v = sqrt(F0) address the texel centres exactly. RGB = (P0, P1, P2), A = 1
 // for a fitted cell and 0 for a failed one (whose RGB are 0).
 //
-// The four variants, as the seed ships them:
-//   endpoint     A = s(roughness) log2(V90 / f0), B = C = 0, V90 = 4 / alpha^2 (the seed's
-//                endpoint FV(0)), s a cubic in sqrt(roughness) fitted once per bake (the
+// The four variants:
+//   endpoint     A = s(roughness) log2(V90 / f0), B = C = 0, V90 = 4 / alpha^2 (FV(0) of
+//                fv-schlick-smith-lh), s a cubic in sqrt(roughness) fitted once per bake (the
 //                perceptual adjustment, see docs/lut.md)
 //   linear       A, B, C by linear least squares on log2(FV / f0), angles 0..90 degrees
 //   constrained  the same with C = 0, so FV(dot(L,H) = 1) = f0 exactly
@@ -51,7 +52,7 @@ struct FvLutOptions {
   std::size_t fit_samples = 90;    // angles per cell for the fits
   std::size_t eval_samples = 180;  // angles per cell for the error tables ...
   double eval_max_degrees = 90;    // ... at interval midpoints over [0, this]
-  // A built-in reference taking (dot_lh, f0, roughness): fv-schlick-smith-lh (the seed's),
+  // A built-in reference taking (dot_lh, f0, roughness): fv-schlick-smith-lh (the default),
   // fv-schlick-smith, fv-exact. `function`, when set, replaces it (label: reference_name).
   std::string reference = "fv-schlick-smith-lh";
   FvFunction function = nullptr;

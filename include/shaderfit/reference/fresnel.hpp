@@ -193,7 +193,7 @@ SF_CPU_GPU T fresnel_schlick(T r0, T cos_i) {
   return r0 + (T(1) - r0) * (x2 * x2 * x);
 }
 
-// The formula found by symbolic regression in seed post 001: r0 + (x - r0) x^4 with x = 1 - cos.
+// A symbolic-regression fit to exact Fresnel: r0 + (x - r0) x^4 with x = 1 - cos.
 // Same endpoints as Schlick (r0 at cos = 1, 1 at cos = 0), one instruction cheaper.
 template <typename T>
 SF_CPU_GPU T fresnel_seed(T r0, T cos_i) {
@@ -202,7 +202,7 @@ SF_CPU_GPU T fresnel_seed(T r0, T cos_i) {
   return r0 + (x - r0) * (x2 * x2);
 }
 
-// Seed post 001's shape-parameter form: r0 + (1 - r0 - s cos) x^4 with x = 1 - cos. s = 1 gives
+// fresnel_seed with a shape parameter s: r0 + (1 - r0 - s cos) x^4 with x = 1 - cos. s = 1 gives
 // fresnel_seed; s = 0 gives r0 + (1 - r0) x^4 (Schlick with exponent 4).
 template <typename T>
 SF_CPU_GPU T fresnel_seed_shape(T r0, T cos_i, T s) {

@@ -1,17 +1,17 @@
-// The combined Fresnel-visibility functions of seed post 002, as functions of dot(L, H) alone,
-// and the ground truth they approximate.
+// Combined Fresnel-visibility functions FV of dot(L, H) alone, Schlick-based, and the ground
+// truth they approximate.
 //
-//   double fv = reference::fv_schlick_smith_lh(0.3, 0.04, 0.5);  // the seed's reference
+//   double fv = reference::fv_schlick_smith_lh(0.3, 0.04, 0.5);  // Schlick x Hable's visibility
 //   double gt = reference::fv_exact_dielectric(0.3, 0.04, 0.5);  // exact Fresnel x exact Smith GGX
 //
 // Arguments: l_dot_h = dot(L, H) in (0, 1]; f0 = normal-incidence reflectance; roughness, with
 // alpha = roughness^2 (smith_ggx.hpp). Visibility follows smith_ggx.hpp's convention
 // (no 1/4 folded in): every FV here is f0 at dot(L, H) = 1.
 //
-// "Exact" in dot(L, H) alone: the seed's visibility is Hable's dot(L, H) form of Schlick-Smith.
-// Its exact counterpart here is Smith GGX with height-correlated masking-shadowing evaluated at
-// the peak of the specular lobe, where the half vector is the normal (n = h), so that
-// n.l = n.v = l.h = c:  V(c) = G2(c, c) / c^2 = 1 / (c sqrt(alpha^2 + (1 - alpha^2) c^2)).
+// "Exact" in dot(L, H) alone: fv_schlick_smith_lh's visibility is Hable's dot(L, H) form of
+// Schlick-Smith. Its exact counterpart here is Smith GGX with height-correlated masking-shadowing
+// evaluated at the peak of the specular lobe, where the half vector is the normal (n = h), so
+// that n.l = n.v = l.h = c:  V(c) = G2(c, c) / c^2 = 1 / (c sqrt(alpha^2 + (1 - alpha^2) c^2)).
 // It is 1 at c = 1 and, unlike the Schlick forms, unbounded as c -> 0 (V ~ 1 / (alpha c)); fits
 // and comparisons against it sample angles short of 90 degrees.
 #pragma once
@@ -24,7 +24,7 @@
 
 namespace shaderfit::reference {
 
-// The seed's reference: Schlick Fresnel x Hable's dot(L, H) visibility, k = alpha / 2.
+// fv-schlick-smith-lh: Schlick Fresnel x Hable's dot(L, H) visibility, k = alpha / 2.
 template <typename T>
 SF_CPU_GPU T fv_schlick_smith_lh(T l_dot_h, T f0, T roughness) {
   return fv_lh(l_dot_h, f0, roughness * roughness);

@@ -1,5 +1,5 @@
 // Reference GGX (Trowbridge-Reitz) microfacet terms: the distribution D, Smith masking G1 and
-// shadowing-masking G2, the Schlick-Smith visibility used in games, and seed post 002's
+// shadowing-masking G2, the Schlick-Smith visibility used in games, and Hable's
 // approximations that depend on dot(L, H) alone.
 //
 //   double alpha = roughness * roughness;
@@ -9,8 +9,8 @@
 //
 // Conventions: alpha = roughness^2 (the GGX width; alpha = 1 is the roughest). Dot products are
 // cosines with the geometric normal n; l and v are the light and view directions, h the half
-// vector. Terms are 0 where a cosine is <= 0. Schlick-Smith takes k directly: k = alpha / 2 (seed
-// post 002, after Karis's UE4 notes); Karis uses k = (roughness + 1)^2 / 8 for analytic lights.
+// vector. Terms are 0 where a cosine is <= 0. Schlick-Smith takes k directly: k = alpha / 2 here
+// (after Karis's UE4 notes); Karis uses k = (roughness + 1)^2 / 8 for analytic lights.
 // Header-only templates for the CPU and, under nvcc, the GPU (see fresnel.hpp).
 #pragma once
 
@@ -77,7 +77,8 @@ SF_CPU_GPU T smith_schlick_g1(T n_dot_v, T k) {
 }
 
 // Schlick-Smith visibility: 1 / (((n.l)(1 - k) + k) ((n.v)(1 - k) + k)), which is
-// G_schlick(l) G_schlick(v) / ((n.l)(n.v)) with the cosines cancelled; k = alpha / 2 in seed 002.
+// G_schlick(l) G_schlick(v) / ((n.l)(n.v)) with the cosines cancelled (visibility_lh uses
+// k = alpha / 2).
 // Factor convention (as in Hable's "Optimizing GGX Shaders with dot(L,H)", which this follows):
 // the 1/4 of the Cook-Torrance BRDF D F G / (4 (n.l)(n.v)) is NOT folded in, so the visibility is
 // 1 at n = l = v and 1/k^2 at grazing, and the BRDF is D F visibility / 4. (Hable's shaders return
@@ -87,7 +88,7 @@ SF_CPU_GPU T visibility_schlick_smith(T n_dot_l, T n_dot_v, T k) {
   return T(1) / ((n_dot_l * (T(1) - k) + k) * (n_dot_v * (T(1) - k) + k));
 }
 
-// Seed 002's (Hable's) visibility in terms of dot(L, H) alone, with k = alpha / 2:
+// Hable's visibility in terms of dot(L, H) alone, with k = alpha / 2:
 //   V(l.h) = 1 / ((l.h)^2 (1 - k^2) + k^2).
 // Same convention as visibility_schlick_smith (no 1/4 folded in), and it matches it at both
 // ends: 1 at l.h = 1 (n = l = v = h) and 1/k^2 at l.h = 0 (grazing). In between it is an
@@ -99,7 +100,7 @@ SF_CPU_GPU T visibility_lh(T l_dot_h, T alpha) {
   return T(1) / (l_dot_h * l_dot_h * (T(1) - k2) + k2);
 }
 
-// Seed 002's combined Fresnel-visibility term: Schlick F(l.h) with f0, times visibility_lh.
+// The combined Fresnel-visibility term FV(l.h): Schlick F(l.h) with f0, times visibility_lh.
 // FV(1) = f0 and FV(0) = 4 / alpha^2 (the "V90" endpoint). Same factor convention as above.
 template <typename T>
 SF_CPU_GPU T fv_lh(T l_dot_h, T f0, T alpha) {

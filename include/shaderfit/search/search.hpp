@@ -4,7 +4,7 @@
 //   problem.input_names = {"r0", "x"};
 //   problem.inputs = {r0_column, x_column};
 //   problem.target = reflectance_column;
-//   SearchOptions options;                 // defaults work on the seed's Fresnel task
+//   SearchOptions options;                 // defaults work on this Fresnel task
 //   options.time_limit_s = 2.0;            // (options.hpp describes every option)
 //   options.validate();                    // throws Error at SearchOptions::<field>
 //   SearchSummary summary;
