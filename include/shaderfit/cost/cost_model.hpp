@@ -11,8 +11,8 @@
 // a / b = MUFU.RCP + FMUL; sqrt, rsqrt, rcp, exp2, log2 one MUFU; exp, log, sin, cos a scale
 // and a MUFU (2); pow(a, b) = 3; min, max, abs, saturate 1. Inputs, parameters and literals are
 // free operands. With inputs r0 and x: `r0 + (x - r0)*x^4` costs 4 and Schlick's
-// `r0 + (1 - r0)*x^5` costs 5; with cos_theta as input, seed 001's formulas cost 6, 5 and 6, as
-// its SASS listings.
+// `r0 + (1 - r0)*x^5` costs 5; with cos_theta as input, the Fresnel forms of docs/cost-model.md
+// cost 6, 5 and 6, as their SASS listings do.
 //
 // `Nodes` is the number of nodes of the postfix expression (leaves included).
 //

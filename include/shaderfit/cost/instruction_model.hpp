@@ -1,7 +1,7 @@
 // The instruction-cost model: what a formula compiles to on a GPU, counted and listed.
 //
 //   Expression e = parse_formula("r0 + (1 - r0) * (1 - cos_theta)^5");
-//   instruction_count(e, InstructionTarget::Sass) == 6;   // seed 001's Schlick listing
+//   instruction_count(e, InstructionTarget::Sass) == 6;   // Schlick's listing
 //   InstructionCost c = instruction_cost(e, InstructionTarget::Sass);
 //   std::cout << format_listing(c);   // FADD.FTZ R2, -R1, 1 ; 1 - cos_theta ...
 //

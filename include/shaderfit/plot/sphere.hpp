@@ -1,7 +1,7 @@
 // A sphere lit by one light with a GGX specular lobe, as the scene renders it (scene/scene.hpp,
 // LobeLighting), shaded twice: with the full reference terms and with a combined
-// Fresnel-visibility approximation in dot(L,H) alone, as in seed 002's reference / approximation /
-// difference images.
+// Fresnel-visibility approximation in dot(L,H) alone: reference, approximation and difference
+// images.
 //
 //   SphereScene scene;                 // roughness 0.5, F0 0.04, light from the upper right
 //   SphereImages im = render_sphere(scene, [](double l_dot_h) { return my_fv(l_dot_h); });

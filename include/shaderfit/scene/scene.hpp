@@ -38,7 +38,7 @@ std::string_view scene_kind_name(SceneKind kind);
 std::string_view scene_kind_names();  // "sphere, plane"
 
 // The factor of the specular BRDF D F V / 4 a formula stands for: F (Fresnel), V (visibility),
-// D (distribution) or FV (F V, seed 002's combined term).
+// D (distribution) or FV (F V, the combined Fresnel-visibility term).
 enum class ShadingTerm : std::uint8_t { F, V, D, FV };
 std::optional<ShadingTerm> shading_term_from_name(std::string_view name);  // "F", "V", "D", "FV"
 std::string_view shading_term_name(ShadingTerm term);
