@@ -131,7 +131,7 @@ EndpointAdjustment derive_endpoint_adjustment(const FvLutOptions& options);
 double fv_from_texel(const float* rgba, double l_dot_h);
 
 // One cell's constrained fit in closed form (the default approximation `plot sphere` draws): A, B
-// with log2(FV / f0) ~ A x^2 + B x, x = 1 - dot(L,H), FV the seed's reference
+// with log2(FV / f0) ~ A x^2 + B x, x = 1 - dot(L,H), FV the default reference
 // (fv-schlick-smith-lh), by linear least squares over 256 midpoints of x in [0, 1] (C = 0 keeps
 // FV(dot(L,H) = 1) = f0). Throws shaderfit::Error located at "roughness" or "f0" for a roughness
 // outside (0, 1] or an F0 outside (0, 1).
