@@ -46,6 +46,7 @@ constexpr FieldFlag kFlags[] = {
     {"ProblemSource::inputs", "--inputs"},
     {"ProblemSource::target", "--target"},
     {"ProblemSource::scene", "--scene"},
+    {"SceneSpec::kind", "--scene"},
     {"SceneSpec::size", "--scene-size"},
     {"SceneSpec::term", "--term"},
     {"SceneSpec::exposure", "--exposure"},

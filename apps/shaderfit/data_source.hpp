@@ -33,7 +33,6 @@ struct DataSource {
   std::string scene, term;
   int scene_size = 0;
   double exposure = 1.0;
-  bool display = false;  // the display loss (search's --loss display)
 
   // Whether any source was given (--data, --dataset or a reference).
   [[nodiscard]] bool given() const;

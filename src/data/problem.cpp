@@ -71,8 +71,6 @@ void check_source(const ProblemSource& s) {
   if (s.scene && s.samples != 0)
     throw Error("a scene's samples are its pixels: give no number of samples with it",
                 kSamplesField);
-  if (!s.scene && s.scene_display)
-    throw Error("the display loss needs a scene (the pixels the function shades)", kSceneField);
   if (given[0].field == &kReferenceField) {
     if (!s.reference.formula.empty() &&
         (!s.reference.shader_source.empty() || !s.reference.shader_path.empty())) {
@@ -484,10 +482,7 @@ Problem load_scene(const ProblemSource& s) {
                       " of the scene, where " + program.inputs[0] + " = " +
                       number_text(inputs[0][r]),
                   kReferenceField);
-  if (s.scene_display) {
-    p.data.add_numeric("weight", display_weights(samples, target));
-    p.weights = "weight";
-  }
+  p.display_weights = display_weights(samples, target);
   const SceneSpec& used = samples.spec;
   p.description = program.description + " as " + std::string(shading_term_name(*used.term)) +
                   " in the " + std::string(scene_kind_name(used.kind)) + " scene, " +
@@ -495,10 +490,6 @@ Problem load_scene(const ProblemSource& s) {
                   std::to_string(samples.width) + " x " + std::to_string(samples.height) +
                   " pixels";
   if (!bound.empty()) p.notes.push_back("the reference " + bound + " is " + text.formula);
-  if (s.scene_display)
-    p.notes.push_back(
-        "display loss: each sample weighted by its pixel's squared display slope (exposure, "
-        "tonemap, sRGB)");
   p.scene = std::make_shared<const SceneSamples>(samples);
   return p;
 }

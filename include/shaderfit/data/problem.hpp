@@ -48,11 +48,10 @@ struct ProblemSource {
   // With a reference, instead of a domain: a scene (scene/scene.hpp), whose shading samples are
   // the rows. The reference is a formula of the scene's quantities, or the name of a built-in
   // reference the scene binds to them (scene_reference: "fresnel-dielectric-f0" reads v_dot_h and
-  // f0, and stands for the factor F unless scene->term says otherwise). The rows' weights
-  // (Problem::weights) are the display loss's (display_weights) when `scene_display` is set,
-  // else 1: each sample weighs as the pixel it lights. Errors at "ProblemSource::scene".
+  // f0, and stands for the factor F unless scene->term says otherwise). Each sample weighs as
+  // the pixel it lights; the display loss's weights are Problem::display_weights. Errors at
+  // "ProblemSource::scene".
   std::optional<SceneSpec> scene;
-  bool scene_display = false;
   // The columns the formulas read and the one they approximate. Empty: inferred (a CSV: the
   // numeric column named target, else y, else the last numeric one not among the inputs; the
   // numeric columns other than the target; a data set: its own (fresnel_seed.hpp,
@@ -79,11 +78,13 @@ struct Problem {
   // A built-in data set's own search operators, "" for the rest (whose default is "auto").
   std::string operators;
   std::string evolution_operators;
-  // The column of row weights ("" : every row weighs 1): a scene's.
+  // The column of row weights ("" : every row weighs 1).
   std::string weights;
   // Set for a scene: its samples (the rows, in order), for pictures of the reference and of
-  // formulas (scene_images).
+  // formulas (scene_images), and the display loss's row weights (Loss::Display; scene/scene.hpp,
+  // display_weights of the target), one per row.
   std::shared_ptr<const SceneSamples> scene;
+  std::vector<double> display_weights;
 };
 
 // Throws shaderfit::Error located at the field ("ProblemSource::domain", the reference's source

@@ -38,9 +38,9 @@ struct SceneFormula {
 // for wide scenes), with the mean FLIP, the share of pixels above kFlipVisible and the displayed
 // pixels' RMSE; then a table of those figures. With `half` the same again for each formula
 // computed in half precision. PNGs also go to `figure_directory` when it is not empty, as
-// scene-N.png.
+// scene-N.png. `display_loss`: the search ranked by the display loss (said on the page).
 void add_scene_section(HtmlReport& report, const Problem& problem,
                        const std::vector<SceneFormula>& formulas, bool half,
-                       const std::string& figure_directory = "");
+                       const std::string& figure_directory = "", bool display_loss = false);
 
 }  // namespace shaderfit

@@ -60,6 +60,11 @@ struct SceneSpec {
   double exposure = 1.0;
 };
 
+// A scene by names: `kind` ("sphere", "plane") and `term` ("F", "V", "D", "FV"; "" : unset), the
+// rest defaults. Throws shaderfit::Error located at "SceneSpec::kind" or "SceneSpec::term" for an
+// unknown name, naming the known ones.
+SceneSpec scene_spec_from_names(std::string_view kind, std::string_view term = "");
+
 // The scene's quantities by name, in the column order of SceneSamples::quantities: n_dot_l,
 // n_dot_v, n_dot_h, v_dot_h, l_dot_h (= v_dot_h), roughness, alpha (= roughness^2), f0, ior
 // (the dielectric index with that F0).

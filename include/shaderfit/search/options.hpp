@@ -74,6 +74,8 @@ struct SearchOptions {
   // digits of the fit-row losses that rank individuals; front members are scored in float64.
   ComputeDevice device = ComputeDevice::Auto;
 
+  // Display needs the display weights of a scene problem (search_problem puts them in the rows'
+  // weights); the search then minimises the weighted MSE.
   Loss loss = Loss::Mse;
   CostTarget cost = CostTarget::Instructions;
   // The arithmetic the shader computes the formula in (eval/precision.hpp). Half: every front
