@@ -35,7 +35,7 @@ constexpr FieldFlag kFlags[] = {
     {"SearchOptions::resume_path", "--resume"},
     {"SearchOptions::certify_time_limit_s", "--certify-time"},
     {"SearchReportOptions::formula", "--choose"},
-    // What to approximate (data/problem.hpp), for every command that reads data.
+    // What to approximate (problem/problem.hpp), for every command that reads data.
     {"ProblemSource::drop_nonfinite", "--drop-nonfinite"},
     {"ProblemSource::dataset_seed", "--data-seed"},
     {"ProblemSource::reference", "--reference"},

@@ -130,8 +130,7 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
       // A reference's description counts its samples already.
       source.reference ? source.description
                        : fmt::format("{}, {} rows", source.description, d.rows()),
-      inputs, source.target, loss_name(options.loss),
-      cost_target_name(options.cost),
+      inputs, source.target, loss_name(options.loss), cost_target_name(options.cost),
       options.device == ComputeDevice::Cuda ? "cuda (" + cuda_device_name() + ")" : "cpu",
       load_s * 1e3);
   human << problem_notes(source, "");

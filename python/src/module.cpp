@@ -28,7 +28,6 @@
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
-#include "shaderfit/data/problem.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/eval/precision.hpp"
@@ -36,6 +35,7 @@
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/setup.hpp"
 #include "shaderfit/image/flip.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/report/command_json.hpp"
 #include "shaderfit/report/search_json.hpp"
 #include "shaderfit/search/choice.hpp"
@@ -160,7 +160,7 @@ SearchOptions make_options(const std::vector<std::pair<std::string, std::string>
 
 // ---- problems ---------------------------------------------------------------------------------
 
-// What to approximate, stated as the command line states it (data/problem.hpp): a CSV file, a
+// What to approximate, stated as the command line states it (problem/problem.hpp): a CSV file, a
 // built-in data set or a reference sampled on a domain. The Python layer passes its keywords as
 // text; a reference file is read here.
 struct LoadedProblem {
@@ -295,9 +295,10 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
     problem.inputs = to_columns(columns, names);
     problem.target = to_doubles(target, "y");
     if (options.loss == Loss::Display)
-      throw Error("the display loss needs a scene: the pixels the function shades weigh the "
-                  "rows (reference=..., scene=...; docs/scenes.md)",
-                  {"SearchOptions::loss"});
+      throw Error(
+          "the display loss needs a scene: the pixels the function shades weigh the "
+          "rows (reference=..., scene=...; docs/scenes.md)",
+          {"SearchOptions::loss"});
   }
   if (weights) problem.weights = to_doubles(*weights, "weights");
   problem.validate();

@@ -43,11 +43,10 @@ constexpr OptionAlias kOptionAliases[] = {{"time", "time_limit_s"}, {"evals", "m
 
 // An entry's keys besides the search options, in the order messages list them.
 constexpr std::string_view kEntryKeys[] = {
-    "name",      "data",           "dataset",        "data_seed",
-    "reference", "reference_file", "function",       "domain",
-    "define",    "samples",        "drop_nonfinite", "inputs",
-    "target",    "scene",          "term",           "weights",
-    "baseline",  "start_from_baseline", "goal",      "across_ranks"};
+    "name",     "data",        "dataset", "data_seed", "reference",      "reference_file",
+    "function", "domain",      "define",  "samples",   "drop_nonfinite", "inputs",
+    "target",   "scene",       "term",    "weights",   "baseline",       "start_from_baseline",
+    "goal",     "across_ranks"};
 
 Error unknown_key(std::string_view key, const SourceLocation& at) {
   std::string known;
@@ -388,14 +387,10 @@ Error in_manifest(const Error& e, const Settings& s, const SourceLocation& fallb
   }
   // Fields of ProblemSource and the manifest keys that set them.
   static const std::pair<std::string_view, std::string_view> kFields[] = {
-      {"ProblemSource::csv_path", "data"},
-      {"ProblemSource::dataset", "dataset"},
-      {"ProblemSource::samples", "samples"},
-      {"ProblemSource::inputs", "inputs"},
-      {"ProblemSource::target", "target"},
-      {"ProblemSource::scene", "scene"},
-      {"SceneSpec::kind", "scene"},
-      {"SceneSpec::term", "term"},
+      {"ProblemSource::csv_path", "data"},   {"ProblemSource::dataset", "dataset"},
+      {"ProblemSource::samples", "samples"}, {"ProblemSource::inputs", "inputs"},
+      {"ProblemSource::target", "target"},   {"ProblemSource::scene", "scene"},
+      {"SceneSpec::kind", "scene"},          {"SceneSpec::term", "term"},
       {"ManifestEntry::weights", "weights"}};
   for (const auto& [field, key] : kFields)
     if (source == field) return at_key(key, e.message());

@@ -96,8 +96,8 @@ void add_scene_section(HtmlReport& report, const Problem& problem,
       problem.scene->samples(), shading_term_name(*spec.term), spec.exposure,
       FlipOptions{}.pixels_per_degree, kFlipVisible,
       !display_loss ? ""
-                              : " The search's loss was the display loss: its MSE weighs each "
-                                "sample by its pixel's squared display slope (docs/scenes.md)."));
+                    : " The search's loss was the display loss: its MSE weighs each "
+                      "sample by its pixel's squared display slope (docs/scenes.md)."));
   std::vector<std::vector<std::string>> rows;
   int n = 0;
   for (const Precision precision : half ? std::vector<Precision>{Precision::Double, Precision::Half}

@@ -97,9 +97,7 @@ nlohmann::json problem_source_json(const ProblemSource& p) {
   if (p.drop_nonfinite) j["drop_nonfinite"] = true;
   if (p.scene) {
     const SceneSpec& s = *p.scene;
-    json scene = {{"kind", scene_kind_name(s.kind)},
-                  {"size", s.size},
-                  {"exposure", s.exposure}};
+    json scene = {{"kind", scene_kind_name(s.kind)}, {"size", s.size}, {"exposure", s.exposure}};
     if (s.term) scene["term"] = shading_term_name(*s.term);
     if (!s.materials.empty()) {
       scene["materials"] = json::array();

@@ -38,8 +38,8 @@ SceneSpec scene_spec_from_names(std::string_view kind, std::string_view term) {
   SceneSpec spec;
   const std::optional<SceneKind> k = scene_kind_from_name(kind);
   if (!k)
-    throw Error("unknown scene '" + std::string(kind) + "' (known: " +
-                    std::string(scene_kind_names()) + ")",
+    throw Error("unknown scene '" + std::string(kind) +
+                    "' (known: " + std::string(scene_kind_names()) + ")",
                 SourceLocation{"SceneSpec::kind"});
   spec.kind = *k;
   if (!term.empty()) {

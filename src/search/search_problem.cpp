@@ -1,6 +1,6 @@
 #include <string>
 
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {

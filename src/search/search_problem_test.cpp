@@ -3,7 +3,7 @@
 #include <string>
 
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {

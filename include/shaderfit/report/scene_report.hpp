@@ -1,4 +1,4 @@
-// Formulas judged in a problem's scene (data/problem.hpp: Problem::scene): the picture each
+// Formulas judged in a problem's scene (problem/problem.hpp: Problem::scene): the picture each
 // renders against the reference's, their FLIP map and figures, and the report's section that
 // shows them (docs/scenes.md).
 //
@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "shaderfit/data/problem.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/expr/precision.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/report/html.hpp"
 #include "shaderfit/scene/scene.hpp"
 

@@ -50,7 +50,7 @@ struct SceneMaterial {
 struct SceneSpec {
   SceneKind kind = SceneKind::Sphere;
   // Required by render_scene (Error at "SceneSpec::term" when unset); a problem's scene takes it
-  // from a built-in reference where not given (data/problem.hpp).
+  // from a built-in reference where not given (problem/problem.hpp).
   std::optional<ShadingTerm> term;
   // Pixels of one sphere's cell (the plane: the image's height, twice as wide); 0: 96.
   int size = 0;

@@ -1,4 +1,4 @@
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 
 #include <algorithm>
 #include <cmath>
