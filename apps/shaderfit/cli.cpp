@@ -46,6 +46,8 @@ constexpr FieldFlag kFlags[] = {
     {"ProblemSource::inputs", "--inputs"},
     {"ProblemSource::target", "--target"},
     {"ProblemSource::scene", "--scene"},
+    {"ProblemSource::materials", "--material"},
+    {"ProblemSource::angles", "--angles"},
     {"SceneSpec::kind", "--scene"},
     {"SceneSpec::size", "--scene-size"},
     {"SceneSpec::term", "--term"},

@@ -27,15 +27,23 @@
 namespace shaderfit {
 
 struct ProblemSource {
-  // Exactly one of these three: a CSV file, a built-in data set (with its generator's seed), or
-  // a reference (reference.formula, or reference.shader_source with its path and function; a
-  // shader_path alone is read). Errors about the choice are located at "ProblemSource::csv_path",
-  // "ProblemSource::dataset" or "ProblemSource::reference"; the reference's own errors at its
-  // formula_source / definitions_source / shader_path (reference/language.hpp).
+  // Exactly one of these four: a CSV file, a built-in data set (with its generator's seed), a
+  // reference (reference.formula, or reference.shader_source with its path and function; a
+  // shader_path alone is read), or a material sweep. Errors about the choice are located at
+  // "ProblemSource::csv_path", "ProblemSource::dataset", "ProblemSource::reference" or
+  // "ProblemSource::materials"; the reference's own errors at its formula_source /
+  // definitions_source / shader_path (reference/language.hpp).
   std::string csv_path;
   std::string dataset;
   std::uint64_t dataset_seed = 1;
   reference::ReferenceText reference;
+  // The exact Fresnel reflectance of these materials swept over the angle of incidence, `angles`
+  // angles from 0 to 90 degrees each (data/fresnel_sweep.hpp: columns theta_deg, r0, x, R, ...;
+  // inputs r0, x and target R unless named): each a parse_material text ("aluminium", "1.5",
+  // "0.3+3i"), or "seed" for seed 001's set. Errors at "ProblemSource::materials" (line = the
+  // material's 1-based position) and "ProblemSource::angles".
+  std::vector<std::string> materials;
+  int angles = 181;
   // With a reference: one "name=lo:hi[:count[:spacing]]" per variable (reference/domain.hpp),
   // in any order (the reference's inputs take this order), and the sample design's size
   // (data/sampling.hpp; 0: its default; not with counts on the axes). Errors about an entry are
@@ -67,7 +75,8 @@ struct Problem {
   std::string target;
   // Set for a reference: the function, known everywhere on its domain.
   std::shared_ptr<const reference::ReferenceFunction> reference;
-  // For people: "xy.csv", "fresnel-seed (seed 1)", "acos(x) on x in [-1, 1], 10,001 samples".
+  // For people: "xy.csv", "fresnel-seed (seed 1)", "acos(x) on x in [-1, 1], 10,001 samples",
+  // "the Fresnel sweep of aluminium, ior1.5 (181 angles each)".
   std::string description;
   // What was inferred or done, one line each, in the library's words (no flag or field names):
   // "inputs x, target y (the column named y is the target, the other numeric columns the
