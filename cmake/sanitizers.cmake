@@ -43,7 +43,7 @@ endif()
 # Not registered with ctest (the full suite already runs these tests): scripts/test runs the
 # program itself.
 function(shaderfit_sanitized_part)
-  set(areas core expr data eval image scene cost codegen reference)
+  set(areas core expr data problem eval image scene cost codegen reference)
   set(sources "")
   foreach(area ${areas})
     file(GLOB found CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${area}/*.cpp)

@@ -35,7 +35,7 @@ constexpr FieldFlag kFlags[] = {
     {"SearchOptions::resume_path", "--resume"},
     {"SearchOptions::certify_time_limit_s", "--certify-time"},
     {"SearchReportOptions::formula", "--choose"},
-    // What to approximate (data/problem.hpp), for every command that reads data.
+    // What to approximate (problem/problem.hpp), for every command that reads data.
     {"ProblemSource::drop_nonfinite", "--drop-nonfinite"},
     {"ProblemSource::dataset_seed", "--data-seed"},
     {"ProblemSource::reference", "--reference"},
@@ -46,6 +46,9 @@ constexpr FieldFlag kFlags[] = {
     {"ProblemSource::inputs", "--inputs"},
     {"ProblemSource::target", "--target"},
     {"ProblemSource::scene", "--scene"},
+    {"ProblemSource::materials", "--material"},
+    {"ProblemSource::angles", "--angles"},
+    {"SceneSpec::kind", "--scene"},
     {"SceneSpec::size", "--scene-size"},
     {"SceneSpec::term", "--term"},
     {"SceneSpec::exposure", "--exposure"},

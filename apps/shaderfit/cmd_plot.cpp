@@ -15,7 +15,6 @@
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
-#include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
@@ -80,21 +79,12 @@ void add_common(CLI::App* cmd, CommonArgs& c) {
   cmd->add_option("--title", c.title, "title over the plot");
 }
 
+// The data, as every command states it (problem/problem.hpp); --material is its material sweep.
 Dataset load(const CommonArgs& c) {
-  if (c.materials.empty()) return load_problem(c.data).data;
-  if (c.data.given()) {
-    throw Error("give either --material or --data/--dataset, not both",
-                SourceLocation{"--material"});
-  }
-  std::vector<Material> m;
-  for (const std::string& s : c.materials) {
-    if (s == "seed") {
-      for (const Material& x : seed_materials()) m.push_back(x);
-    } else {
-      m.push_back(parse_material(s));
-    }
-  }
-  return make_fresnel_sweep(m, c.angles);
+  DataSource data = c.data;
+  data.problem.materials = c.materials;
+  data.problem.angles = c.angles;
+  return load_problem(data).data;
 }
 
 // --- curves ---------------------------------------------------------------------------------

@@ -25,7 +25,7 @@ TEST(CmdScene, SearchWithTheDisplayLossAndItsReport) {
   const nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_EQ(j["problem"]["scene"]["kind"], "sphere");
   EXPECT_EQ(j["problem"]["scene"]["term"], "F");
-  EXPECT_EQ(j["problem"]["scene"]["display"], true);
+  EXPECT_EQ(j["options"]["loss"], "display");
 
   const std::string html = scratch_file("scene.html", "");
   const CliResult rep =

@@ -62,7 +62,7 @@ SearchOptions make_options(const SearchArgs& a, const CLI::App& cmd, const Probl
     if (const auto i = a.integers.find(f.name); i != a.integers.end())
       set_search_option(o, f, std::to_string(i->second));
     if (const auto text = a.texts.find(f.name); text != a.texts.end())
-      set_search_option(o, f, f.name == "loss" && text->second == "display" ? "mse" : text->second);
+      set_search_option(o, f, text->second);
   }
   if (a.strategy == "enumerate")
     o.evolve = false;
@@ -105,20 +105,12 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   const PrintOptions print = PrintOptions::for_people(a.digits);
   const auto t0 = std::chrono::steady_clock::now();
   ProblemSource recorded;
-  // --loss display: the scene's rows weighted by the display's slope, and the search's loss the
-  // weighted squared error of the term (scene/scene.hpp, display_weights).
-  const auto loss_text = a.texts.find("loss");
-  const bool display = loss_text != a.texts.end() && loss_text->second == "display";
-  if (display && a.data.scene.empty())
-    throw Error("the display loss needs a scene: give --scene (docs/scenes.md)", {"--loss"});
-  DataSource data = a.data;
-  data.display = display;
-  const Problem source = load_problem(data, &recorded);
+  const Problem source = load_problem(a.data, &recorded);
   SearchOptions options = make_options(a, cmd, source);
   options.communicator = ctx.communicator;
   const bool leader = ctx.communicator == nullptr || ctx.communicator->rank() == 0;
   const Dataset& d = source.data;
-  SearchProblem problem = search_problem(source, a.weights, {"--weights"});
+  SearchProblem problem = search_problem(source, options.loss, a.weights, {"--weights"});
   problem.reference_samples = a.data.problem.samples;
   const double load_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -138,11 +130,13 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
       // A reference's description counts its samples already.
       source.reference ? source.description
                        : fmt::format("{}, {} rows", source.description, d.rows()),
-      inputs, source.target, display ? "display" : loss_name(options.loss),
-      cost_target_name(options.cost),
+      inputs, source.target, loss_name(options.loss), cost_target_name(options.cost),
       options.device == ComputeDevice::Cuda ? "cuda (" + cuda_device_name() + ")" : "cpu",
       load_s * 1e3);
   human << problem_notes(source, "");
+  if (options.loss == Loss::Display)
+    human << "display loss: each sample weighted by its pixel's squared display slope (exposure, "
+             "tonemap, sRGB)\n";
   if (auto_ops)
     human << fmt::format(
         "operators (auto): {}; the evolution also {}\n", operator_list_name(options.operators),

@@ -105,19 +105,7 @@ Problem load_problem(const DataSource& src, ProblemSource* used) {
                 SourceLocation{"--function"});
   }
   if (!src.scene.empty()) {
-    SceneSpec spec;
-    const std::optional<SceneKind> kind = scene_kind_from_name(src.scene);
-    if (!kind)
-      throw Error(
-          "unknown scene '" + src.scene + "' (known: " + std::string(scene_kind_names()) + ")",
-          SourceLocation{"--scene"});
-    spec.kind = *kind;
-    if (!src.term.empty()) {
-      spec.term = shading_term_from_name(src.term);
-      if (!spec.term)
-        throw Error("unknown term '" + src.term + "' (known: F, V, D, FV)",
-                    SourceLocation{"--term"});
-    }
+    SceneSpec spec = scene_spec_from_names(src.scene, src.term);
     spec.size = src.scene_size;
     spec.exposure = src.exposure;
     s.scene = spec;
@@ -125,7 +113,6 @@ Problem load_problem(const DataSource& src, ProblemSource* used) {
     throw Error("--term, --scene-size and --exposure are for a scene: give --scene",
                 SourceLocation{"--scene"});
   }
-  s.scene_display = src.display;
   Problem p = shaderfit::load_problem(s);
   if (used != nullptr) {
     *used = std::move(s);

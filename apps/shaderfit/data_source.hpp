@@ -1,4 +1,4 @@
-// The problem options the commands share (data/problem.hpp): what to approximate, as a CSV file
+// The problem options the commands share (problem/problem.hpp): what to approximate, as a CSV file
 // (--data), a built-in data set (--dataset, --data-seed) or a reference sampled on a domain
 // (--reference FORMULA or --reference-file FILE --function NAME, --domain, --define,
 // --samples, --drop-nonfinite); and the columns a formula reads and approximates (--inputs,
@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <string>
 
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 
 namespace shaderfit::cli {
 
@@ -33,7 +33,6 @@ struct DataSource {
   std::string scene, term;
   int scene_size = 0;
   double exposure = 1.0;
-  bool display = false;  // the display loss (search's --loss display)
 
   // Whether any source was given (--data, --dataset or a reference).
   [[nodiscard]] bool given() const;
@@ -41,7 +40,7 @@ struct DataSource {
 
 void add_data_options(CLI::App* cmd, DataSource& src, unsigned options);
 
-// The problem (data/problem.hpp's load_problem) after reading --reference-file; *used, when
+// The problem (problem/problem.hpp's load_problem) after reading --reference-file; *used, when
 // given, receives the source as loaded (the file's text in it, the inputs and target chosen),
 // which a run's JSON records. Throws shaderfit::Error for a file that cannot be read, and as
 // load_problem does.

@@ -40,6 +40,8 @@ enum class Precision : std::uint8_t;  // double, float, half: the shader's arith
 
 // data/
 struct Dataset;
+
+// problem/
 struct ProblemSource;
 struct Problem;
 

@@ -104,10 +104,12 @@ def load_problem(*, data=None, dataset: str | None = None, dataset_seed: int = 1
                  reference: str | None = None, reference_file=None, function: str | None = None,
                  domain=None, define: Sequence[str] | str = (), samples: int = 0,
                  drop_nonfinite: bool = False, inputs: Sequence[str] | None = None,
-                 target: str | None = None):
+                 target: str | None = None, scene: str | None = None, term: str | None = None):
     """What to approximate, stated as the command line states it (docs/reference.md): a CSV
     file (``data``), a built-in data set, or a ``reference`` formula (or a GLSL/HLSL function:
-    ``reference_file`` and ``function``) sampled by shaderfit on ``domain``."""
+    ``reference_file`` and ``function``) sampled by shaderfit on ``domain``, or at the shading
+    samples of a ``scene`` ("sphere", "plane"; ``term``: the factor it stands for, F, V, D or
+    FV; docs/scenes.md)."""
     import os
     defines = [define] if isinstance(define, str) else list(define)
     try:
@@ -115,7 +117,7 @@ def load_problem(*, data=None, dataset: str | None = None, dataset_seed: int = 1
             os.fspath(data) if data is not None else "", dataset or "", int(dataset_seed),
             reference or "", os.fspath(reference_file) if reference_file is not None else "",
             function or "", _domain_texts(domain), defines, int(samples), bool(drop_nonfinite),
-            list(inputs or []), target or "")
+            list(inputs or []), target or "", scene or "", term or "")
     except Error as e:
         raise _problem_error(e) from None
 
@@ -127,7 +129,8 @@ _PROBLEM_FIELDS = {
     "ProblemSource::domain": "domain", "ProblemSource::inputs": "inputs",
     "ProblemSource::target": "target", "ProblemSource::samples": "samples",
     "ProblemSource::drop_nonfinite": "drop_nonfinite", "ReferenceText::function": "function",
-    "ReferenceText::definitions": "define",
+    "ReferenceText::definitions": "define", "ProblemSource::scene": "scene",
+    "SceneSpec::kind": "scene", "SceneSpec::term": "term",
 }
 
 
@@ -140,7 +143,7 @@ def _problem_error(e: Error) -> Error:
 
 
 _PROBLEM_KEYWORDS = ("data", "dataset", "dataset_seed", "reference", "reference_file", "function",
-                     "domain", "define", "samples", "drop_nonfinite", "target")
+                     "domain", "define", "samples", "drop_nonfinite", "target", "scene", "term")
 
 
 def search(X=None, y=None, *, inputs: Sequence[str] | None = None, time: float = 10,
@@ -162,7 +165,8 @@ def search(X=None, y=None, *, inputs: Sequence[str] | None = None, time: float =
     time: seconds; seed: the run's seed (one thread and a budget of evaluations give the same
     front every time); threads: 0 for all cores; ops: operators ("+,-,*,/,^", a list, or "auto"),
     None for the default: a built-in data set's own, else chosen from the data (auto);
-    loss: mse, rmse, max_abs, max_rel, rel or log;
+    loss: mse, rmse, max_abs, max_rel, rel or log; or display, on a ``scene``: the error of
+    the displayed pixels (docs/scenes.md);
     baselines: your own formulas (over the inputs) to start from.
     Any other search option by its library name (``shaderfit.search_options()`` lists them),
     e.g. ``max_nodes=30, max_candidates=10**6, stop_at=(1e-4, 6)``.

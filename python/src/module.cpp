@@ -28,7 +28,6 @@
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
-#include "shaderfit/data/problem.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/eval/precision.hpp"
@@ -36,6 +35,7 @@
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/setup.hpp"
 #include "shaderfit/image/flip.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/report/command_json.hpp"
 #include "shaderfit/report/search_json.hpp"
 #include "shaderfit/search/front/choice.hpp"
@@ -160,7 +160,7 @@ SearchOptions make_options(const std::vector<std::pair<std::string, std::string>
 
 // ---- problems ---------------------------------------------------------------------------------
 
-// What to approximate, stated as the command line states it (data/problem.hpp): a CSV file, a
+// What to approximate, stated as the command line states it (problem/problem.hpp): a CSV file, a
 // built-in data set or a reference sampled on a domain. The Python layer passes its keywords as
 // text; a reference file is read here.
 struct LoadedProblem {
@@ -188,7 +188,7 @@ LoadedProblem load(const std::string& csv_path, const std::string& dataset,
                    const std::string& reference_file, const std::string& function,
                    const std::vector<std::string>& domain, const std::vector<std::string>& define,
                    std::size_t samples, bool drop_nonfinite, const std::vector<std::string>& inputs,
-                   const std::string& target) {
+                   const std::string& target, const std::string& scene, const std::string& term) {
   ProblemSource s;
   s.csv_path = csv_path;
   s.dataset = dataset;
@@ -209,7 +209,13 @@ LoadedProblem load(const std::string& csv_path, const std::string& dataset,
     if (function.empty())
       throw Error("name the function of the reference file to approximate", {"function"});
   }
+  if (!scene.empty()) {
+    s.scene = scene_spec_from_names(scene, term);
+  } else if (!term.empty()) {
+    throw Error("a term is for a scene: give scene=...", {"ProblemSource::scene"});
+  }
   LoadedProblem out{load_problem(s), s};
+  if (out.problem.scene) out.source.scene = out.problem.scene->spec;
   out.source.inputs = out.problem.inputs;
   out.source.target = out.problem.target;
   return out;
@@ -278,7 +284,7 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
   SearchOptions options = make_options(option_texts);
   SearchProblem problem;
   if (from != nullptr) {
-    problem = search_problem(from->problem);
+    problem = search_problem(from->problem, options.loss);
     problem.reference_samples = from->source.samples;
   } else {
     problem.input_names = names;
@@ -288,6 +294,11 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
                   {"inputs"});
     problem.inputs = to_columns(columns, names);
     problem.target = to_doubles(target, "y");
+    if (options.loss == Loss::Display)
+      throw Error(
+          "the display loss needs a scene: the pixels the function shades weigh the "
+          "rows (reference=..., scene=...; docs/scenes.md)",
+          {"SearchOptions::loss"});
   }
   if (weights) problem.weights = to_doubles(*weights, "weights");
   problem.validate();
@@ -633,7 +644,7 @@ NB_MODULE(_shaderfit, m) {
   m.def("load_problem", &load, nb::arg("csv_path"), nb::arg("dataset"), nb::arg("dataset_seed"),
         nb::arg("reference"), nb::arg("reference_file"), nb::arg("function"), nb::arg("domain"),
         nb::arg("define"), nb::arg("samples"), nb::arg("drop_nonfinite"), nb::arg("inputs"),
-        nb::arg("target"));
+        nb::arg("target"), nb::arg("scene"), nb::arg("term"));
   m.def("search", &run, nb::arg("columns"), nb::arg("names"), nb::arg("target"),
         nb::arg("weights").none(), nb::arg("options"), nb::arg("on_member").none(),
         nb::arg("on_progress").none(), nb::arg("source"), nb::arg("target_name"),

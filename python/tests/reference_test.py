@@ -87,3 +87,28 @@ def test_bad_problems_are_errors_at_the_keyword(tmp_path):
         shaderfit.search(np.zeros((3, 1)), np.zeros(3), reference="x", domain={"x": (0, 1)})
     with pytest.raises(TypeError):
         shaderfit.search(reference="x", domain={"x": 1})
+
+
+def test_the_display_loss_on_a_scene():
+    # The same loss as `shaderfit search --loss display` and a manifest's loss = "display": the
+    # MSE of the scene's samples, each weighed by its pixel's display.
+    front = shaderfit.search(reference="fresnel-dielectric-f0", scene="sphere", loss="display",
+                             threads=1, time=60, max_candidates=20_000, progress=False)
+    assert len(front) >= 2
+    for m in front:
+        assert m.inputs == ["v_dot_h", "f0"]
+        assert m.loss == m.mse
+    plain = shaderfit.search(reference="fresnel-dielectric-f0", scene="sphere", loss="mse",
+                             threads=1, time=60, max_candidates=20_000, progress=False)
+    assert [m.mse for m in plain] != [m.mse for m in front]
+    document = json.loads(front.to_json())
+    assert document["options"]["loss"] == "display"
+    assert document["problem"]["scene"]["kind"] == "sphere"
+    assert document["problem"]["scene"]["term"] == "F"
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.search(reference="x^2", domain={"x": (0, 1)}, loss="display", **BUDGET)
+    assert e.value.source == "loss"
+    assert "the display loss needs a scene" in str(e.value)
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.search(reference="fresnel-dielectric-f0", scene="teapot", **BUDGET)
+    assert e.value.source == "scene"

@@ -231,7 +231,7 @@ BatchEntryResult run_batch_entry(const ManifestEntry& entry, const std::atomic<b
     o.start.push_back(entry.baseline);
   o.interrupt = interrupt;
   o.communicator = communicator;
-  SearchProblem sp = search_problem(p, entry.weights, {"ManifestEntry::weights"});
+  SearchProblem sp = search_problem(p, o.loss, entry.weights, {"ManifestEntry::weights"});
   sp.reference_samples = entry.problem.samples;
   o = resolve_auto_operators(o, sp);
   SearchSummary summary;

@@ -14,7 +14,7 @@
 #include <set>
 #include <thread>
 
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/search/options.hpp"
 
 namespace shaderfit {

@@ -25,6 +25,7 @@
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/report/search_json.hpp"
+#include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
 
@@ -42,11 +43,10 @@ constexpr OptionAlias kOptionAliases[] = {{"time", "time_limit_s"}, {"evals", "m
 
 // An entry's keys besides the search options, in the order messages list them.
 constexpr std::string_view kEntryKeys[] = {
-    "name",      "data",           "dataset",        "data_seed",
-    "reference", "reference_file", "function",       "domain",
-    "define",    "samples",        "drop_nonfinite", "inputs",
-    "target",    "weights",        "baseline",       "start_from_baseline",
-    "goal",      "across_ranks"};
+    "name",     "data",        "dataset", "data_seed", "reference",      "reference_file",
+    "function", "domain",      "define",  "samples",   "drop_nonfinite", "inputs",
+    "target",   "scene",       "term",    "weights",   "baseline",       "start_from_baseline",
+    "goal",     "across_ranks"};
 
 Error unknown_key(std::string_view key, const SourceLocation& at) {
   std::string known;
@@ -245,6 +245,7 @@ struct Where {
 struct Settings {
   ProblemSource problem;
   std::string data, reference_file;  // the paths as written
+  std::string scene, term;           // the scene's kind and term by name ("" : none)
   SearchOptions options;
   std::string baseline, weights;
   bool start_from_baseline = true;
@@ -326,6 +327,8 @@ void apply_key(Settings& s, std::string_view key, const toml::node& v, const Rea
     for (auto& item : strings_of(key, v, r, true)) p.inputs.push_back(std::move(item.first));
   } else if (key == "target") {
     p.target = string_of(key, v, r);
+  } else if (key == "scene" || key == "term") {
+    (key == "scene" ? s.scene : s.term) = string_of(key, v, r);
   } else if (key == "weights") {
     s.weights = string_of(key, v, r);
   } else if (key == "baseline") {
@@ -384,11 +387,11 @@ Error in_manifest(const Error& e, const Settings& s, const SourceLocation& fallb
   }
   // Fields of ProblemSource and the manifest keys that set them.
   static const std::pair<std::string_view, std::string_view> kFields[] = {
-      {"ProblemSource::csv_path", "data"},
-      {"ProblemSource::dataset", "dataset"},
-      {"ProblemSource::samples", "samples"},
-      {"ProblemSource::inputs", "inputs"},
-      {"ProblemSource::target", "target"}};
+      {"ProblemSource::csv_path", "data"},   {"ProblemSource::dataset", "dataset"},
+      {"ProblemSource::samples", "samples"}, {"ProblemSource::inputs", "inputs"},
+      {"ProblemSource::target", "target"},   {"ProblemSource::scene", "scene"},
+      {"SceneSpec::kind", "scene"},          {"SceneSpec::term", "term"},
+      {"ManifestEntry::weights", "weights"}};
   for (const auto& [field, key] : kFields)
     if (source == field) return at_key(key, e.message());
   if (source == "ProblemSource::domain") {
@@ -490,7 +493,16 @@ ManifestEntry read_entry(const toml::table& t, const Settings& defaults, const R
       s.problem.reference.shader_source =
           reference::read_shader_file(s.problem.reference.shader_path);
     }
+    if (!s.scene.empty())
+      s.problem.scene = scene_spec_from_names(s.scene, s.term);
+    else if (!s.term.empty())
+      throw Error("a term is for a scene: give scene = \"sphere\" or \"plane\"",
+                  SourceLocation{"SceneSpec::term"});
     Problem p = load_entry_problem(s);
+    // The display loss's rows: its weights are the scene's (an error without one, or with weights).
+    if (s.options.loss == Loss::Display)
+      (void)search_problem(p, s.options.loss, s.weights, {"ManifestEntry::weights"});
+    if (p.scene) s.problem.scene = p.scene->spec;  // as rendered: the term filled in
     if (!s.baseline.empty()) {
       ParseOptions po;
       po.variables = p.inputs;

@@ -331,6 +331,38 @@ weights = "v"
       << m.bad[0].message;
 }
 
+TEST(Manifest, TheDisplayLossTakesASceneAndItsWeights) {
+  Scratch dir("display");
+  const std::string path = dir.write("m.toml", R"toml(
+[defaults]
+loss = "display"
+
+[[function]]
+name = "fresnel_f"
+reference = "fresnel-dielectric-f0"
+scene = "sphere"
+
+[[function]]
+name = "flat"
+reference = "x^2"
+domain = { x = [0, 1] }
+)toml");
+  const Manifest m = read_manifest(path);
+  ASSERT_EQ(m.entries.size(), 1u) << (m.bad.empty() ? "" : m.bad[0].message);
+  const ManifestEntry& e = m.entries[0];
+  EXPECT_EQ(e.options.loss, Loss::Display);
+  ASSERT_TRUE(e.problem.scene.has_value());
+  EXPECT_EQ(e.problem.scene->kind, SceneKind::Sphere);
+  EXPECT_EQ(e.problem.scene->term, ShadingTerm::F);
+  ASSERT_TRUE(e.loaded->scene);
+  EXPECT_EQ(e.loaded->display_weights.size(), e.loaded->data.rows());
+  // A problem without a scene: the loss key, where [defaults] gives it.
+  ASSERT_EQ(m.bad.size(), 1u);
+  EXPECT_NE(m.bad[0].message.find(":3:8: entry 'flat': loss: the display loss needs a scene"),
+            std::string::npos)
+      << m.bad[0].message;
+}
+
 TEST(Manifest, BadEntriesSayWhichAndWhere) {
   Scratch dir("bad");
   auto expect_bad = [&](const std::string& text, const std::string& name, int line,

@@ -15,6 +15,7 @@ std::optional<Loss> loss_from_name(std::string_view name) {
   if (name == "max_rel") return Loss::MaxRel;
   if (name == "rel" || name == "relative") return Loss::Relative;
   if (name == "log") return Loss::Log;
+  if (name == "display") return Loss::Display;
   return std::nullopt;
 }
 
@@ -26,13 +27,15 @@ std::string_view loss_name(Loss loss) {
     case Loss::MaxRel: return "max_rel";
     case Loss::Relative: return "rel";
     case Loss::Log: return "log";
+    case Loss::Display: return "display";
   }
   return "mse";
 }
 
 double loss_value(Loss loss, const ErrorMetrics& m) {
   switch (loss) {
-    case Loss::Mse: return m.mse;
+    case Loss::Mse:
+    case Loss::Display: return m.mse;
     case Loss::Rmse: return m.rmse;
     case Loss::MaxAbs: return m.max_abs;
     case Loss::MaxRel: return m.max_rel;
@@ -44,6 +47,7 @@ double loss_value(Loss loss, const ErrorMetrics& m) {
 
 double loss_of(Loss loss, std::span<const double> prediction, std::span<const double> target,
                std::span<const double> weights) {
+  if (loss == Loss::Display) loss = Loss::Mse;
   if (loss != Loss::Mse && loss != Loss::Rmse && loss != Loss::MaxAbs)
     return loss_value(loss, error_metrics(prediction, target, {}, weights));
   // The squared and absolute losses in one pass without the divisions and logarithms.

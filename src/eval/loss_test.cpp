@@ -10,8 +10,8 @@
 namespace shaderfit {
 namespace {
 
-constexpr Loss kLosses[] = {Loss::Mse,    Loss::Rmse,     Loss::MaxAbs,
-                            Loss::MaxRel, Loss::Relative, Loss::Log};
+constexpr Loss kLosses[] = {Loss::Mse,      Loss::Rmse, Loss::MaxAbs, Loss::MaxRel,
+                            Loss::Relative, Loss::Log,  Loss::Display};
 
 TEST(Loss, Definitions) {
   const std::vector<double> p = {1.0, 2.0, 4.0}, t = {1.0, 1.0, 2.0}, w = {1.0, 1.0, 2.0};
@@ -32,6 +32,16 @@ TEST(Loss, Definitions) {
   EXPECT_EQ(loss_from_name("relative"), Loss::Relative);
   EXPECT_FALSE(loss_from_name("l1").has_value());
   EXPECT_EQ(loss_name(Loss::Log), "log");
+}
+
+// The display loss is the MSE of rows weighed by a scene's display (search_problem weighs them).
+TEST(Loss, DisplayIsTheWeightedMse) {
+  const std::vector<double> p = {1.0, 2.0, 4.0}, t = {1.0, 1.0, 2.0}, w = {1.0, 1.0, 2.0};
+  EXPECT_EQ(loss_from_name("display"), Loss::Display);
+  EXPECT_EQ(loss_name(Loss::Display), "display");
+  const ErrorMetrics mw = error_metrics(p, t, {}, w);
+  EXPECT_EQ(loss_value(Loss::Display, mw), mw.mse);
+  EXPECT_EQ(loss_of(Loss::Display, p, t, w), loss_of(Loss::Mse, p, t, w));
 }
 
 TEST(Loss, NamesRoundTrip) {

@@ -108,7 +108,8 @@ inline double loss_from_sums(Loss kind, const RowSums& s) {
   if (s.bad_prediction != 0) return HUGE_VAL;
   if (!(s.w > 0)) return 0.0;
   switch (kind) {
-    case Loss::Mse: return s.we / s.w;
+    case Loss::Mse:
+    case Loss::Display: return s.we / s.w;  // the display loss's rows come weighted
     case Loss::Rmse: return std::sqrt(s.we / s.w);
     case Loss::MaxAbs: return s.max_e;
     case Loss::Relative:

@@ -105,7 +105,8 @@ double FormResult::error(Loss by) const {
     case Loss::MaxRel: return max_rel;
     case Loss::Mse:
     case Loss::Relative:
-    case Loss::Log: break;
+    case Loss::Log:
+    case Loss::Display: break;
   }
   throw Error("forms are ranked by rmse, max_abs or max_rel, not " + std::string(loss_name(by)),
               {"RationalOptions::rank_by"});

@@ -83,7 +83,7 @@ std::string png_path(const std::string& directory, int n) {
 
 void add_scene_section(HtmlReport& report, const Problem& problem,
                        const std::vector<SceneFormula>& formulas, bool half,
-                       const std::string& figure_directory) {
+                       const std::string& figure_directory, bool display_loss) {
   if (!problem.scene) throw Error("the problem has no scene", {"scene"});
   const SceneSpec& spec = problem.scene->spec;
   report.heading("In the picture");
@@ -95,9 +95,9 @@ void add_scene_section(HtmlReport& report, const Problem& problem,
       scene_kind_name(spec.kind), problem.scene->width, problem.scene->height,
       problem.scene->samples(), shading_term_name(*spec.term), spec.exposure,
       FlipOptions{}.pixels_per_degree, kFlipVisible,
-      problem.weights.empty() ? ""
-                              : " The search's loss was the display loss: its MSE weighs each "
-                                "sample by its pixel's squared display slope (docs/scenes.md)."));
+      !display_loss ? ""
+                    : " The search's loss was the display loss: its MSE weighs each "
+                      "sample by its pixel's squared display slope (docs/scenes.md)."));
   std::vector<std::vector<std::string>> rows;
   int n = 0;
   for (const Precision precision : half ? std::vector<Precision>{Precision::Double, Precision::Half}

@@ -97,10 +97,7 @@ nlohmann::json problem_source_json(const ProblemSource& p) {
   if (p.drop_nonfinite) j["drop_nonfinite"] = true;
   if (p.scene) {
     const SceneSpec& s = *p.scene;
-    json scene = {{"kind", scene_kind_name(s.kind)},
-                  {"size", s.size},
-                  {"exposure", s.exposure},
-                  {"display", p.scene_display}};
+    json scene = {{"kind", scene_kind_name(s.kind)}, {"size", s.size}, {"exposure", s.exposure}};
     if (s.term) scene["term"] = shading_term_name(*s.term);
     if (!s.materials.empty()) {
       scene["materials"] = json::array();
@@ -172,7 +169,6 @@ ProblemSource problem_source_from_json(const nlohmann::json& j, const std::strin
         spec.materials.push_back(
             {m.value("roughness", SceneMaterial{}.roughness), m.value("f0", SceneMaterial{}.f0)});
     p.scene = spec;
-    p.scene_display = s.value("display", false);
   }
   texts("inputs", &p.inputs);
   text("target", &p.target);

@@ -19,6 +19,7 @@
 #include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/eval/loss.hpp"
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
@@ -290,7 +291,11 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   const std::string target = j.contains("data") ? j["data"].value("target", std::string("R")) : "R";
   std::vector<Scored> baselines;
   std::span<const double> weights;
-  if (a.data != nullptr && a.problem != nullptr && !a.problem->weights.empty())
+  // The display loss weighed the search's rows by the scene's display (search_problem).
+  const bool display = loss == loss_name(Loss::Display);
+  if (a.data != nullptr && a.problem != nullptr && display)
+    weights = a.problem->display_weights;
+  else if (a.data != nullptr && a.problem != nullptr && !a.problem->weights.empty())
     weights = a.data->numeric(a.problem->weights).values;
   Chart pareto;
   pareto.title = "Pareto front: MSE against cost";
@@ -466,7 +471,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
       std::vector<SceneFormula> shown;
       for (const Scored& b : baselines) shown.push_back({b.label, b.e});
       shown.push_back({c.label, c.e});
-      add_scene_section(r, *a.problem, shown, precision == Precision::Half, a.figure_directory);
+      add_scene_section(r, *a.problem, shown, precision == Precision::Half, a.figure_directory,
+                        display);
     }
   }
   r.heading("Code");

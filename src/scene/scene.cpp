@@ -34,6 +34,23 @@ std::optional<ShadingTerm> shading_term_from_name(std::string_view name) {
   return std::nullopt;
 }
 
+SceneSpec scene_spec_from_names(std::string_view kind, std::string_view term) {
+  SceneSpec spec;
+  const std::optional<SceneKind> k = scene_kind_from_name(kind);
+  if (!k)
+    throw Error("unknown scene '" + std::string(kind) +
+                    "' (known: " + std::string(scene_kind_names()) + ")",
+                SourceLocation{"SceneSpec::kind"});
+  spec.kind = *k;
+  if (!term.empty()) {
+    spec.term = shading_term_from_name(term);
+    if (!spec.term)
+      throw Error("unknown term '" + std::string(term) + "' (known: F, V, D, FV)",
+                  SourceLocation{"SceneSpec::term"});
+  }
+  return spec;
+}
+
 std::string_view shading_term_name(ShadingTerm term) {
   switch (term) {
     case ShadingTerm::F: return "F";

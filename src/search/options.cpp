@@ -105,8 +105,9 @@ const SearchOptionField kFields[] = {
     {.name = "loss",
      .member = &O::loss,
      .role = Role::Search,
-     .help = "mse, rmse, max_abs, max_rel, rel or log",
-     .choices = "mse, rmse, max_abs, max_rel, rel, log"},
+     .help = "mse, rmse, max_abs, max_rel, rel or log; or display, on a scene: the error of the "
+             "displayed pixels (docs/scenes.md)",
+     .choices = "mse, rmse, max_abs, max_rel, rel, log, display"},
     {.name = "precision",
      .member = &O::precision,
      .role = Role::Search,

@@ -333,7 +333,7 @@ TEST(SearchOptions, ErrorsNameTheField) {
     FAIL();
   } catch (const Error& e) {
     EXPECT_EQ(e.where().source, "SearchOptions::loss");
-    EXPECT_EQ(e.message(), "unknown loss 'l7' (known: mse, rmse, max_abs, max_rel, rel, log)");
+    EXPECT_EQ(e.message(), "unknown loss 'l7' (known: mse, rmse, max_abs, max_rel, rel, log, display)");
   }
 }
 

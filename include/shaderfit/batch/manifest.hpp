@@ -18,11 +18,13 @@
 // Entry keys: name; the problem (ProblemSource): data, dataset, data_seed, reference,
 // reference_file, function, domain (a table of [lo, hi], [lo, hi, count] or "lo:hi" per
 // variable, whose order is the inputs'), define (an array of "name = formula"), samples,
-// drop_nonfinite, inputs, target; weights (a numeric column that weighs the rows, left out of a
-// CSV's inferred inputs); baseline; start_from_baseline; goal; across_ranks; every search option
-// (search_option_fields(), by name; lists as TOML arrays or the option's text). [defaults] takes
-// the same keys except name and baseline; a key of [defaults] holds for every entry that does not
-// give it. The paths of data and reference_file are relative to the manifest's folder.
+// drop_nonfinite, inputs, target, scene and term (with a reference: a scene's samples, "sphere"
+// or "plane", the term F, V, D or FV; docs/scenes.md; loss = "display" needs one); weights (a
+// numeric column that weighs the rows, left out of a CSV's inferred inputs); baseline;
+// start_from_baseline; goal; across_ranks; every search option (search_option_fields(), by name;
+// lists as TOML arrays or the option's text). [defaults] takes the same keys except name and
+// baseline; a key of [defaults] holds for every entry that does not give it. The paths of data and
+// reference_file are relative to the manifest's folder.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +33,7 @@
 #include <vector>
 
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/search/options.hpp"
 
 namespace shaderfit {

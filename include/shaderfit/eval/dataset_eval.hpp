@@ -50,7 +50,7 @@ struct EvalFormulaResult {
   bool baseline = false;
   ErrorMetrics all;
   std::vector<EvalGroupResult> groups;  // per column of `groups`, its labels in sorted order
-  // Where the data has a reference (data/problem.hpp), set by the caller: the largest errors
+  // Where the data has a reference (problem/problem.hpp), set by the caller: the largest errors
   // found between the samples as well as at them (all.max_abs and all.max_rel are raised to
   // them; verify/worst_case.hpp), the domain point of the largest |error|, and a certified bound
   // (verify/certify.hpp) when asked for.

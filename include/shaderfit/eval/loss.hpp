@@ -8,7 +8,7 @@
 //
 // Not every caller minimises every loss; each documents which it takes and refuses the others
 // with an Error naming its field:
-//   search    SearchOptions::loss: mse, rmse, max_abs, max_rel, rel, log
+//   search    SearchOptions::loss: mse, rmse, max_abs, max_rel, rel, log, display
 //   fit       FixedFormOptions::loss: mse, log (in log2 space), max_abs (weighted minimax)
 //   rational  RationalOptions::rank_by: rmse, max_abs, max_rel
 #pragma once
@@ -21,14 +21,18 @@ namespace shaderfit {
 
 struct ErrorMetrics;
 
-enum class Loss { Mse, Rmse, MaxAbs, MaxRel, Relative, Log };
+// Display: the error of the displayed pixels (docs/scenes.md), the weighted MSE of the term with
+// a scene's display weights (scene/scene.hpp, display_weights) as the row weights. The weights
+// belong to the problem (Problem::display_weights, set for a scene): whoever turns a problem and
+// a loss into rows (search_problem) weighs them so; the metric itself is the MSE.
+enum class Loss { Mse, Rmse, MaxAbs, MaxRel, Relative, Log, Display };
 
-// "mse", "rmse", "max_abs" (also "max"), "max_rel", "rel" (also "relative"), "log"; nullopt
-// otherwise.
+// "mse", "rmse", "max_abs" (also "max"), "max_rel", "rel" (also "relative"), "log", "display";
+// nullopt otherwise.
 std::optional<Loss> loss_from_name(std::string_view name);
 std::string_view loss_name(Loss loss);
 
-// The metric that `loss` minimises.
+// The metric that `loss` minimises (for Display the MSE, over rows weighted as it says).
 double loss_value(Loss loss, const ErrorMetrics& m);
 
 // That metric alone, over every row with weight > 0, computed directly:

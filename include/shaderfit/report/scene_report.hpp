@@ -1,4 +1,4 @@
-// Formulas judged in a problem's scene (data/problem.hpp: Problem::scene): the picture each
+// Formulas judged in a problem's scene (problem/problem.hpp: Problem::scene): the picture each
 // renders against the reference's, their FLIP map and figures, and the report's section that
 // shows them (docs/scenes.md).
 //
@@ -10,9 +10,9 @@
 #include <utility>
 #include <vector>
 
-#include "shaderfit/data/problem.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/expr/precision.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/report/html.hpp"
 #include "shaderfit/scene/scene.hpp"
 
@@ -38,9 +38,9 @@ struct SceneFormula {
 // for wide scenes), with the mean FLIP, the share of pixels above kFlipVisible and the displayed
 // pixels' RMSE; then a table of those figures. With `half` the same again for each formula
 // computed in half precision. PNGs also go to `figure_directory` when it is not empty, as
-// scene-N.png.
+// scene-N.png. `display_loss`: the search ranked by the display loss (said on the page).
 void add_scene_section(HtmlReport& report, const Problem& problem,
                        const std::vector<SceneFormula>& formulas, bool half,
-                       const std::string& figure_directory = "");
+                       const std::string& figure_directory = "", bool display_loss = false);
 
 }  // namespace shaderfit

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {

@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "shaderfit/data/dataset.hpp"
-#include "shaderfit/data/problem.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/expr/precision.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/reference/function.hpp"
 #include "shaderfit/report/html.hpp"
 #include "shaderfit/search/front/choice.hpp"
@@ -36,7 +36,7 @@ struct SearchReportOptions {
   // The data the search ran on: with it, the baselines and the chosen formula are scored, and
   // when the formula's inputs are those of a Fresnel sweep, curves over the angle are drawn.
   const Dataset* data = nullptr;
-  // The function behind the data, when it is a reference (data/problem.hpp): the chosen
+  // The function behind the data, when it is a reference (problem/problem.hpp): the chosen
   // formula's error is then also drawn, in one variable as a curve at the samples, in two as a
   // map over the whole domain.
   const reference::ReferenceFunction* reference = nullptr;

@@ -64,7 +64,7 @@ struct SceneSpec {
   // described at SceneKind.
   std::optional<LobeLighting> lobe;
   // Required by render_scene (Error at "SceneSpec::term" when unset); a problem's scene takes it
-  // from a built-in reference where not given (data/problem.hpp).
+  // from a built-in reference where not given (problem/problem.hpp).
   std::optional<ShadingTerm> term;
   // Pixels of one sphere's cell (the plane: the image's height, twice as wide); 0: 96.
   int size = 0;
@@ -73,6 +73,11 @@ struct SceneSpec {
   // Linear radiance is multiplied by this before the tonemap.
   double exposure = 1.0;
 };
+
+// A scene by names: `kind` ("sphere", "plane") and `term` ("F", "V", "D", "FV"; "" : unset), the
+// rest defaults. Throws shaderfit::Error located at "SceneSpec::kind" or "SceneSpec::term" for an
+// unknown name, naming the known ones.
+SceneSpec scene_spec_from_names(std::string_view kind, std::string_view term = "");
 
 // The scene's quantities by name, in the column order of SceneSamples::quantities: n_dot_l,
 // n_dot_v, n_dot_h, v_dot_h, l_dot_h (= v_dot_h), roughness, alpha (= roughness^2), f0, ior

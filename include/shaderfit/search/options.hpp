@@ -74,6 +74,8 @@ struct SearchOptions {
   // digits of the fit-row losses that rank individuals; front members are scored in float64.
   ComputeDevice device = ComputeDevice::Auto;
 
+  // Display needs the display weights of a scene problem (search_problem puts them in the rows'
+  // weights); the search then minimises the weighted MSE.
   Loss loss = Loss::Mse;
   CostTarget cost = CostTarget::Instructions;
   // The arithmetic the shader computes the formula in (eval/precision.hpp). Half: every front
@@ -85,8 +87,8 @@ struct SearchOptions {
   // Operators formulas may use (Op::IPow stands for x^2 .. x^max_power) and literal constants
   // (their negatives come free with negation). Either list may be kAutoOperators ("auto", the
   // default): a set chosen from the data when the search starts (resolve_auto_operators,
-  // search.hpp). A built-in data set may come with its own (data/problem.hpp: Problem::operators;
-  // fresnel-seed's: + - * / ^, and pow exp2 for the evolution).
+  // search.hpp). A built-in data set may come with its own (problem/problem.hpp:
+  // Problem::operators; fresnel-seed's: + - * / ^, and pow exp2 for the evolution).
   std::vector<Op> operators = kAutoOperators;
   // Operators the evolution may use besides `operators` (the enumeration keeps to those): the
   // larger formulas gain most from a fitted exponent or exponential.

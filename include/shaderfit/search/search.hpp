@@ -49,7 +49,7 @@ struct SearchProblem {
   std::vector<double> target;
   std::vector<double> weights;  // empty: every row weighs 1
   // The function behind the data, when the rows are its samples (a reference sampled by
-  // data/problem.hpp): the inputs are its outputs of the same names. Each front member's max
+  // problem/problem.hpp): the inputs are its outputs of the same names. Each front member's max
   // error is then also searched for between the samples (the points found join the rows and
   // the constants are refitted until the error is stable), and with SearchOptions::certify
   // bounded over the whole domain (docs/reference.md). reference_samples: the size of the
@@ -63,11 +63,14 @@ struct SearchProblem {
   void validate() const;
 };
 
-// The search's view of a loaded problem (data/problem.hpp): its input and target columns, its
-// reference, and the row weights of `weights_column` (else the problem's own, a scene's; else
-// none). Throws shaderfit::Error located at `weights_where` when that column is missing or not
+// The search's view of a loaded problem (problem/problem.hpp) for `loss`: its input and target
+// columns, its reference, and the row weights: with Loss::Display the problem's display weights
+// (a scene's), else those of `weights_column` (else the problem's own; else none). Throws
+// shaderfit::Error located at "SearchOptions::loss" for the display loss on a problem without a
+// scene, at `weights_where` for weights with it or a weights column that is missing or not
 // numeric, and as SearchProblem::validate.
-SearchProblem search_problem(const Problem& problem, const std::string& weights_column = "",
+SearchProblem search_problem(const Problem& problem, Loss loss = Loss::Mse,
+                             const std::string& weights_column = "",
                              const SourceLocation& weights_where = {"SearchProblem::weights"});
 
 // Why a search stopped.

@@ -49,7 +49,8 @@ std::string front_member_line(const FrontMember& m, Loss loss, const PrintOption
 }
 
 std::string front_table(const SearchSummary& s, Loss loss, const PrintOptions& print) {
-  const bool loss_column = loss != Loss::Mse && loss != Loss::MaxAbs;
+  // The display loss is the mse column (weighted by the display).
+  const bool loss_column = loss != Loss::Mse && loss != Loss::MaxAbs && loss != Loss::Display;
   bool certified = false;
   for (const FrontMember& m : s.front) certified = certified || m.certified_max_abs.has_value();
   std::string out = fmt::format("{:>6} {:>5}", "cost", "nodes");

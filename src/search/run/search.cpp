@@ -318,7 +318,16 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
   problem.validate();
   given.validate();
   // From here on the operator lists are concrete (checkpoints record them so).
-  const SearchOptions options = resolve_auto_operators(given, problem);
+  SearchOptions options = resolve_auto_operators(given, problem);
+  // The display loss is the MSE over rows that search_problem weighed by the scene's display.
+  if (options.loss == Loss::Display) {
+    if (problem.weights.empty())
+      throw Error(
+          "the display loss needs a scene's display weights: search a scene problem "
+          "(search_problem)",
+          {"SearchOptions::loss"});
+    options.loss = Loss::Mse;
+  }
   if ((options.loss == Loss::Relative || options.loss == Loss::MaxRel) &&
       std::any_of(problem.target.begin(), problem.target.end(), [](double t) { return t == 0; }))
     throw Error(

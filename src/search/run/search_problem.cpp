@@ -1,11 +1,11 @@
 #include <string>
 
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit {
 
-SearchProblem search_problem(const Problem& problem, const std::string& weights_column,
+SearchProblem search_problem(const Problem& problem, Loss loss, const std::string& weights_column,
                              const SourceLocation& weights_where) {
   const Dataset& d = problem.data;
   SearchProblem s;
@@ -13,7 +13,17 @@ SearchProblem search_problem(const Problem& problem, const std::string& weights_
   for (const std::string& n : problem.inputs) s.inputs.push_back(d.numeric(n).values);
   s.target = d.numeric(problem.target).values;
   const std::string& weights = weights_column.empty() ? problem.weights : weights_column;
-  if (!weights.empty()) {
+  if (loss == Loss::Display) {
+    if (!problem.scene)
+      throw Error(
+          "the display loss needs a scene: the pixels the function shades weigh the rows "
+          "(docs/scenes.md)",
+          {"SearchOptions::loss"});
+    if (!weights.empty())
+      throw Error("the display loss weighs the rows by the scene's pixels: give no weights",
+                  weights_where);
+    s.weights = problem.display_weights;
+  } else if (!weights.empty()) {
     if (d.find(weights) == nullptr) {
       std::string names;
       for (const auto& n : d.names()) names += (names.empty() ? "" : ", ") + n;

@@ -1,4 +1,4 @@
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,6 +8,7 @@
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/data/csv.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/data/sampling.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/reference/domain.hpp"
@@ -24,6 +25,8 @@ const SourceLocation kSamplesField{"ProblemSource::samples"};
 const SourceLocation kInputsField{"ProblemSource::inputs"};
 const SourceLocation kTargetField{"ProblemSource::target"};
 const SourceLocation kSceneField{"ProblemSource::scene"};
+const SourceLocation kMaterialsField{"ProblemSource::materials"};
+const SourceLocation kAnglesField{"ProblemSource::angles"};
 
 std::string join(const std::vector<std::string>& names) {
   std::string out;
@@ -55,6 +58,7 @@ void check_source(const ProblemSource& s) {
     given.push_back({&kDatasetField, "a built-in data set (" + s.dataset + ")"});
   }
   if (has_reference(s.reference)) given.push_back({&kReferenceField, "a reference"});
+  if (!s.materials.empty()) given.push_back({&kMaterialsField, "a material sweep"});
   if (given.empty()) {
     throw Error("no data: give a CSV file, a built-in data set, or a reference and its domain",
                 kCsvField);
@@ -71,8 +75,6 @@ void check_source(const ProblemSource& s) {
   if (s.scene && s.samples != 0)
     throw Error("a scene's samples are its pixels: give no number of samples with it",
                 kSamplesField);
-  if (!s.scene && s.scene_display)
-    throw Error("the display loss needs a scene (the pixels the function shades)", kSceneField);
   if (given[0].field == &kReferenceField) {
     if (!s.reference.formula.empty() &&
         (!s.reference.shader_source.empty() || !s.reference.shader_path.empty())) {
@@ -371,6 +373,28 @@ Problem load_dataset(const ProblemSource& s) {
   return p;
 }
 
+Problem load_sweep(const ProblemSource& s) {
+  std::vector<Material> materials;
+  std::string names;
+  for (std::size_t i = 0; i < s.materials.size(); ++i) {
+    if (s.materials[i] == "seed") {
+      for (const Material& m : seed_materials()) materials.push_back(m);
+    } else {
+      materials.push_back(
+          parse_material(s.materials[i], {kMaterialsField.source, static_cast<int>(i) + 1}));
+    }
+  }
+  if (s.angles < 2)
+    throw Error("a sweep needs at least 2 angles, got " + std::to_string(s.angles), kAnglesField);
+  for (const Material& m : materials) names += (names.empty() ? "" : ", ") + m.name;
+  Problem p;
+  p.data = make_fresnel_sweep(materials, s.angles);
+  p.description =
+      "the Fresnel sweep of " + names + " (" + std::to_string(s.angles) + " angles each)";
+  choose_own_columns(p.data, "the material sweep", s, p, {"r0", "x"}, "R", "the sweep's");
+  return p;
+}
+
 Problem load_reference(const ProblemSource& s) {
   reference::ReferenceText text = s.reference;
   if (text.formula.empty() && text.shader_source.empty()) {
@@ -484,10 +508,7 @@ Problem load_scene(const ProblemSource& s) {
                       " of the scene, where " + program.inputs[0] + " = " +
                       number_text(inputs[0][r]),
                   kReferenceField);
-  if (s.scene_display) {
-    p.data.add_numeric("weight", display_weights(samples, target));
-    p.weights = "weight";
-  }
+  p.display_weights = display_weights(samples, target);
   const SceneSpec& used = samples.spec;
   p.description = program.description + " as " + std::string(shading_term_name(*used.term)) +
                   " in the " + std::string(scene_kind_name(used.kind)) + " scene, " +
@@ -495,10 +516,6 @@ Problem load_scene(const ProblemSource& s) {
                   std::to_string(samples.width) + " x " + std::to_string(samples.height) +
                   " pixels";
   if (!bound.empty()) p.notes.push_back("the reference " + bound + " is " + text.formula);
-  if (s.scene_display)
-    p.notes.push_back(
-        "display loss: each sample weighted by its pixel's squared display slope (exposure, "
-        "tonemap, sRGB)");
   p.scene = std::make_shared<const SceneSamples>(samples);
   return p;
 }
@@ -509,6 +526,7 @@ Problem load_problem(const ProblemSource& source) {
   check_source(source);
   if (!source.csv_path.empty()) return load_csv(source);
   if (!source.dataset.empty()) return load_dataset(source);
+  if (!source.materials.empty()) return load_sweep(source);
   if (source.scene) return load_scene(source);
   return load_reference(source);
 }

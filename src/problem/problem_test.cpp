@@ -1,4 +1,4 @@
-#include "shaderfit/data/problem.hpp"
+#include "shaderfit/problem/problem.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "shaderfit/data/fresnel_seed.hpp"
+#include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/expr/op.hpp"
 
 namespace shaderfit {
@@ -293,6 +294,43 @@ TEST(ProblemDataset, EveryBuiltinDataSetHasADescriptor) {
     EXPECT_TRUE(p.data.numeric(p.target).numeric());
   }
   EXPECT_FALSE(builtin_dataset_info("nope").has_value());
+}
+
+// The material sweep behind `plot --material`: a source of its own, "seed" for seed 001's set.
+TEST(ProblemSweep, MaterialsSweptOverTheAngle) {
+  ProblemSource s;
+  s.materials = {"aluminium", "1.5"};
+  s.angles = 91;
+  Problem p = load_problem(s);
+  EXPECT_EQ(p.inputs, (Names{"r0", "x"}));
+  EXPECT_EQ(p.target, "R");
+  EXPECT_EQ(p.data.rows(), 2u * 91u);
+  EXPECT_EQ(p.description, "the Fresnel sweep of aluminium, ior1.5 (91 angles each)");
+  EXPECT_EQ(p.data.numeric("R").values,
+            make_fresnel_sweep({parse_material("aluminium"), parse_material("1.5")}, 91)
+                .numeric("R")
+                .values);
+  s.materials = {"seed"};
+  EXPECT_EQ(load_problem(s).data.rows(), seed_materials().size() * 91u);
+  auto expect_bad = [](const ProblemSource& bad, const std::string& part, const std::string& source,
+                       int line) {
+    try {
+      (void)load_problem(bad);
+      ADD_FAILURE() << "no error; expected: " << part;
+    } catch (const Error& e) {
+      EXPECT_NE(e.message().find(part), std::string::npos) << e.what();
+      EXPECT_EQ(e.where().source, source) << e.what();
+      EXPECT_EQ(e.where().line, line) << e.what();
+    }
+  };
+  s.materials = {"1.5", "unobtainium"};
+  expect_bad(s, "unknown material 'unobtainium'", "ProblemSource::materials", 2);
+  s.materials = {"1.5"};
+  s.angles = 1;
+  expect_bad(s, "at least 2 angles", "ProblemSource::angles", 0);
+  s.angles = 181;
+  s.dataset = "fresnel-seed";
+  expect_bad(s, "give one source of data", "ProblemSource::materials", 0);
 }
 
 TEST(ProblemDataset, NamedColumnsAndErrors) {

@@ -27,15 +27,23 @@
 namespace shaderfit {
 
 struct ProblemSource {
-  // Exactly one of these three: a CSV file, a built-in data set (with its generator's seed), or
-  // a reference (reference.formula, or reference.shader_source with its path and function; a
-  // shader_path alone is read). Errors about the choice are located at "ProblemSource::csv_path",
-  // "ProblemSource::dataset" or "ProblemSource::reference"; the reference's own errors at its
-  // formula_source / definitions_source / shader_path (reference/language.hpp).
+  // Exactly one of these four: a CSV file, a built-in data set (with its generator's seed), a
+  // reference (reference.formula, or reference.shader_source with its path and function; a
+  // shader_path alone is read), or a material sweep. Errors about the choice are located at
+  // "ProblemSource::csv_path", "ProblemSource::dataset", "ProblemSource::reference" or
+  // "ProblemSource::materials"; the reference's own errors at its formula_source /
+  // definitions_source / shader_path (reference/language.hpp).
   std::string csv_path;
   std::string dataset;
   std::uint64_t dataset_seed = 1;
   reference::ReferenceText reference;
+  // The exact Fresnel reflectance of these materials swept over the angle of incidence, `angles`
+  // angles from 0 to 90 degrees each (data/fresnel_sweep.hpp: columns theta_deg, r0, x, R, ...;
+  // inputs r0, x and target R unless named): each a parse_material text ("aluminium", "1.5",
+  // "0.3+3i"), or "seed" for seed 001's set. Errors at "ProblemSource::materials" (line = the
+  // material's 1-based position) and "ProblemSource::angles".
+  std::vector<std::string> materials;
+  int angles = 181;
   // With a reference: one "name=lo:hi[:count[:spacing]]" per variable (reference/domain.hpp),
   // in any order (the reference's inputs take this order), and the sample design's size
   // (data/sampling.hpp; 0: its default; not with counts on the axes). Errors about an entry are
@@ -48,11 +56,10 @@ struct ProblemSource {
   // With a reference, instead of a domain: a scene (scene/scene.hpp), whose shading samples are
   // the rows. The reference is a formula of the scene's quantities, or the name of a built-in
   // reference the scene binds to them (scene_reference: "fresnel-dielectric-f0" reads v_dot_h and
-  // f0, and stands for the factor F unless scene->term says otherwise). The rows' weights
-  // (Problem::weights) are the display loss's (display_weights) when `scene_display` is set,
-  // else 1: each sample weighs as the pixel it lights. Errors at "ProblemSource::scene".
+  // f0, and stands for the factor F unless scene->term says otherwise). Each sample weighs as
+  // the pixel it lights; the display loss's weights are Problem::display_weights. Errors at
+  // "ProblemSource::scene".
   std::optional<SceneSpec> scene;
-  bool scene_display = false;
   // The columns the formulas read and the one they approximate. Empty: inferred (a CSV: the
   // numeric column named target, else y, else the last numeric one not among the inputs; the
   // numeric columns other than the target; a data set: its own (fresnel_seed.hpp,
@@ -68,7 +75,8 @@ struct Problem {
   std::string target;
   // Set for a reference: the function, known everywhere on its domain.
   std::shared_ptr<const reference::ReferenceFunction> reference;
-  // For people: "xy.csv", "fresnel-seed (seed 1)", "acos(x) on x in [-1, 1], 10,001 samples".
+  // For people: "xy.csv", "fresnel-seed (seed 1)", "acos(x) on x in [-1, 1], 10,001 samples",
+  // "the Fresnel sweep of aluminium, ior1.5 (181 angles each)".
   std::string description;
   // What was inferred or done, one line each, in the library's words (no flag or field names):
   // "inputs x, target y (the column named y is the target, the other numeric columns the
@@ -79,11 +87,13 @@ struct Problem {
   // A built-in data set's own search operators, "" for the rest (whose default is "auto").
   std::string operators;
   std::string evolution_operators;
-  // The column of row weights ("" : every row weighs 1): a scene's.
+  // The column of row weights ("" : every row weighs 1).
   std::string weights;
   // Set for a scene: its samples (the rows, in order), for pictures of the reference and of
-  // formulas (scene_images).
+  // formulas (scene_images), and the display loss's row weights (Loss::Display; scene/scene.hpp,
+  // display_weights of the target), one per row.
   std::shared_ptr<const SceneSamples> scene;
+  std::vector<double> display_weights;
 };
 
 // Throws shaderfit::Error located at the field ("ProblemSource::domain", the reference's source
