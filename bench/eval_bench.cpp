@@ -19,7 +19,7 @@
 #include "eval/sample_formulas.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/evaluate.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/expression.hpp"
 
 namespace {

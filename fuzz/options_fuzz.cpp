@@ -16,7 +16,7 @@
 #include "shaderfit/data/fresnel_sweep.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/fit/constraint.hpp"
-#include "shaderfit/fit/sampling.hpp"
+#include "shaderfit/fit/fit_blocks.hpp"
 #include "shaderfit/rational/condition.hpp"
 #include "shaderfit/rational/rational_function.hpp"
 #include "shaderfit/rational/target.hpp"

@@ -13,7 +13,7 @@
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/eval/metrics.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/precision.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/report/command_json.hpp"

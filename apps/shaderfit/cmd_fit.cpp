@@ -13,7 +13,7 @@
 #include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
-#include "shaderfit/fit/setup.hpp"
+#include "shaderfit/fit/fit_setup.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/report/command_json.hpp"
 

@@ -14,7 +14,7 @@
 #include "codegen/toolchain_test_support.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/data/fresnel_seed.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/precision.hpp"
 #include "shaderfit/image/half.hpp"

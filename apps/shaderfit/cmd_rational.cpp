@@ -12,7 +12,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/rational/parametric.hpp"
-#include "shaderfit/rational/setup.hpp"
+#include "shaderfit/rational/rational_setup.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/report/command_json.hpp"
 

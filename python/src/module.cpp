@@ -30,10 +30,10 @@
 #include "shaderfit/data/fresnel_seed.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
-#include "shaderfit/fit/setup.hpp"
+#include "shaderfit/fit/fit_setup.hpp"
 #include "shaderfit/image/flip.hpp"
 #include "shaderfit/problem/problem.hpp"
 #include "shaderfit/report/command_json.hpp"
@@ -71,7 +71,7 @@ struct Formula {
   }
 
   // One column per variable, in the order of expression.variables; in `precision` (double,
-  // float or half: eval/precision.hpp).
+  // float or half: eval/evaluate_in.hpp).
   OutArray evaluate(const std::vector<Column>& columns, const std::string& precision) const {
     const Precision p = parse_precision(precision, {"precision"});
     if (columns.size() != expression.variables.size())

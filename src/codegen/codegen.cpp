@@ -11,10 +11,10 @@
 #include <set>
 #include <span>
 
-#include "codegen/language.hpp"
+#include "codegen/spelling.hpp"
 #include "cost/dag.hpp"
 #include "cost/erf_helper.hpp"
-#include "cost/program.hpp"
+#include "cost/step_program.hpp"
 #include "shaderfit/cost/per_material.hpp"
 
 namespace shaderfit {

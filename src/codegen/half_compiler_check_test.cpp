@@ -14,7 +14,7 @@
 #include "codegen/compiler_harness_test_support.hpp"
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/image/half.hpp"
 

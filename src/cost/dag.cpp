@@ -263,7 +263,7 @@ class Builder {
     return static_cast<T>(v);
   }
   // A fold of literals: f computed in float32, or in a half DAG in double and rounded to
-  // binary16 once, as evaluate_half (eval/precision.hpp) computes each operator.
+  // binary16 once, as evaluate_half (eval/evaluate_in.hpp) computes each operator.
   template <class F>
   DagRef fold(F f) {
     if (half_) return constant(static_cast<float>(round_to_half(f(0.0))));

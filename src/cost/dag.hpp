@@ -19,7 +19,7 @@
 // Nodes are in topological order: a node's operands have smaller ids.
 //
 // Lowered for half (`half` = true; the half code of codegen and the `sass-half2` target), the DAG
-// keeps every rounding that eval/precision.hpp's half evaluation makes, so that the printed half
+// keeps every rounding that eval/evaluate_in.hpp's half evaluation makes, so that the printed half
 // code rounds where evaluate_half does: constants are binary16 values and fold as evaluate_half
 // computes them (each result rounded to binary16); a / b is one Div node (one rounding), 1 / x an
 // Rcp, and a / K a product only where 1/K is an exact power of two; fma(a, b, c) is one Fma node

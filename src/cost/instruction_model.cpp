@@ -5,7 +5,7 @@
 #include <algorithm>
 
 #include "cost/dag.hpp"
-#include "cost/program.hpp"
+#include "cost/step_program.hpp"
 #include "cost/select.hpp"
 #include "shaderfit/core/error.hpp"
 

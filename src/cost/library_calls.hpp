@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "cost/erf_helper.hpp"
-#include "cost/program.hpp"
+#include "cost/step_program.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 
 namespace shaderfit::lowering {

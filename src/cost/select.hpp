@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "cost/dag.hpp"
-#include "cost/program.hpp"
+#include "cost/step_program.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 
 namespace shaderfit::lowering {

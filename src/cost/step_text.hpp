@@ -5,7 +5,7 @@
 #include <string_view>
 #include <vector>
 
-#include "cost/program.hpp"
+#include "cost/step_program.hpp"
 
 namespace shaderfit::lowering {
 

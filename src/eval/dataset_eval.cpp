@@ -2,7 +2,7 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/data/dataset.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 

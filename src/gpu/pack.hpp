@@ -1,5 +1,5 @@
 // Internal: packing expressions into the flat program arrays the GPU kernels read
-// (gpu/program.hpp), and the kernels' CPU emulation, which the tests compare with the CPU
+// (gpu/device_program.hpp), and the kernels' CPU emulation, which the tests compare with the CPU
 // evaluator (always) and with the GPU (where there is one).
 #pragma once
 
@@ -10,7 +10,7 @@
 
 #include "gpu/normal_sums.hpp"
 #include "gpu/population_sums.hpp"
-#include "gpu/program.hpp"
+#include "gpu/device_program.hpp"
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/gpu/evaluator.hpp"
 

@@ -14,7 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "gpu/program.hpp"
+#include "gpu/device_program.hpp"
 #include "shaderfit/eval/loss.hpp"
 
 namespace shaderfit::gpu_detail {

@@ -17,7 +17,7 @@
 #include <cstdint>
 #include <limits>
 
-#include "gpu/program.hpp"
+#include "gpu/device_program.hpp"
 #include "shaderfit/eval/loss.hpp"
 
 namespace shaderfit::gpu_detail {

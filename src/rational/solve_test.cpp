@@ -6,7 +6,7 @@
 #include <numbers>
 
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/rational/setup.hpp"
+#include "shaderfit/rational/rational_setup.hpp"
 
 namespace shaderfit::rational {
 namespace {

@@ -8,7 +8,7 @@
 
 #include "core/files.hpp"
 #include "shaderfit/core/error.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/image/flip.hpp"
 #include "shaderfit/image/png.hpp"

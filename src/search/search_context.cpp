@@ -9,7 +9,7 @@
 #include "search/checkpoint.hpp"
 #include "search/uniform_terminals.hpp"
 #include "shaderfit/eval/evaluate.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/print.hpp"
 
 namespace shaderfit::search_detail {

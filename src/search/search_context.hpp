@@ -81,7 +81,7 @@ class SearchContext {
 
   // e on every row (double precision; out has `rows` entries), counting its node evaluations.
   void predict(const Expression& e, std::span<double> out);
-  // e on every row in options.precision (eval/precision.hpp): what a front member shows. The
+  // e on every row in options.precision (eval/evaluate_in.hpp): what a front member shows. The
   // same as predict() in double precision.
   void predict_shown(const Expression& e, std::span<double> out);
   [[nodiscard]] ErrorMetrics metrics_of(std::span<const double> prediction) const;

@@ -24,7 +24,7 @@
 //
 // With CodegenOptions::precision = Precision::Half the function computes in binary16 (GLSL
 // float16_t, HLSL and Metal half, CUDA __half plus a __half2 twin NAME_x2 that computes two
-// values at once), every step rounding where evaluate_half (eval/precision.hpp) rounds: the
+// values at once), every step rounding where evaluate_half (eval/evaluate_in.hpp) rounds: the
 // program of a half DAG (cost/dag.hpp), with fma only where the formula has one (docs/precision.md,
 // "Half code").
 #pragma once
@@ -78,7 +78,7 @@ std::string pair_function_name(const std::string& function_name);
 // erf is preceded by the helper function it calls (`sf_erf`, max error 1.32 ulp in float32
 // arithmetic; docs/codegen.md). In half: a first comment line naming what the file needs (GLSL's
 // #extension, HLSL's 16-bit types, CUDA's cuda_fp16.h), in CUDA the __half helpers the function
-// calls (codegen/language.hpp), the __half function (__host__ __device__) and NAME_x2 (__device__).
+// calls (codegen/spelling.hpp), the __half function (__host__ __device__) and NAME_x2 (__device__).
 // Throws shaderfit::Error (located at CodegenOptions::name, Expression::variables,
 // Expression::parameters or "formula") for a function, input or parameter name that is not an
 // identifier of the language or is reserved there, and for a constant that is not finite; at

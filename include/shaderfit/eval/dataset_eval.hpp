@@ -33,7 +33,7 @@ Expression parse_formula_on(std::string_view text, const Dataset& data,
 std::vector<double> evaluate_on(const Expression& e, const Dataset& data,
                                 const EvalOptions& options = {});
 
-// The same in `precision` (eval/precision.hpp: float rounds the inputs and computes in float,
+// The same in `precision` (eval/evaluate_in.hpp: float rounds the inputs and computes in float,
 // half rounds every operation to binary16), widened back.
 std::vector<double> evaluate_on(const Expression& e, const Dataset& data, Precision precision);
 

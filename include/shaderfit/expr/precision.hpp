@@ -1,7 +1,7 @@
 // The arithmetic a formula is computed in, as the shader runs it: float64 (the search's own),
 // float32 (`float`) or IEEE binary16 (`half`: GLSL float16_t / mediump, HLSL half, CUDA __half,
 // Metal half), and rounding to binary16. How a whole expression is evaluated in each is
-// eval/precision.hpp; codegen and the cost model name the precision with this enum.
+// eval/evaluate_in.hpp; codegen and the cost model name the precision with this enum.
 //
 //   double h = round_to_half(0.1);  // 0.0999755859375
 #pragma once

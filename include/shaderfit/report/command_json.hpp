@@ -20,8 +20,8 @@
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/expr/expression.hpp"
-#include "shaderfit/fit/setup.hpp"
-#include "shaderfit/rational/setup.hpp"
+#include "shaderfit/fit/fit_setup.hpp"
+#include "shaderfit/rational/rational_setup.hpp"
 
 namespace shaderfit {
 

@@ -56,7 +56,7 @@ struct SearchReportOptions {
   // any, costs are per pixel with the per-material count beside them, and the code is in two
   // parts.
   std::vector<std::string> uniform;
-  // The arithmetic the baselines and the chosen formula are scored in (eval/precision.hpp);
+  // The arithmetic the baselines and the chosen formula are scored in (eval/evaluate_in.hpp);
   // unset: the run's ("precision" in its options), else double. The front's own columns are
   // the run's; a half column is shown where the run measured one.
   std::optional<Precision> precision;

@@ -56,7 +56,7 @@ struct FrontMember {
   // metrics.max_abs: the rows, and where a reference is known the points checked between them.
   double float32_max_abs = 0;
   double float32_max_rel = 0;
-  // The same in half (eval/precision.hpp: inputs, constants and every operation rounded to
+  // The same in half (eval/evaluate_in.hpp: inputs, constants and every operation rounded to
   // binary16) over the rows; +inf where half is not finite (overflow beyond 65504).
   double half_max_abs = 0;
   double half_max_rel = 0;

@@ -78,7 +78,7 @@ struct SearchOptions {
   // weights); the search then minimises the weighted MSE.
   Loss loss = Loss::Mse;
   CostTarget cost = CostTarget::Instructions;
-  // The arithmetic the shader computes the formula in (eval/precision.hpp). Half: every front
+  // The arithmetic the shader computes the formula in (eval/evaluate_in.hpp). Half: every front
   // member's loss and metrics are those of its half evaluation, so the front ranks what a half
   // shader computes; the search's own fits and screens stay in float64 and float32. Float32 and
   // half errors are reported for every member whatever the precision.

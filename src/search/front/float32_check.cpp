@@ -5,7 +5,7 @@
 #include <limits>
 
 #include "shaderfit/eval/evaluate.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 
 namespace shaderfit::search_detail {
 

@@ -35,7 +35,7 @@ class Float32Check {
     double max_abs_diff = 0;
     double max_abs = 0;
     double max_rel = 0;
-    double half_max_abs = 0;  // the formula computed in half (eval/precision.hpp)
+    double half_max_abs = 0;  // the formula computed in half (eval/evaluate_in.hpp)
     double half_max_rel = 0;
   };
   [[nodiscard]] Errors errors(const Expression& e) const;

@@ -13,7 +13,7 @@
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/loss.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/verify/certify.hpp"
 #include "shaderfit/verify/worst_case.hpp"

@@ -22,7 +22,7 @@
 #include "search/starts/uniform_starts.hpp"
 #include "search/front/verify_front.hpp"
 #include "shaderfit/cost/per_material.hpp"
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 
 namespace shaderfit {
 

@@ -1,4 +1,4 @@
-#include "shaderfit/fit/sampling.hpp"
+#include "shaderfit/fit/fit_blocks.hpp"
 
 #include <gtest/gtest.h>
 

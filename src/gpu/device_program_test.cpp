@@ -1,6 +1,6 @@
 // The GPU kernels' per-row interpreter and the packing, run on the CPU (no GPU needed): the
 // shared SF_CPU_GPU code against the scalar semantics and the CPU evaluator.
-#include "gpu/program.hpp"
+#include "gpu/device_program.hpp"
 
 #include <gtest/gtest.h>
 

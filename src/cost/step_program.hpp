@@ -8,7 +8,7 @@
 //    a * rcp(b) with a single-use reciprocal is one division.
 // A half DAG (dag.hpp) is always built unfused, and a * rcp(b) stays a product: its Div, Rcp,
 // Fma and Log nodes are one step each and nothing else merges, so that each step rounds where
-// evaluate_half (eval/precision.hpp) rounds.
+// evaluate_half (eval/evaluate_in.hpp) rounds.
 // Signs are resolved so that negations cost as little as the languages allow: a - b and b - a
 // are both one subtraction, a negative literal is free, -(a * K) is a * -K; what remains is an
 // explicit Neg step, one per value (docs/cost-model.md, "Negation").

@@ -1,5 +1,5 @@
 // Per-language spelling: literals, names, reserved words.
-#include "codegen/language.hpp"
+#include "codegen/spelling.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "shaderfit/fit/setup.hpp"
+#include "shaderfit/fit/fit_setup.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "cost/program.hpp"
+#include "cost/step_program.hpp"
 
 #include <array>
 

@@ -1,4 +1,4 @@
-#include "shaderfit/fit/setup.hpp"
+#include "shaderfit/fit/fit_setup.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -15,7 +15,7 @@
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/builtin_reference.hpp"
-#include "shaderfit/fit/sampling.hpp"
+#include "shaderfit/fit/fit_blocks.hpp"
 #include "shaderfit/reference/domain.hpp"
 #include "shaderfit/reference/language.hpp"
 

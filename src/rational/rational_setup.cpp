@@ -1,4 +1,4 @@
-#include "shaderfit/rational/setup.hpp"
+#include "shaderfit/rational/rational_setup.hpp"
 
 #include <fmt/format.h>
 

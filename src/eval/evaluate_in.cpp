@@ -1,4 +1,4 @@
-#include "shaderfit/eval/precision.hpp"
+#include "shaderfit/eval/evaluate_in.hpp"
 
 #include <algorithm>
 #include <cmath>
