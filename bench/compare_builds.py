@@ -14,7 +14,7 @@ For refactors that must not change results. Each build's `shaderfit search` runs
 and the two JSON fronts are compared by scripts/compare-fronts (formulas, constants, costs and
 losses; timings aside). Then the time to target on the seed task (the search's own clock until a
 member of cost <= 4 has the MSE of r0 + (x - r0) x^4), the builds interleaved, seeds 1..--seeds:
-medians and their ratio. Exit status 0 when every front is the same. Standard library and numpy.
+each seed --repeats times: medians and their ratio. Exit status 0 when every front is the same. Standard library and numpy.
 """
 
 import argparse
@@ -117,13 +117,19 @@ def main() -> int:
                     help="this build's folder (default build/release)")
     ap.add_argument("--evals", type=int, default=200000, help="candidates per search")
     ap.add_argument("--seeds", type=int, default=10, help="seeds of the time to target")
+    ap.add_argument("--repeats", type=int, default=5,
+                    help="runs of each seed and build (the median is over all)")
     ap.add_argument("--skip-timing", action="store_true", help="fronts only")
+    ap.add_argument("--skip-fronts", action="store_true", help="the time to target only")
     args = ap.parse_args()
     before, after = args.before / "shaderfit", args.after / "shaderfit"
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         cases = [("seed task", ["--dataset", "fresnel-seed", "--inputs", "r0,x", "--target", "R"])]
-        cases += yardstick_cases(args.after, work) + feynman_cases(work)
+        if args.skip_fronts:
+            cases = []
+        else:
+            cases += yardstick_cases(args.after, work) + feynman_cases(work)
         different = 0
         budget = ["--evals", str(args.evals)]
         for i, (name, case) in enumerate(cases):
@@ -133,16 +139,19 @@ def main() -> int:
             same, text = same_front(a, b)
             different += not same
             print(f"{'same     ' if same else 'DIFFERENT'} {name:40s} {text}", flush=True)
-        print(f"{len(cases) - different} of {len(cases)} fronts the same "
-              f"({args.evals} candidates each, seed 1, one thread)")
+        if cases:
+            print(f"{len(cases) - different} of {len(cases)} fronts the same "
+                  f"({args.evals} candidates each, seed 1, one thread)")
         if not args.skip_timing:
             target = seed_target(after, work)
             tb, ta = [], []
-            for seed in range(1, args.seeds + 1):  # interleaved: both builds see the same load
-                tb.append(time_to_target(before, seed, target, work))
-                ta.append(time_to_target(after, seed, target, work))
+            for _ in range(args.repeats):
+                for seed in range(1, args.seeds + 1):  # interleaved: both see the same load
+                    tb.append(time_to_target(before, seed, target, work))
+                    ta.append(time_to_target(after, seed, target, work))
             mb, ma = statistics.median(tb), statistics.median(ta)
-            print(f"time to target, seed task, one thread, seeds 1..{args.seeds}: before median "
+            print(f"time to target, seed task, one thread, seeds 1..{args.seeds} x {args.repeats}: "
+                  f"before median "
                   f"{mb * 1e3:.1f} ms, after {ma * 1e3:.1f} ms, ratio after/before {ma / mb:.3f}")
     return 0 if different == 0 else 1
 
