@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "eval/interpreter.hpp"
-#include "eval/sample_formulas.hpp"
+#include "eval/sample_formulas_test_util.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/eval/evaluate_in.hpp"

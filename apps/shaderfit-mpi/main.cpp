@@ -8,8 +8,8 @@
 #include <iostream>
 #include <sstream>
 
+#include "cli.hpp"  // apps/shaderfit/cli.hpp
 #include "mpi_communicator.hpp"
-#include "shaderfit/cli.hpp"
 
 int main(int argc, char** argv) {
   int provided = 0;

@@ -1,4 +1,4 @@
-#include "shaderfit/cli.hpp"
+#include "cli.hpp"
 
 #include <unistd.h>
 

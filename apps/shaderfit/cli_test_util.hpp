@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "shaderfit/cli.hpp"
+#include "cli.hpp"
 
 namespace shaderfit::cli::testing {
 

@@ -9,11 +9,11 @@
 #include <memory>
 #include <ostream>
 
+#include "cli.hpp"
 #include "progress_bar.hpp"
 #include "shaderfit/batch/batch.hpp"
 #include "shaderfit/batch/manifest.hpp"
 #include "shaderfit/batch/outputs.hpp"
-#include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 
 namespace shaderfit::cli {

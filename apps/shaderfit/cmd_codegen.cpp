@@ -6,7 +6,7 @@
 #include <ostream>
 #include <vector>
 
-#include "shaderfit/cli.hpp"
+#include "cli.hpp"
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/per_material.hpp"

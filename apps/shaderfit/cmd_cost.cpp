@@ -7,7 +7,7 @@
 #include <optional>
 #include <ostream>
 
-#include "shaderfit/cli.hpp"
+#include "cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/cost/per_material.hpp"

@@ -8,7 +8,7 @@
 #include <ostream>
 
 #include "data_source.hpp"
-#include "shaderfit/cli.hpp"
+#include "cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"

@@ -8,9 +8,9 @@
 #include <memory>
 #include <ostream>
 
+#include "cli.hpp"
 #include "data_source.hpp"
 #include "progress_bar.hpp"
-#include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/fit/fit_setup.hpp"

@@ -6,8 +6,8 @@
 #include <memory>
 #include <ostream>
 
+#include "cli.hpp"
 #include "progress_bar.hpp"
-#include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/lut/fv_compare.hpp"

@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 
+#include "cli.hpp"
 #include "data_source.hpp"
-#include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
+#include "cli.hpp"
 #include "data_source.hpp"
-#include "shaderfit/cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/eval/dataset_eval.hpp"
 #include "shaderfit/report/html.hpp"

@@ -18,7 +18,7 @@
 
 #include "data_source.hpp"
 #include "progress_bar.hpp"
-#include "shaderfit/cli.hpp"
+#include "cli.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/report/scene_report.hpp"
 #include "shaderfit/report/search_json.hpp"

@@ -8,7 +8,7 @@
 #include <cmath>
 #include <utility>
 
-#include "shaderfit/cli.hpp"
+#include "cli.hpp"
 
 namespace shaderfit::cli {
 

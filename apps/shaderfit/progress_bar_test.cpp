@@ -4,8 +4,8 @@
 
 #include <sstream>
 
+#include "cli.hpp"
 #include "cli_test_util.hpp"
-#include "shaderfit/cli.hpp"
 
 namespace shaderfit::cli::testing {
 namespace {

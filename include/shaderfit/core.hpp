@@ -1,10 +1,10 @@
 // shaderfit core: read this header first.
 //
-// It names the scalar types f32 and f64, defines the one host/device macro, and forward-declares
-// the types of core, expr, data and scene that headers of other areas name, so that those headers
-// need not include their definitions. The map of the areas, what each may include and where to
-// add an operator, loss, option or language is docs/architecture.md. A program may include the
-// umbrella header shaderfit/shaderfit.hpp instead of one header per concept:
+// It defines the one host/device macro and forward-declares the types of core, expr, data and
+// scene that headers of other areas name, so that those headers need not include their
+// definitions. The map of the areas, what each may include and where to add an operator, loss,
+// option or language is docs/architecture.md. A program may include the umbrella header
+// shaderfit/shaderfit.hpp instead of one header per concept:
 //
 //   #include <shaderfit/shaderfit.hpp>
 //   shaderfit::Expression e =
@@ -23,9 +23,6 @@
 #endif
 
 namespace shaderfit {
-
-using f32 = float;
-using f64 = double;
 
 // core/
 class Error;

@@ -14,6 +14,7 @@
 #include "codegen/spelling.hpp"
 #include "cost/dag.hpp"
 #include "cost/erf_helper.hpp"
+#include "cost/library_calls.hpp"
 #include "cost/step_program.hpp"
 #include "shaderfit/cost/per_material.hpp"
 
@@ -21,10 +22,9 @@ namespace shaderfit {
 
 namespace {
 
-using lowering::Operand;
-using lowering::Program;
-using lowering::Step;
-using lowering::StepOp;
+using cost_detail::Operand;
+using cost_detail::Program;
+using cost_detail::Step;
 
 // A printed value: its text and its precedence (1 sum, 2 product, 3 unary minus, 4 atom/call).
 struct Text {
@@ -67,7 +67,7 @@ class FunctionPrinter {
     // glslang compiles a ?: of named values to OpSelect (of expressions, to branches).
     std::vector<bool> named(p_.steps.size(), false);
     for (const Step& st : p_.steps) {
-      if (st.op != StepOp::Sign && st.op != StepOp::Select) continue;
+      if (st.op != Op::Sign && st.op != Op::Select) continue;
       for (int k = 0; k < st.arity; ++k)
         if (st.args[k].kind == Operand::Kind::Step)
           named[static_cast<std::size_t>(st.args[k].index)] = true;
@@ -168,7 +168,7 @@ class FunctionPrinter {
     return t.level < min_level ? "(" + t.s + ")" : t.s;
   }
 
-  Text fn(codegen::Call c, const Step& st) const {
+  Text fn(Op c, const Step& st) const {
     std::string s = std::string(codegen::call(lang_, c, form_)) + "(";
     for (int k = 0; k < st.arity; ++k) s += (k ? ", " : "") + operand(st.args[k], 0);
     // glslang's HLSL reads half arguments of intrinsics as float: the result is cast back (DXC's
@@ -177,7 +177,7 @@ class FunctionPrinter {
     return {s + ")", 4};
   }
   // A call of `c` with the operands given (CUDA half forms).
-  Text call_of(codegen::Call c, std::initializer_list<std::string> operands) const {
+  Text call_of(Op c, std::initializer_list<std::string> operands) const {
     std::string s = std::string(codegen::call(lang_, c, form_)) + "(";
     bool first = true;
     for (const std::string& o : operands) {
@@ -236,32 +236,30 @@ class FunctionPrinter {
 
   // Half forms: the steps that are calls in CUDA, and saturate; nullopt for the others.
   std::optional<Text> half_step(const Step& st) const {
-    using codegen::Call;
     const auto arg = [&](int k) { return operand(st.args[k], 0); };
-    if (st.op == StepOp::Sat) {
+    if (st.op == Op::Saturate) {
       if (lang_ == Language::Glsl)
         return Text{"clamp(" + arg(0) + ", " + lit(0) + ", " + lit(1) + ")", 4};
-      if (lang_ == Language::Cuda) return call_of(Call::Saturate, {arg(0), lit(0)});
+      if (lang_ == Language::Cuda) return call_of(Op::Saturate, {arg(0), lit(0)});
       return std::nullopt;
     }
     if (!calls_only()) return std::nullopt;
-    const bool rcp = st.op == StepOp::Div && st.args[0].kind == Operand::Kind::Const &&
+    const bool rcp = st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
                      std::fabs(st.args[0].value) == 1.0f;
     switch (st.op) {
-      case StepOp::Add: return call_of(Call::Add, {arg(0), arg(1)});
-      case StepOp::Sub: return call_of(Call::Sub, {arg(0), arg(1)});
-      case StepOp::Mul: return call_of(Call::Mul, {arg(0), arg(1)});
-      case StepOp::Neg: return call_of(Call::Neg, {arg(0)});
-      case StepOp::Div:
-        if (!rcp) return call_of(Call::Div, {arg(0), arg(1)});
+      case Op::Add: return call_of(Op::Add, {arg(0), arg(1)});
+      case Op::Sub: return call_of(Op::Sub, {arg(0), arg(1)});
+      case Op::Mul: return call_of(Op::Mul, {arg(0), arg(1)});
+      case Op::Neg: return call_of(Op::Neg, {arg(0)});
+      case Op::Div:
+        if (!rcp) return call_of(Op::Div, {arg(0), arg(1)});
         // -1 / x = 1 / -x: rcp is odd.
-        return call_of(Call::Rcp, {st.args[0].value < 0 ? call_of(Call::Neg, {arg(1)}).s : arg(1)});
+        return call_of(Op::Rcp, {st.args[0].value < 0 ? call_of(Op::Neg, {arg(1)}).s : arg(1)});
       default: return std::nullopt;
     }
   }
 
   Text step(const Step& st) {
-    using codegen::Call;
     if (form_ != Form::Float)
       if (std::optional<Text> t = half_step(st)) return *std::move(t);
     auto bin = [&](const char* op, int level) {
@@ -269,53 +267,37 @@ class FunctionPrinter {
                   level};
     };
     switch (st.op) {
-      case StepOp::Add: return bin("+", 1);
-      case StepOp::Sub: return bin("-", 1);
-      case StepOp::Mul: return bin("*", 2);
-      case StepOp::Div: return bin("/", 2);
-      case StepOp::Neg: return {"-" + operand(st.args[0], 4), 3};
-      case StepOp::Fma:
-        if (form_ != Form::Float) return fn(Call::Fma, st);      // the formula's own fma
+      case Op::Add: return bin("+", 1);
+      case Op::Sub: return bin("-", 1);
+      case Op::Mul: return bin("*", 2);
+      case Op::Div: return bin("/", 2);
+      case Op::Neg: return {"-" + operand(st.args[0], 4), 3};
+      case Op::Fma:
+        if (form_ != Form::Float) return fn(Op::Fma, st);        // the formula's own fma
         if (lang_ == Language::Glsl || lang_ == Language::Hlsl)  // not produced: unfused program
           return {operand(st.args[0], 2) + " * " + operand(st.args[1], 3) + " + " +
                       operand(st.args[2], 2),
                   1};
-        return fn(Call::Fma, st);
-      case StepOp::Abs: return fn(Call::Abs, st);
-      case StepOp::Sqrt: return fn(Call::Sqrt, st);
-      case StepOp::Rsqrt:
+        return fn(Op::Fma, st);
+      case Op::Rsqrt:
         if (lang_ == Language::Cpp)
           return {lit(1.0f) + " / std::sqrt(" + operand(st.args[0], 0) + ")", 2};
-        return fn(Call::Rsqrt, st);
-      case StepOp::Exp2: return fn(Call::Exp2, st);
-      case StepOp::Log2: return fn(Call::Log2, st);
-      case StepOp::Exp:
+        return fn(Op::Rsqrt, st);
+      case Op::Exp:
         if (st.neg_arg)
-          return {
-              std::string(codegen::call(lang_, Call::Exp)) + "(-" + operand(st.args[0], 4) + ")",
-              4};
-        return fn(Call::Exp, st);
-      case StepOp::Log: return fn(Call::Log, st);
-      case StepOp::Sin: return fn(Call::Sin, st);
-      case StepOp::Cos: return fn(Call::Cos, st);
-      case StepOp::Min: return fn(Call::Min, st);
-      case StepOp::Max: return fn(Call::Max, st);
-      case StepOp::Sat:
+          return {std::string(codegen::call(lang_, Op::Exp)) + "(-" + operand(st.args[0], 4) + ")",
+                  4};
+        return fn(Op::Exp, st);
+      case Op::Saturate:
         if (lang_ == Language::Glsl) return {"clamp(" + operand(st.args[0], 0) + ", 0.0, 1.0)", 4};
         if (lang_ == Language::Cpp)
           return {"std::clamp(" + operand(st.args[0], 0) + ", 0.0f, 1.0f)", 4};
-        return fn(Call::Saturate, st);
-      case StepOp::Sign: return sign(st);
-      case StepOp::CopySign: return copysign(st);
-      case StepOp::Select: return select(st);
-      case StepOp::Asin: return fn(Call::Asin, st);
-      case StepOp::Acos: return fn(Call::Acos, st);
-      case StepOp::Atan: return fn(Call::Atan, st);
-      case StepOp::Atan2: return fn(Call::Atan2, st);
-      case StepOp::Tanh: return fn(Call::Tanh, st);
-      case StepOp::Erf: return fn(Call::Erf, st);
+        return fn(Op::Saturate, st);
+      case Op::Sign: return sign(st);
+      case Op::CopySign: return copysign(st);
+      case Op::Select: return select(st);
+      default: return fn(st.op, st);  // a call, as codegen::call spells it
     }
-    return {};
   }
 
   const Expression& e_;
@@ -408,23 +390,12 @@ Prepared prepare_half(const Expression& e, const CodegenOptions& options) {
   check_names(e, options, seen);
   Prepared p;
   p.pixel = e;
-  p.pixel_program = lowering::build_program(lowering::lower_expression(e, true), false);
+  p.pixel_program = cost_detail::build_program(cost_detail::lower_expression(e, true), false);
+  // What has a half form is what CUDA's __half spells: the arithmetic, sqrt ... fma, saturate.
   for (const Step& st : p.pixel_program.steps) {
-    const char* op = nullptr;
-    switch (st.op) {
-      case StepOp::Sign: op = "sign"; break;
-      case StepOp::CopySign: op = "copysign"; break;
-      case StepOp::Select: op = "select"; break;
-      case StepOp::Asin: op = "asin"; break;
-      case StepOp::Acos: op = "acos"; break;
-      case StepOp::Atan: op = "atan"; break;
-      case StepOp::Atan2: op = "atan2"; break;
-      case StepOp::Tanh: op = "tanh"; break;
-      case StepOp::Erf: op = "erf"; break;
-      default: break;
-    }
-    if (op != nullptr) {
-      throw Error(std::string(op) + " has no half form in code generation (docs/precision.md)",
+    if (codegen::call(Language::Cuda, st.op, Form::Half).empty()) {
+      throw Error(std::string(op_info(st.op).name) +
+                      " has no half form in code generation (docs/precision.md)",
                   SourceLocation{"formula"});
     }
   }
@@ -442,7 +413,7 @@ Prepared prepare(const Expression& e, const CodegenOptions& options) {
   if (!reads_uniform(e, options.uniform)) {
     check_names(e, options, {});
     p.pixel = e;
-    p.pixel_program = lowering::build_program(lowering::lower_expression(e), fused);
+    p.pixel_program = cost_detail::build_program(cost_detail::lower_expression(e), fused);
     return p;
   }
   check_names(e, options, {material_type_name(options.name), material_function_name(options.name)});
@@ -480,9 +451,9 @@ Prepared prepare(const Expression& e, const CodegenOptions& options) {
     computed.push_back(over_tables(m.value, uniform_inputs, params, values));
   }
   p.material = computed.front();
-  p.material_program = lowering::build_program(lowering::lower_expressions(computed), fused);
+  p.material_program = cost_detail::build_program(cost_detail::lower_expressions(computed), fused);
   p.pixel = std::move(split.per_pixel);
-  p.pixel_program = lowering::build_program(lowering::lower_expression(p.pixel), fused);
+  p.pixel_program = cost_detail::build_program(cost_detail::lower_expression(p.pixel), fused);
   p.parts = std::move(parts);
   return p;
 }
@@ -516,13 +487,13 @@ std::string print(const Prepared& p, const CodegenOptions& options) {
 void add_cpp_headers(const Program& p, std::set<std::string_view>* headers) {
   for (const Step& st : p.steps) {
     switch (st.op) {
-      case StepOp::Add:
-      case StepOp::Sub:
-      case StepOp::Mul:
-      case StepOp::Div:
-      case StepOp::Neg:
-      case StepOp::Select: break;
-      case StepOp::Sat: headers->insert("<algorithm>"); break;
+      case Op::Add:
+      case Op::Sub:
+      case Op::Mul:
+      case Op::Div:
+      case Op::Neg:
+      case Op::Select: break;
+      case Op::Saturate: headers->insert("<algorithm>"); break;
       default: headers->insert("<cmath>"); break;
     }
   }
@@ -534,14 +505,13 @@ bool needs_erf_helper(const Prepared& p, Language language) {
   if (language == Language::Cuda || language == Language::Cpp) return false;
   for (const Program* program : p.programs())
     if (std::any_of(program->steps.begin(), program->steps.end(),
-                    [](const Step& st) { return st.op == StepOp::Erf; }))
+                    [](const Step& st) { return !cost_detail::helper_of(st.op).empty(); }))
       return true;
   return false;
 }
 
-// The erf helper in `language`, operation for operation as lowering::erf_helper computes it.
+// The erf helper in `language`, operation for operation as cost_detail::erf_helper computes it.
 std::string erf_helper_source(Language language) {
-  using codegen::Call;
   const auto lit = [&](float v) { return float32_literal(v, language); };
   const auto horner = [&](const float(&c)[7], const char* x) {
     std::string p = lit(c[6]);
@@ -557,45 +527,31 @@ std::string erf_helper_source(Language language) {
   s +=
       "// erf(x): a + a R(a^2) for a = |x| < 1, else 1 - 2^Q(min(a, 4)), with x's sign; max error\n"
       "// 1.32 ulp in float32 arithmetic (GPU exp2 adds its own, times erfc(a) <= 0.16).\n";
-  s += fmt::format("{} {}(float x) {{\n", decl, lowering::kErfHelperName);
-  s += fmt::format("  {} a = {}(x);\n", local, codegen::call(language, Call::Abs));
+  s += fmt::format("{} {}(float x) {{\n", decl, cost_detail::kErfHelperName);
+  s += fmt::format("  {} a = {}(x);\n", local, codegen::call(language, Op::Abs));
   s += fmt::format("  {} s = a * a;\n", local);
-  s += fmt::format("  {} r = {};\n", local, horner(lowering::kErfSmall, "s"));
-  s += fmt::format("  {} t = {}(a, {});\n", local, codegen::call(language, Call::Min),
-                   lit(lowering::kErfClamp));
-  s += fmt::format("  {} q = {};\n", local, horner(lowering::kErfLarge, "t"));
+  s += fmt::format("  {} r = {};\n", local, horner(cost_detail::kErfSmall, "s"));
+  s += fmt::format("  {} t = {}(a, {});\n", local, codegen::call(language, Op::Min),
+                   lit(cost_detail::kErfClamp));
+  s += fmt::format("  {} q = {};\n", local, horner(cost_detail::kErfLarge, "t"));
   s += fmt::format("  {} lo = a + a * r;\n", local);
-  s +=
-      fmt::format("  {} hi = {} - {}(q);\n", local, lit(1.0f), codegen::call(language, Call::Exp2));
+  s += fmt::format("  {} hi = {} - {}(q);\n", local, lit(1.0f), codegen::call(language, Op::Exp2));
   // Named values: glslang makes a ?: of names one OpSelect (of expressions, branches).
-  s += fmt::format("  {} e = a < {} ? lo : hi;\n", local, lit(lowering::kErfSplit));
+  s += fmt::format("  {} e = a < {} ? lo : hi;\n", local, lit(cost_detail::kErfSplit));
   s += fmt::format("  {} n = -e;\n", local);
   s += fmt::format("  return x < {} ? n : e;\n}}\n", lit(0.0f));
   return s;
 }
 
 // The CUDA __half helpers a half program calls (cuda_half_helpers).
-void add_half_helper_calls(const Program& p, std::vector<codegen::Call>* calls) {
-  using codegen::Call;
+void add_half_helper_calls(const Program& p, std::vector<Op>* calls) {
   for (const Step& st : p.steps) {
-    std::optional<Call> c;
-    switch (st.op) {
-      case StepOp::Sqrt: c = Call::Sqrt; break;
-      case StepOp::Rsqrt: c = Call::Rsqrt; break;
-      case StepOp::Exp2: c = Call::Exp2; break;
-      case StepOp::Log2: c = Call::Log2; break;
-      case StepOp::Exp: c = Call::Exp; break;
-      case StepOp::Log: c = Call::Log; break;
-      case StepOp::Sin: c = Call::Sin; break;
-      case StepOp::Cos: c = Call::Cos; break;
-      case StepOp::Fma: c = Call::Fma; break;
-      case StepOp::Div:
-        if (st.args[0].kind == Operand::Kind::Const && std::fabs(st.args[0].value) == 1.0f)
-          c = Call::Rcp;
-        break;
-      default: break;
-    }
-    if (c && std::find(calls->begin(), calls->end(), *c) == calls->end()) calls->push_back(*c);
+    const bool rcp = st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
+                     std::fabs(st.args[0].value) == 1.0f;
+    const Op c = rcp ? Op::Rcp : st.op;
+    if (codegen::has_cuda_half_helper(c) &&
+        std::find(calls->begin(), calls->end(), c) == calls->end())
+      calls->push_back(c);
   }
 }
 
@@ -623,7 +579,7 @@ std::string generate_function(const Expression& e, const CodegenOptions& options
   if (options.precision == Precision::Half) {
     std::string head = half_requirement(options.language, false);
     if (options.language == Language::Cuda) {
-      std::vector<codegen::Call> calls;
+      std::vector<Op> calls;
       add_half_helper_calls(p.pixel_program, &calls);
       head += codegen::cuda_half_helpers(calls);
     }
@@ -638,7 +594,7 @@ std::string generate_source(std::span<const SourceFunction> functions, Language 
   std::set<std::string_view> headers;
   std::string body;
   bool erf_helper = false, half = false;
-  std::vector<codegen::Call> half_calls;
+  std::vector<Op> half_calls;
   for (const SourceFunction& f : functions) {
     CodegenOptions o = f.options;
     o.language = language;

@@ -4,11 +4,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
+#include <vector>
 
 #include "cost/erf_helper.hpp"
 #include "cost/float_text.hpp"
+#include "cost/library_calls.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/precision.hpp"
 
@@ -17,11 +20,11 @@ namespace shaderfit {
 std::string float32_literal(double v, Language language) {
   const float f = static_cast<float>(v);
   if (!std::isfinite(f)) {
-    throw Error("constant " + lowering::float_text(f) +
+    throw Error("constant " + cost_detail::float_text(f) +
                     " is not a finite float32; code generation needs finite constants",
                 SourceLocation{"formula"});
   }
-  std::string t = lowering::float_text(f);
+  std::string t = cost_detail::float_text(f);
   if (t.find_first_of(".e") == std::string::npos) t += ".0";
   if (language != Language::Glsl) t += 'f';
   return t;
@@ -342,78 +345,123 @@ void check_name(const std::string& name, std::string_view what, const SourceLoca
   }
 }
 
-std::string_view call(Language l, Call c, Form form) {
-  if (form != Form::Float) {
-    // Half spellings in the order glsl, hlsl, cuda __half, cuda __half2, metal; none in C++.
-    static constexpr std::string_view kHalf[][5] = {
-        {"sqrt", "sqrt", "sf_hsqrt", "h2sqrt", "sqrt"},
-        {"inversesqrt", "rsqrt", "sf_hrsqrt", "h2rsqrt", "rsqrt"},
-        {"exp2", "exp2", "sf_hexp2", "h2exp2", "exp2"},
-        {"log2", "log2", "sf_hlog2", "h2log2", "log2"},
-        {"exp", "exp", "sf_hexp", "h2exp", "exp"},
-        {"log", "log", "sf_hlog", "h2log", "log"},
-        {"sin", "sin", "sf_hsin", "sf_h2sin", "sin"},
-        {"cos", "cos", "sf_hcos", "sf_h2cos", "cos"},
-        {"abs", "abs", "__habs", "__habs2", "fabs"},
-        {"min", "min", "__hmin", "__hmin2", "fmin"},
-        {"max", "max", "__hmax", "__hmax2", "fmax"},
-        {"fma", "mad", "sf_hfma", "__hfma2", "fma"},
-        {"", "saturate", "__hadd_sat", "__hadd2_sat", "saturate"},
-        // asin ... erf: no half form
-        {},
-        {},
-        {},
-        {},
-        {},
-        {},
-        {"", "", "sf_hrcp", "h2rcp", ""},
-        {"", "", "__hadd_rn", "__hadd2_rn", ""},
-        {"", "", "__hsub_rn", "__hsub2_rn", ""},
-        {"", "", "__hmul_rn", "__hmul2_rn", ""},
-        {"", "", "__hdiv", "__h2div", ""},
-        {"", "", "__hneg", "__hneg2", ""},
-    };
-    int column = 0;
-    switch (l) {
-      case Language::Glsl: column = 0; break;
-      case Language::Hlsl: column = 1; break;
-      case Language::Cuda: column = form == Form::Half2 ? 3 : 2; break;
-      case Language::Metal: column = 4; break;
-      case Language::Cpp: return {};
+namespace {
+
+// The spelling of `op` in the columns glsl, hlsl, cuda, cpp, metal (Language's order).
+using Spelling = std::array<std::string_view, 5>;
+
+// Float spellings that differ from the rule in `float_spellings`.
+struct FloatException {
+  Op op;
+  Spelling names;  // empty: written out by the printer (GLSL clamp, C++'s 1 / std::sqrt)
+};
+constexpr FloatException kFloatExceptions[] = {
+    {Op::Rsqrt, {"inversesqrt", "rsqrt", "rsqrtf", "", "rsqrt"}},
+    {Op::Abs, {"abs", "abs", "fabsf", "std::fabs", "fabs"}},
+    {Op::Min, {"min", "min", "fminf", "std::fmin", "fmin"}},
+    {Op::Max, {"max", "max", "fmaxf", "std::fmax", "fmax"}},
+    {Op::Fma, {"", "", "fmaf", "std::fma", "fma"}},
+    {Op::Saturate, {"", "saturate", "__saturatef", "", "saturate"}},
+    {Op::Atan2, {"atan", "atan2", "atan2f", "std::atan2", "atan2"}},  // GLSL: atan(y, x)
+};
+
+// Every operator's float spelling: the exceptions above; none for the arithmetic, written as
+// operators; else the operator's name in GLSL, HLSL and Metal (or the helper code generation
+// writes where they lack the function: erf), name + "f" in CUDA, std::name in C++.
+const std::vector<std::array<std::string, 5>>& float_spellings() {
+  static const std::vector<std::array<std::string, 5>> table = [] {
+    std::vector<std::array<std::string, 5>> t(kOpCount);
+    for (int i = 0; i < kOpCount; ++i) {
+      const Op op = static_cast<Op>(i);
+      const OpInfo& info = op_info(op);
+      if (info.infix || info.search == 0 || op == Op::Rcp) continue;
+      const std::string name(info.name);
+      const std::string shader(cost_detail::helper_of(op).empty() ? info.name
+                                                                  : cost_detail::helper_of(op));
+      t[static_cast<std::size_t>(i)] = {shader, shader, name + "f", "std::" + name, shader};
     }
-    return kHalf[static_cast<int>(c)][column];
+    for (const FloatException& e : kFloatExceptions)
+      for (std::size_t l = 0; l < 5; ++l)
+        t[static_cast<std::size_t>(e.op)][l] = std::string(e.names[l]);
+    return t;
+  }();
+  return table;
+}
+
+// Half spellings in the columns glsl, hlsl, cuda __half, cuda __half2, metal; none in C++, and
+// no half form of the operators not listed (sign, select, asin ... erf).
+struct HalfSpelling {
+  Op op;
+  Spelling names;
+};
+constexpr HalfSpelling kHalfSpellings[] = {
+    {Op::Sqrt, {"sqrt", "sqrt", "sf_hsqrt", "h2sqrt", "sqrt"}},
+    {Op::Rsqrt, {"inversesqrt", "rsqrt", "sf_hrsqrt", "h2rsqrt", "rsqrt"}},
+    {Op::Exp2, {"exp2", "exp2", "sf_hexp2", "h2exp2", "exp2"}},
+    {Op::Log2, {"log2", "log2", "sf_hlog2", "h2log2", "log2"}},
+    {Op::Exp, {"exp", "exp", "sf_hexp", "h2exp", "exp"}},
+    {Op::Log, {"log", "log", "sf_hlog", "h2log", "log"}},
+    {Op::Sin, {"sin", "sin", "sf_hsin", "sf_h2sin", "sin"}},
+    {Op::Cos, {"cos", "cos", "sf_hcos", "sf_h2cos", "cos"}},
+    {Op::Abs, {"abs", "abs", "__habs", "__habs2", "fabs"}},
+    {Op::Min, {"min", "min", "__hmin", "__hmin2", "fmin"}},
+    {Op::Max, {"max", "max", "__hmax", "__hmax2", "fmax"}},
+    {Op::Fma, {"fma", "mad", "sf_hfma", "__hfma2", "fma"}},
+    {Op::Saturate, {"", "saturate", "__hadd_sat", "__hadd2_sat", "saturate"}},
+    // Spelled as calls only in CUDA (operators elsewhere).
+    {Op::Rcp, {"", "", "sf_hrcp", "h2rcp", ""}},
+    {Op::Add, {"", "", "__hadd_rn", "__hadd2_rn", ""}},
+    {Op::Sub, {"", "", "__hsub_rn", "__hsub2_rn", ""}},
+    {Op::Mul, {"", "", "__hmul_rn", "__hmul2_rn", ""}},
+    {Op::Div, {"", "", "__hdiv", "__h2div", ""}},
+    {Op::Neg, {"", "", "__hneg", "__hneg2", ""}},
+};
+
+// The CUDA __half helpers (cuda_half_helpers): for the functions cuda_fp16.h has on the device
+// only, the value on the device and on the host. sin and cos: float's __sinf and __cosf
+// (cuda_fp16.h's hsin and hcos reduce the argument in full range: about 23 SASS instructions per
+// value against 3.5; docs/precision.md).
+struct HalfHelper {
+  Op op;
+  const char* device;  // the __half value on the device
+  const char* host;    // the float value on the host
+};
+constexpr HalfHelper kHalfHelpers[] = {
+    {Op::Sqrt, "hsqrt(x)", "sqrtf(__half2float(x))"},
+    {Op::Rsqrt, "hrsqrt(x)", "1.0f / sqrtf(__half2float(x))"},
+    {Op::Rcp, "hrcp(x)", "1.0f / __half2float(x)"},
+    {Op::Exp2, "hexp2(x)", "exp2f(__half2float(x))"},
+    {Op::Log2, "hlog2(x)", "log2f(__half2float(x))"},
+    {Op::Exp, "hexp(x)", "expf(__half2float(x))"},
+    {Op::Log, "hlog(x)", "logf(__half2float(x))"},
+    {Op::Sin, "__float2half(__sinf(__half2float(x)))", "sinf(__half2float(x))"},
+    {Op::Cos, "__float2half(__cosf(__half2float(x)))", "cosf(__half2float(x))"},
+    {Op::Fma, "__hfma(x, y, z)", "fmaf(__half2float(x), __half2float(y), __half2float(z))"},
+};
+
+}  // namespace
+
+std::string_view call(Language l, Op op, Form form) {
+  if (form == Form::Float) {
+    if (static_cast<int>(op) >= kOpCount) return {};
+    return float_spellings()[static_cast<std::size_t>(op)][static_cast<std::size_t>(l)];
   }
-  // Spellings per language, in the order glsl, hlsl, cuda, cpp, metal.
-  static constexpr std::string_view kNames[][5] = {
-      {"sqrt", "sqrt", "sqrtf", "std::sqrt", "sqrt"},
-      {"inversesqrt", "rsqrt", "rsqrtf", "", "rsqrt"},
-      {"exp2", "exp2", "exp2f", "std::exp2", "exp2"},
-      {"log2", "log2", "log2f", "std::log2", "log2"},
-      {"exp", "exp", "expf", "std::exp", "exp"},
-      {"log", "log", "logf", "std::log", "log"},
-      {"sin", "sin", "sinf", "std::sin", "sin"},
-      {"cos", "cos", "cosf", "std::cos", "cos"},
-      {"abs", "abs", "fabsf", "std::fabs", "fabs"},
-      {"min", "min", "fminf", "std::fmin", "fmin"},
-      {"max", "max", "fmaxf", "std::fmax", "fmax"},
-      {"", "", "fmaf", "std::fma", "fma"},
-      {"", "saturate", "__saturatef", "", "saturate"},
-      {"asin", "asin", "asinf", "std::asin", "asin"},
-      {"acos", "acos", "acosf", "std::acos", "acos"},
-      {"atan", "atan", "atanf", "std::atan", "atan"},
-      {"atan", "atan2", "atan2f", "std::atan2", "atan2"},  // GLSL: atan(y, x)
-      {"tanh", "tanh", "tanhf", "std::tanh", "tanh"},
-      {lowering::kErfHelperName, lowering::kErfHelperName, "erff", "std::erf",
-       lowering::kErfHelperName},
-      // rcp and the operators: written as operators
-      {},
-      {},
-      {},
-      {},
-      {},
-      {},
-  };
-  return kNames[static_cast<int>(c)][static_cast<int>(l)];
+  int column = 0;
+  switch (l) {
+    case Language::Glsl: column = 0; break;
+    case Language::Hlsl: column = 1; break;
+    case Language::Cuda: column = form == Form::Half2 ? 3 : 2; break;
+    case Language::Metal: column = 4; break;
+    case Language::Cpp: return {};
+  }
+  for (const HalfSpelling& h : kHalfSpellings)
+    if (h.op == op) return h.names[static_cast<std::size_t>(column)];
+  return {};
+}
+
+bool has_cuda_half_helper(Op op) {
+  return std::any_of(std::begin(kHalfHelpers), std::end(kHalfHelpers),
+                     [op](const HalfHelper& h) { return h.op == op; });
 }
 
 std::string_view value_type(Language l, Form form) {
@@ -439,39 +487,20 @@ std::string literal(double v, Language l, Form form) {
   return "__float2half2_rn" + scalar.substr(scalar.find('('));
 }
 
-std::string cuda_half_helpers(std::span<const Call> calls) {
-  struct Helper {
-    Call call;
-    const char* device;  // the __half value on the device
-    const char* host;    // the float value on the host
-  };
-  // sin and cos: float's __sinf and __cosf (cuda_fp16.h's hsin and hcos reduce the argument in
-  // full range: about 23 SASS instructions per value against 3.5; docs/precision.md).
-  static constexpr Helper kHelpers[] = {
-      {Call::Sqrt, "hsqrt(x)", "sqrtf(__half2float(x))"},
-      {Call::Rsqrt, "hrsqrt(x)", "1.0f / sqrtf(__half2float(x))"},
-      {Call::Rcp, "hrcp(x)", "1.0f / __half2float(x)"},
-      {Call::Exp2, "hexp2(x)", "exp2f(__half2float(x))"},
-      {Call::Log2, "hlog2(x)", "log2f(__half2float(x))"},
-      {Call::Exp, "hexp(x)", "expf(__half2float(x))"},
-      {Call::Log, "hlog(x)", "logf(__half2float(x))"},
-      {Call::Sin, "__float2half(__sinf(__half2float(x)))", "sinf(__half2float(x))"},
-      {Call::Cos, "__float2half(__cosf(__half2float(x)))", "cosf(__half2float(x))"},
-      {Call::Fma, "__hfma(x, y, z)", "fmaf(__half2float(x), __half2float(y), __half2float(z))"},
-  };
+std::string cuda_half_helpers(std::span<const Op> calls) {
   std::string out;
-  for (const Helper& h : kHelpers) {
-    if (std::find(calls.begin(), calls.end(), h.call) == calls.end()) continue;
-    const bool fma = h.call == Call::Fma;
+  for (const HalfHelper& h : kHalfHelpers) {
+    if (std::find(calls.begin(), calls.end(), h.op) == calls.end()) continue;
+    const bool fma = h.op == Op::Fma;
     out += fmt::format(
         "__host__ __device__ __forceinline__ __half {}({}) {{\n#ifdef __CUDA_ARCH__\n"
         "  return {};\n#else\n  return __float2half({});\n#endif\n}}\n",
-        call(Language::Cuda, h.call, Form::Half), fma ? "__half x, __half y, __half z" : "__half x",
+        call(Language::Cuda, h.op, Form::Half), fma ? "__half x, __half y, __half z" : "__half x",
         h.device, h.host);
   }
-  for (const Call c : {Call::Sin, Call::Cos}) {
+  for (const Op c : {Op::Sin, Op::Cos}) {
     if (std::find(calls.begin(), calls.end(), c) == calls.end()) continue;
-    const char* f = c == Call::Sin ? "__sinf" : "__cosf";
+    const char* f = c == Op::Sin ? "__sinf" : "__cosf";
     out += fmt::format(
         "__device__ __forceinline__ __half2 {}(__half2 x) {{\n"
         "  return __floats2half2_rn({}(__low2float(x)), {}(__high2float(x)));\n}}\n",

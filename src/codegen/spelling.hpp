@@ -8,48 +8,20 @@
 
 #include "shaderfit/codegen/codegen.hpp"
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/op.hpp"
 
 namespace shaderfit::codegen {
-
-enum class Call : int {
-  Sqrt,
-  Rsqrt,
-  Exp2,
-  Log2,
-  Exp,
-  Log,
-  Sin,
-  Cos,
-  Abs,
-  Min,
-  Max,
-  Fma,
-  Saturate,
-  Asin,
-  Acos,
-  Atan,
-  Atan2,
-  Tanh,
-  Erf,
-  // Spelled as calls only in CUDA's half forms (operators elsewhere).
-  Rcp,
-  Add,
-  Sub,
-  Mul,
-  Div,
-  Neg,
-};
 
 // The arithmetic of a printed function: float32, binary16 (GLSL float16_t, HLSL and Metal half,
 // CUDA __half), or CUDA's __half2, two binary16 values at once.
 enum class Form : std::uint8_t { Float, Half, Half2 };
 
-// The function name for `c` in `l` and `form`; empty where the language has none (the printer
+// The function name for `op` in `l` and `form`; empty where the language has none (the printer
 // spells it out: GLSL clamp(x, 0.0, 1.0), C++ 1.0f / std::sqrt(x) and std::clamp, operators).
 // erf in GLSL, HLSL and Metal is the helper that code generation writes (cost/erf_helper.hpp).
 // CUDA's __half spellings of the functions cuda_fp16.h has only on the device (hexp2, ...) are
 // the helpers cuda_half_helpers() writes. Half forms have no asin ... erf (empty).
-std::string_view call(Language l, Call c, Form form = Form::Float);
+std::string_view call(Language l, Op op, Form form = Form::Float);
 
 // The value type: float, or float16_t (GLSL), half (HLSL, Metal), __half, __half2 (CUDA).
 std::string_view value_type(Language l, Form form);
@@ -63,7 +35,9 @@ std::string literal(double v, Language l, Form form);
 // the device and on the host computes in float and rounds once to binary16 (+ - * / and the
 // rest of cuda_fp16.h run on the host); for sin and cos, float's __sinf and __cosf on each half
 // (sf_hsin, and sf_h2sin for __half2).
-std::string cuda_half_helpers(std::span<const Call> calls);
+std::string cuda_half_helpers(std::span<const Op> calls);
+// Whether cuda_half_helpers writes a helper for `op` (Rcp: the reciprocal of a half division).
+bool has_cuda_half_helper(Op op);
 
 // Throws shaderfit::Error at `where` unless `name` is an identifier usable in every language.
 void check_name(const std::string& name, std::string_view what, const SourceLocation& where);

@@ -9,7 +9,7 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/precision.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 namespace {
 
@@ -108,11 +108,10 @@ class Builder {
       return unary(Op::Rsqrt, dag_.node(a.id).a);  // 1 / sqrt(x) is rsqrt(x), as nvcc makes it
     }
     bool out_neg = false;
-    if (op == Op::Rcp || op == Op::Sin || op == Op::Asin || op == Op::Atan || op == Op::Tanh ||
-        op == Op::Erf) {  // odd: the sign moves to the result
+    if (op_info(op).parity == OpParity::Odd) {  // the sign moves to the result
       out_neg = a.neg;
       a.neg = false;
-    } else if (op == Op::Cos || op == Op::Abs) {  // even: the sign vanishes
+    } else if (op_info(op).parity == OpParity::Even) {  // the sign vanishes
       a.neg = false;
     }
     return {binary(op, a, {}), out_neg};
@@ -282,8 +281,7 @@ class Builder {
   // The node keeps the operand order it was first written in; the key of a commutative
   // operator sorts them, so b + a finds a + b.
   int intern(const DagNode& n) {
-    const bool sort = (n.op == Op::Add || n.op == Op::Mul || n.op == Op::Min || n.op == Op::Max) &&
-                      ref_less(n.b, n.a);
+    const bool sort = op_info(n.op).commutative && ref_less(n.b, n.a);
     const Key key{static_cast<std::uint8_t>(n.op),
                   n.log_scale,
                   code(sort ? n.b : n.a),
@@ -326,22 +324,9 @@ DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
     case Op::CopySign: return b.copysign(args[0], args[1]);
     case Op::Select: return b.select(args[0], args[1], args[2]);
     case Op::Atan2: return b.atan2(args[0], args[1]);
-    case Op::Sqrt:
-    case Op::Rsqrt:
-    case Op::Rcp:
-    case Op::Exp2:
-    case Op::Log2:
-    case Op::Exp:
-    case Op::Abs:
-    case Op::Saturate:
-    case Op::Sin:
-    case Op::Cos:
-    case Op::Asin:
-    case Op::Acos:
-    case Op::Atan:
-    case Op::Tanh:
-    case Op::Erf: return b.unary(n.op, args[0]);
-    default: break;
+    default:
+      if (arity(n.op) == 1) return b.unary(n.op, args[0]);  // the other unary functions
+      break;
   }
   throw Error("malformed expression: operator '" + std::string(op_info(n.op).name) +
               "' cannot be costed");
@@ -468,4 +453,4 @@ std::string dag_infix(const Dag& dag, DagRef r, std::size_t max_chars) {
   return out;
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

@@ -34,7 +34,7 @@
 
 #include "shaderfit/expr/expression.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 struct DagRef {
   int id = -1;
@@ -83,4 +83,4 @@ inline constexpr float kLn2 = 0.693147182f;     // float32 ln(2), as __logf scal
 inline constexpr float kLog2E = 1.44269502f;    // float32 log2(e), as __expf scales its argument
 inline constexpr float kInv2Pi = 0.159154937f;  // float32 1/(2 pi), the SASS sin/cos pre-scale
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

@@ -18,7 +18,7 @@
 #include <cmath>
 #include <string_view>
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 inline constexpr std::string_view kErfHelperName = "sf_erf";
 // R's and Q's coefficients, lowest degree first.
@@ -56,4 +56,4 @@ inline float erf_helper(float x) {
   return x < 0.0f ? n : e;
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

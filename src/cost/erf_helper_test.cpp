@@ -10,7 +10,7 @@
 #include <cstdio>
 #include <limits>
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 namespace {
 
 // |got - want| in units of the last place of the float32 nearest want.
@@ -55,4 +55,4 @@ TEST(ErfHelper, OddAndSaturated) {
 }
 
 }  // namespace
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <string>
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 // The shortest decimal text that reads back to exactly `v` as a float32 ("0.5", "1", "1e-05",
 // "0.693147182"); "nan", "inf", "-inf" for the special values.
@@ -18,4 +18,4 @@ inline std::string float_text(float v) {
   return std::string(buf, end);
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

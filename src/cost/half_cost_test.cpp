@@ -22,9 +22,9 @@ int half2(const char* formula) {
   return instruction_count(parse_formula(formula), InstructionTarget::SassHalf2);
 }
 
-bool has_node(const lowering::Dag& dag, Op op) {
+bool has_node(const cost_detail::Dag& dag, Op op) {
   return std::any_of(dag.nodes.begin(), dag.nodes.end(),
-                     [&](const lowering::DagNode& n) { return n.op == op; });
+                     [&](const cost_detail::DagNode& n) { return n.op == op; });
 }
 
 TEST(HalfCost, TargetName) {
@@ -34,9 +34,9 @@ TEST(HalfCost, TargetName) {
 
 TEST(HalfCost, LoweringKeepsEveryRoundingOfEvaluateHalf) {
   const auto half = [](const char* f) {
-    return lowering::lower_expression(parse_formula(f), true);
+    return cost_detail::lower_expression(parse_formula(f), true);
   };
-  const auto single = [](const char* f) { return lowering::lower_expression(parse_formula(f)); };
+  const auto single = [](const char* f) { return cost_detail::lower_expression(parse_formula(f)); };
   EXPECT_TRUE(has_node(half("fma(a, b, c)"), Op::Fma));
   EXPECT_FALSE(has_node(single("fma(a, b, c)"), Op::Fma));  // float: a * b + c, fused later
   EXPECT_TRUE(has_node(half("a / b"), Op::Div));
@@ -46,7 +46,7 @@ TEST(HalfCost, LoweringKeepsEveryRoundingOfEvaluateHalf) {
   EXPECT_FALSE(has_node(half("1 / sqrt(a)"), Op::Rsqrt));  // two roundings, as written
   EXPECT_TRUE(has_node(single("1 / sqrt(a)"), Op::Rsqrt));
   // Literals are binary16 values and fold as evaluate_half computes them.
-  const lowering::Dag folded = half("a * (0.1 * 3)");
+  const cost_detail::Dag folded = half("a * (0.1 * 3)");
   const double expected = round_to_half(round_to_half(0.1) * round_to_half(3.0));
   EXPECT_TRUE(std::any_of(folded.nodes.begin(), folded.nodes.end(), [&](const auto& n) {
     return n.op == Op::Const && n.value == static_cast<float>(expected);

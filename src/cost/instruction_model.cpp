@@ -11,7 +11,7 @@
 
 namespace shaderfit {
 
-namespace lowering {
+namespace cost_detail {
 
 std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target,
                                           bool with_text) {
@@ -42,7 +42,7 @@ InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTa
   return cost;
 }
 
-}  // namespace lowering
+}  // namespace cost_detail
 
 // Throughput weights: issue slots per instruction relative to an FP32 FMA, i.e. (FP32 FMA results
 // per clock per SM) / (the unit's results per clock per SM).
@@ -68,13 +68,13 @@ double throughput_weight(InstructionTarget /*target*/, InstructionUnit unit) {
 }
 
 InstructionCost instruction_cost(const Expression& e, InstructionTarget target) {
-  const lowering::Dag dag = lowering::lower_expression(e, lowering::lowers_half(target));
-  return lowering::tally(lowering::select_for(dag, target, true), target);
+  const cost_detail::Dag dag = cost_detail::lower_expression(e, cost_detail::lowers_half(target));
+  return cost_detail::tally(cost_detail::select_for(dag, target, true), target);
 }
 
 int instruction_count(const Expression& e, InstructionTarget target) {
-  const lowering::Dag dag = lowering::lower_expression(e, lowering::lowers_half(target));
-  return static_cast<int>(lowering::select_for(dag, target, false).size());
+  const cost_detail::Dag dag = cost_detail::lower_expression(e, cost_detail::lowers_half(target));
+  return static_cast<int>(cost_detail::select_for(dag, target, false).size());
 }
 
 std::string format_listing(const InstructionCost& cost) {

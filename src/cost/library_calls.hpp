@@ -19,17 +19,23 @@
 #include "cost/step_program.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 struct LibraryCall {
   std::string_view cuda;   // the CUDA function: "asinf"
   std::string_view sass;   // SASS mnemonics, space-separated
   std::string_view ptx;    // PTX mnemonics, space-separated
   std::string_view spirv;  // SPIR-V instructions of the GLSL and HLSL code
+  // The helper that GLSL, HLSL and Metal code calls, which code generation writes (erf);
+  // empty where those languages have the function.
+  std::string_view helper = {};
+  // ptxas gives a negated product read only by this call as the product and its negation
+  // (FADD), where other readers take FMUL -a, b.
+  bool negates_product = false;
 };
 
 // The call a program step makes, or nullptr for a step that is no library call.
-inline const LibraryCall* library_call(StepOp op) {
+inline const LibraryCall* library_call(Op op) {
   static constexpr LibraryCall kAsin = {
       "asinf",
       "FADD.FTZ FSETP.GT.FTZ.AND FSETP.NEU.FTZ.AND FFMA.FTZ MUFU.RSQ FMUL.FTZ FMUL.FTZ FFMA.FTZ "
@@ -50,7 +56,9 @@ inline const LibraryCall* library_call(StepOp op) {
       "copysign.f32 mul.ftz.f32 fma.rn.ftz.f32 fma.rn.ftz.f32 fma.rn.ftz.f32 fma.rn.ftz.f32 "
       "fma.rn.ftz.f32 mul.ftz.f32 fma.rn.ftz.f32 neg.ftz.f32 selp.f32 fma.rn.ftz.f32 "
       "setp.gt.ftz.f32 selp.f32 add.ftz.f32 selp.f32",
-      "OpExtInst Acos"};
+      "OpExtInst Acos",
+      {},
+      true};
   static constexpr LibraryCall kAtan = {
       "atanf",
       "FSETP.GT.FTZ.AND FADD.FTZ MUFU.RCP FMUL.FTZ FFMA.FTZ FFMA.FTZ FFMA.FTZ FFMA.FTZ FFMA.FTZ "
@@ -82,16 +90,22 @@ inline const LibraryCall* library_call(StepOp op) {
       "fma.rn.ftz.f32 selp.f32 fma.rn.ftz.f32 selp.f32 fma.rn.ftz.f32 selp.f32 fma.rn.ftz.f32 "
       "selp.f32 fma.rn.ftz.f32 selp.f32 fma.rn.ftz.f32 neg.ftz.f32 selp.f32 fma.rn.ftz.f32 "
       "ex2.approx.ftz.f32 sub.ftz.f32 copysign.f32",
-      kErfHelperSpirv};
+      kErfHelperSpirv, kErfHelperName};
   switch (op) {
-    case StepOp::Asin: return &kAsin;
-    case StepOp::Acos: return &kAcos;
-    case StepOp::Atan: return &kAtan;
-    case StepOp::Atan2: return &kAtan2;
-    case StepOp::Tanh: return &kTanh;
-    case StepOp::Erf: return &kErf;
+    case Op::Asin: return &kAsin;
+    case Op::Acos: return &kAcos;
+    case Op::Atan: return &kAtan;
+    case Op::Atan2: return &kAtan2;
+    case Op::Tanh: return &kTanh;
+    case Op::Erf: return &kErf;
     default: return nullptr;
   }
+}
+
+// The helper GLSL, HLSL and Metal code calls for `op`, or empty (LibraryCall::helper).
+inline std::string_view helper_of(Op op) {
+  const LibraryCall* c = library_call(op);
+  return c != nullptr ? c->helper : std::string_view{};
 }
 
 // The instructions of a list: its words, "OpExtInst" taken with the word after it.
@@ -124,4 +138,4 @@ inline InstructionUnit mnemonic_unit(std::string_view m) {
   return InstructionUnit::MinMax;
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

@@ -8,7 +8,7 @@
 #include "cost/step_program.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 struct TargetInstruction {
   InstructionUnit unit = InstructionUnit::Fp32;
@@ -36,4 +36,4 @@ std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget targ
 // The instructions counted per unit, weighted and listed.
 InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTarget target);
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

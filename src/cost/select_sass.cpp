@@ -32,8 +32,9 @@
 #include "cost/library_calls.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
+#include "shaderfit/core/error.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 namespace {
 
@@ -73,8 +74,8 @@ class SassSelector {
   bool all_alu(int s, bool neg_ok = false) const {
     if (is_result(s)) return false;
     for (int c : consumers_[static_cast<std::size_t>(s)]) {
-      const StepOp op = p_.steps[static_cast<std::size_t>(c)].op;
-      if (!takes_operand_modifiers(op) && !(neg_ok && op == StepOp::Neg && all_alu(c))) return false;
+      const Op op = p_.steps[static_cast<std::size_t>(c)].op;
+      if (!takes_operand_modifiers(op) && !(neg_ok && op == Op::Neg && all_alu(c))) return false;
     }
     return true;
   }
@@ -83,9 +84,9 @@ class SassSelector {
   // is FMUL, FADD -p, -RZ, then acosf's instructions).
   bool negated_product(int s) const {
     const Step& st = p_.steps[static_cast<std::size_t>(s)];
-    if (st.op != StepOp::Mul || st.uses != 1 || consumers_[static_cast<std::size_t>(s)].size() != 1) return false;
+    if (st.op != Op::Mul || st.uses != 1 || consumers_[static_cast<std::size_t>(s)].size() != 1) return false;
     const int c = consumers_[static_cast<std::size_t>(s)][0];
-    if (p_.steps[static_cast<std::size_t>(c)].op != StepOp::Neg || all_alu(c)) return false;
+    if (p_.steps[static_cast<std::size_t>(c)].op != Op::Neg || all_alu(c)) return false;
     for (int r : consumers_[static_cast<std::size_t>(c)])
       if (library_call(p_.steps[static_cast<std::size_t>(r)].op) != nullptr) return false;
     return true;
@@ -100,22 +101,22 @@ class SassSelector {
     return o.kind == Operand::Kind::Step ? &p_.steps[static_cast<std::size_t>(o.index)] : nullptr;
   }
   bool is_rcp(const Step& st) const {
-    return st.op == StepOp::Div && st.args[0].kind == Operand::Kind::Const &&
+    return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
            (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
   }
   // Abs that costs nothing: read only as an operand modifier, or of a square.
   bool free_abs(int s) const {
     const Step& st = p_.steps[static_cast<std::size_t>(s)];
     const Step* x = step_of(st.args[0]);
-    if (x && x->op == StepOp::Mul && x->args[0].kind == x->args[1].kind && x->args[0].index == x->args[1].index &&
+    if (x && x->op == Op::Mul && x->args[0].kind == x->args[1].kind && x->args[0].index == x->args[1].index &&
         x->args[0].kind != Operand::Kind::Const)
       return true;
     if (is_result(s)) return false;
     for (int c : consumers_[static_cast<std::size_t>(s)]) {
       const Step& rd = p_.steps[static_cast<std::size_t>(c)];
-      if (!takes_operand_modifiers(rd.op) && rd.op != StepOp::Exp && !(rd.op == StepOp::Neg && all_alu(c))) return false;
+      if (!takes_operand_modifiers(rd.op) && rd.op != Op::Exp && !(rd.op == Op::Neg && all_alu(c))) return false;
       // -|x| as the subtrahend of FADD is not folded (checked against ptxas).
-      if (rd.op == StepOp::Sub && rd.args[1].kind == Operand::Kind::Step && rd.args[1].index == s) return false;
+      if (rd.op == Op::Sub && rd.args[1].kind == Operand::Kind::Step && rd.args[1].index == s) return false;
     }
     return true;
   }
@@ -188,47 +189,47 @@ class SassSelector {
     // Immediates go last, as ptxas writes them.
     auto ordered = [](Val x, Val y) { return x.imm && !y.imm ? std::make_pair(y, x) : std::make_pair(x, y); };
     switch (st.op) {
-      case StepOp::Add:
-      case StepOp::Sub: {
-        const auto [x, y] = ordered(a, st.op == StepOp::Sub ? negated(b) : b);
+      case Op::Add:
+      case Op::Sub: {
+        const auto [x, y] = ordered(a, st.op == Op::Sub ? negated(b) : b);
         out = emit(U::Fp32, "FADD.FTZ", {x, y}, c);
         break;
       }
-      case StepOp::Mul: {
+      case Op::Mul: {
         auto [x, y] = ordered(a, b);
         if (negated_product(s)) x = negated(x);
         const int r = only_reader(s);
-        const bool sat = r >= 0 && p_.steps[static_cast<std::size_t>(r)].op == StepOp::Sat;
+        const bool sat = r >= 0 && p_.steps[static_cast<std::size_t>(r)].op == Op::Saturate;
         out = emit(U::Fp32, sat ? "FMUL.FTZ.SAT" : "FMUL.FTZ", {x, y}, sat ? names_text_.of(r) : c);
         break;
       }
-      case StepOp::Fma: {
+      case Op::Fma: {
         const auto [x, y] = ordered(a, b);
         out = emit(U::Fp32, "FFMA.FTZ", {x, y, val(st.args[2])}, c);
         break;
       }
-      case StepOp::Min:
-      case StepOp::Max: {
+      case Op::Min:
+      case Op::Max: {
         const auto [x, y] = ordered(a, b);
-        out = emit(U::MinMax, "FMNMX.FTZ", {x, y, Val{-1, false, false, true, 0.0f, st.op == StepOp::Min ? "PT" : "!PT"}}, c);
+        out = emit(U::MinMax, "FMNMX.FTZ", {x, y, Val{-1, false, false, true, 0.0f, st.op == Op::Min ? "PT" : "!PT"}}, c);
         break;
       }
-      case StepOp::Neg:
+      case Op::Neg:
         if (all_alu(s)) out = negated(a);
         else if (st.args[0].kind == Operand::Kind::Step && negated_product(st.args[0].index)) out = a;
         else out = emit(U::Fp32, "FADD.FTZ", {negated(a), rz}, c);
         break;
-      case StepOp::Abs: {
+      case Op::Abs: {
         const Step* x = step_of(st.args[0]);
-        if (x && x->op == StepOp::Mul && free_abs(s)) out = a;  // a square is not negative
+        if (x && x->op == Op::Mul && free_abs(s)) out = a;  // a square is not negative
         else if (free_abs(s)) out = Val{a.reg, false, true};
         else out = emit(U::Fp32, "FADD.FTZ", {Val{a.reg, false, true}, rz}, c);
         break;
       }
-      case StepOp::Div: {
+      case Op::Div: {
         const bool rcp = is_rcp(st);
         const Step* den = step_of(st.args[1]);
-        const bool folded = rcp && den && (den->op == StepOp::Exp2 || den->op == StepOp::Exp) && den->uses == 1;
+        const bool folded = rcp && den && (den->op == Op::Exp2 || den->op == Op::Exp) && den->uses == 1;
         const Val r = folded ? b : emit(U::Mufu, "MUFU.RCP", {b}, rcp ? c : std::string("reciprocal of the divisor"));
         if (!rcp) out = emit(U::Fp32, "FMUL.FTZ", {a, r}, c);
         else if (a.value > 0) out = r;
@@ -236,23 +237,23 @@ class SassSelector {
         else out = emit(U::Fp32, "FADD.FTZ", {negated(r), rz}, c);
         break;
       }
-      case StepOp::Sqrt: out = emit(U::Mufu, "MUFU.SQRT", {a}, c); break;
-      case StepOp::Rsqrt: out = emit(U::Mufu, "MUFU.RSQ", {a}, c); break;
-      case StepOp::Exp2: {
+      case Op::Sqrt: out = emit(U::Mufu, "MUFU.SQRT", {a}, c); break;
+      case Op::Rsqrt: out = emit(U::Mufu, "MUFU.RSQ", {a}, c); break;
+      case Op::Exp2: {
         const int r = only_reader(s);
         const bool inv = r >= 0 && is_rcp(p_.steps[static_cast<std::size_t>(r)]);
         out = emit(U::Mufu, "MUFU.EX2", {inv ? negated(a) : a}, inv ? "1 / " + c : c);
         break;
       }
-      case StepOp::Log2: out = emit(U::Mufu, "MUFU.LG2", {a}, c); break;
-      case StepOp::Sat: {
+      case Op::Log2: out = emit(U::Mufu, "MUFU.LG2", {a}, c); break;
+      case Op::Saturate: {
         const Step* x = step_of(st.args[0]);
-        if (x && (x->op == StepOp::Mul || x->op == StepOp::Log) && only_reader(st.args[0].index) == s)
+        if (x && (x->op == Op::Mul || x->op == Op::Log) && only_reader(st.args[0].index) == s)
           out = a;  // FMUL.SAT
         else out = emit(U::Fp32, "FADD.FTZ.SAT", {a, rz}, c);
         break;
       }
-      case StepOp::Exp: {
+      case Op::Exp: {
         const float scale = st.neg_arg ? -kLog2E : kLog2E;
         const Val t = emit(U::Fp32, "FMUL.FTZ", {a, Val{-1, false, false, true, scale}}, "log2(e) * ...");
         const int r = only_reader(s);
@@ -260,18 +261,18 @@ class SassSelector {
         out = emit(U::Mufu, "MUFU.EX2", {inv ? negated(t) : t}, inv ? "1 / " + c : c);
         break;
       }
-      case StepOp::Log: {
+      case Op::Log: {
         const int r = only_reader(s);
         const Step* rd = r >= 0 ? &p_.steps[static_cast<std::size_t>(r)] : nullptr;
         // (x * 2 is x + x in PTX, which does not merge.)
         auto scale = [](const Operand& o) { return o.kind == Operand::Kind::Const && std::fabs(o.value) != 2.0f; };
-        const bool merged = rd && rd->op == StepOp::Mul && (scale(rd->args[0]) || scale(rd->args[1]));
-        const bool sat = rd && rd->op == StepOp::Sat;
+        const bool merged = rd && rd->op == Op::Mul && (scale(rd->args[0]) || scale(rd->args[1]));
+        const bool sat = rd && rd->op == Op::Saturate;
         const Val t = emit(U::Mufu, "MUFU.LG2", {a}, merged ? c : "log2 of ...");
         out = merged ? t : emit(U::Fp32, sat ? "FMUL.FTZ.SAT" : "FMUL.FTZ", {t, Val{-1, false, false, true, kLn2}}, c);
         break;
       }
-      case StepOp::Sign: {
+      case Op::Sign: {
         const Val p = emit(U::MinMax, "FSETP.GT.FTZ.AND", {Val{a.reg, false, true}, rz},
                            "test of " + c, true);
         const Val one =
@@ -280,8 +281,8 @@ class SassSelector {
         out = emit(U::MinMax, "FSEL", {one, a, p}, c);
         break;
       }
-      case StepOp::CopySign: out = emit(U::MinMax, "LOP3.LUT", {a, sign_mask(), b}, c); break;
-      case StepOp::Select: {
+      case Op::CopySign: out = emit(U::MinMax, "LOP3.LUT", {a, sign_mask(), b}, c); break;
+      case Op::Select: {
         const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index,
                                          st.neg_arg ? 1 : 0);
         auto it = predicates_.find(key);
@@ -300,29 +301,26 @@ class SassSelector {
         out = emit(U::MinMax, "FSEL", {b, val(st.args[2]), it->second}, c);
         break;
       }
-      case StepOp::Asin:
-      case StepOp::Acos:
-      case StepOp::Atan:
-      case StepOp::Atan2:
-      case StepOp::Tanh:
-      case StepOp::Erf: {
-        // acosf of a negated product (read only there): ptxas computes the product and negates
-        // it, where other readers take FMUL -a, b.
-        const Step* x = step_of(st.args[0]);
-        Val arg = a;
-        if (st.op == StepOp::Acos && x && x->op == StepOp::Mul && x->negated && x->uses == 1)
-          arg = emit(U::Fp32, "FADD.FTZ", {a, rz}, "the product's negation");
-        out = library(*library_call(st.op), arg, b, st.arity, c);
-        break;
-      }
-      case StepOp::Sin:
-      case StepOp::Cos: {
+      case Op::Sin:
+      case Op::Cos: {
         const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
         auto it = scaled_.find(key);
         if (it == scaled_.end()) {
           it = scaled_.emplace(key, emit(U::Fp32, "FMUL.RZ", {a, Val{-1, false, false, true, kInv2Pi}}, "argument / (2 pi)")).first;
         }
-        out = emit(U::Mufu, st.op == StepOp::Sin ? "MUFU.SIN" : "MUFU.COS", {it->second}, c);
+        out = emit(U::Mufu, st.op == Op::Sin ? "MUFU.SIN" : "MUFU.COS", {it->second}, c);
+        break;
+      }
+      default: {
+        const LibraryCall* f = library_call(st.op);
+        if (f == nullptr) throw Error("internal: no SASS form for '" + std::string(op_info(st.op).name) + "'");
+        // A function that ptxas gives a negated product (read only there) as the product and its
+        // negation, where other readers take FMUL -a, b (acosf).
+        const Step* x = step_of(st.args[0]);
+        Val arg = a;
+        if (f->negates_product && x && x->op == Op::Mul && x->negated && x->uses == 1)
+          arg = emit(U::Fp32, "FADD.FTZ", {a, rz}, "the product's negation");
+        out = library(*f, arg, b, st.arity, c);
         break;
       }
     }
@@ -347,4 +345,4 @@ std::vector<TargetInstruction> select_sass(const Dag& dag, const Program& progra
   return SassSelector(dag, program, with_text).run();
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

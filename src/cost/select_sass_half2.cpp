@@ -36,7 +36,7 @@
 #include "cost/step_text.hpp"
 #include "shaderfit/core/error.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 namespace {
 
@@ -50,7 +50,7 @@ struct Val {
 };
 
 struct Sequence {
-  StepOp op;
+  Op op;
   bool rcp;               // Div: the reciprocal form (1 / x, h2rcp)
   std::string_view sass;  // after the conversions to float, in the order ptxas emitted them
 };
@@ -59,21 +59,21 @@ struct Sequence {
 // float (and, for a / b and 1 / b, after the MUFU.RCP of b; for sin and cos after the FMUL.RZ;
 // for log2 and log after the MUFU.LG2).
 constexpr Sequence kFunctions[] = {
-    {StepOp::Sqrt, false, "MUFU.SQRT MUFU.SQRT F2FP.F16.F32.PACK_AB"},
-    {StepOp::Rsqrt, false, "MUFU.RSQ MUFU.RSQ F2FP.F16.F32.PACK_AB"},
-    {StepOp::Div, true, "F2FP.F16.F32.PACK_AB"},
-    {StepOp::Div, false,
+    {Op::Sqrt, false, "MUFU.SQRT MUFU.SQRT F2FP.F16.F32.PACK_AB"},
+    {Op::Rsqrt, false, "MUFU.RSQ MUFU.RSQ F2FP.F16.F32.PACK_AB"},
+    {Op::Div, true, "F2FP.F16.F32.PACK_AB"},
+    {Op::Div, false,
      "FMUL.FTZ FMUL.FTZ F2FP.F16.F32.PACK_AB F2FP.F16.F32.PACK_AB HSETP2.GEU.AND HSETP2.GT.AND "
      "PLOP3.LUT HSETP2.GEU.AND HSETP2.GT.AND PLOP3.LUT FFMA.FTZ FFMA.FTZ FFMA.FTZ FFMA.FTZ "
      "F2FP.F16.F32.PACK_AB F2FP.F16.F32.PACK_AB"},
-    {StepOp::Exp2, false, "MUFU.EX2 MUFU.EX2 FFMA FFMA F2FP.F16.F32.PACK_AB"},
-    {StepOp::Log2, false, "F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND HFMA2 HSET2.BF.EQ.AND HFMA2"},
-    {StepOp::Sin, false, "MUFU.SIN MUFU.SIN F2FP.F16.F32.PACK_AB"},
-    {StepOp::Cos, false, "MUFU.COS MUFU.COS F2FP.F16.F32.PACK_AB"},
-    {StepOp::Exp, false,
+    {Op::Exp2, false, "MUFU.EX2 MUFU.EX2 FFMA FFMA F2FP.F16.F32.PACK_AB"},
+    {Op::Log2, false, "F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND HFMA2 HSET2.BF.EQ.AND HFMA2"},
+    {Op::Sin, false, "MUFU.SIN MUFU.SIN F2FP.F16.F32.PACK_AB"},
+    {Op::Cos, false, "MUFU.COS MUFU.COS F2FP.F16.F32.PACK_AB"},
+    {Op::Exp, false,
      "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FFMA FFMA MUFU.EX2 MUFU.EX2 F2FP.F16.F32.PACK_AB "
      "HSET2.BF.EQ.AND HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2"},
-    {StepOp::Log, false,
+    {Op::Log, false,
      "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FMUL FMUL F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND "
      "HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2"},
 };
@@ -106,7 +106,7 @@ class Half2Selector {
     std::vector<bool> merged(n, false);
     for (std::size_t i = 0; i < n; ++i) {
       const Step& st = p.steps[i];
-      if (st.op != StepOp::Min && st.op != StepOp::Max) continue;
+      if (st.op != Op::Min && st.op != Op::Max) continue;
       for (int k = 0; k < 2 && !merged[i]; ++k) {
         const Operand& o = st.args[k];
         if (o.kind != Operand::Kind::Step) continue;
@@ -131,7 +131,7 @@ class Half2Selector {
     return false;
   }
   [[nodiscard]] static bool is_rcp(const Step& st) {
-    return st.op == StepOp::Div && st.args[0].kind == Operand::Kind::Const &&
+    return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
            (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
   }
   [[nodiscard]] static const Sequence* function_of(const Step& st) {
@@ -145,9 +145,9 @@ class Half2Selector {
     if (is_result(s)) return false;
     for (int c : consumers_[static_cast<std::size_t>(s)]) {
       const Step& rd = p_.steps[static_cast<std::size_t>(c)];
-      if (takes_operand_modifiers(rd.op) || rd.op == StepOp::Sat) continue;
+      if (takes_operand_modifiers(rd.op) || rd.op == Op::Saturate) continue;
       // A negation or |x| that is an instruction of its own takes the other one with it.
-      if (rd.op == StepOp::Neg || rd.op == StepOp::Abs) continue;
+      if (rd.op == Op::Neg || rd.op == Op::Abs) continue;
       if (function_of(rd) != nullptr) continue;  // the conversions to float take both
       return false;
     }
@@ -216,7 +216,7 @@ class Half2Selector {
   // A measured sequence, listed without operands (each half has its own registers); the last
   // instruction gives the value.
   Val sequence(std::string_view mnemonics, const std::string& what, std::string_view name) {
-    const std::vector<std::string_view> ops = lowering::mnemonics(mnemonics);
+    const std::vector<std::string_view> ops = cost_detail::mnemonics(mnemonics);
     Val v;
     for (std::size_t k = 0; k < ops.size(); ++k) {
       const std::string c =
@@ -247,24 +247,24 @@ class Half2Selector {
       return x.imm && !y.imm ? std::make_pair(y, x) : std::make_pair(x, y);
     };
     switch (st.op) {
-      case StepOp::Add:
-      case StepOp::Sub: {
-        const auto [x, y] = ordered(a, st.op == StepOp::Sub ? negated(b) : b);
+      case Op::Add:
+      case Op::Sub: {
+        const auto [x, y] = ordered(a, st.op == Op::Sub ? negated(b) : b);
         out = emit("HADD2", {x, y}, c);
         return;
       }
-      case StepOp::Mul: {
+      case Op::Mul: {
         const auto [x, y] = ordered(a, b);
         out = emit("HMUL2", {x, y}, c);
         return;
       }
-      case StepOp::Fma: {
+      case Op::Fma: {
         const auto [x, y] = ordered(a, b);
         out = emit("HFMA2", {x, y, val(st.args[2])}, c);
         return;
       }
-      case StepOp::Min:
-      case StepOp::Max: {
+      case Op::Min:
+      case Op::Max: {
         if (absorbed_[static_cast<std::size_t>(s)]) {  // computed by its reader's VHMNMX
           out = a;
           return;
@@ -281,11 +281,11 @@ class Half2Selector {
         out = emit("HMNMX2", {x, y}, c);
         return;
       }
-      case StepOp::Sat: out = emit("HADD2.SAT", {a, rz}, c); return;
-      case StepOp::Neg:
+      case Op::Saturate: out = emit("HADD2.SAT", {a, rz}, c); return;
+      case Op::Neg:
         out = modifiers_free(s) ? negated(a) : emit("HADD2", {negated(a), rz}, c);
         return;
-      case StepOp::Abs: {
+      case Op::Abs: {
         Val m = a;
         m.abs = true;
         m.neg = false;
@@ -295,11 +295,11 @@ class Half2Selector {
       default: break;
     }
     if (const Sequence* f = function_of(st)) {
-      if (st.op != StepOp::Div) {
+      if (st.op != Op::Div) {
         convert(a, st.args[0]);
-        if (st.op == StepOp::Sin || st.op == StepOp::Cos)
+        if (st.op == Op::Sin || st.op == Op::Cos)
           once_per_operand(scaled_, "FMUL.RZ", a, st.args[0]);
-        if (st.op == StepOp::Log2 || st.op == StepOp::Log)
+        if (st.op == Op::Log2 || st.op == Op::Log)
           once_per_operand(logarithms_, "MUFU.LG2", a, st.args[0]);
         out = sequence(f->sass, c, step_name(st));
         return;
@@ -319,17 +319,17 @@ class Half2Selector {
 
   static std::string step_name(const Step& st) {
     switch (st.op) {
-      case StepOp::Div: return is_rcp(st) ? "h2rcp" : "__h2div";
-      case StepOp::Sqrt: return "h2sqrt";
-      case StepOp::Rsqrt: return "h2rsqrt";
-      case StepOp::Exp2: return "h2exp2";
-      case StepOp::Log2: return "h2log2";
-      case StepOp::Exp: return "h2exp";
-      case StepOp::Log: return "h2log";
-      case StepOp::Sin: return "sf_h2sin";
-      case StepOp::Cos: return "sf_h2cos";
-      case StepOp::Select: return "select";
-      default: return step_call_name(st.op);
+      case Op::Div: return is_rcp(st) ? "h2rcp" : "__h2div";
+      case Op::Sqrt: return "h2sqrt";
+      case Op::Rsqrt: return "h2rsqrt";
+      case Op::Exp2: return "h2exp2";
+      case Op::Log2: return "h2log2";
+      case Op::Exp: return "h2exp";
+      case Op::Log: return "h2log";
+      case Op::Sin: return "sf_h2sin";
+      case Op::Cos: return "sf_h2cos";
+      case Op::Select: return "select";
+      default: return std::string(step_call_name(st.op));
     }
   }
 
@@ -354,4 +354,4 @@ std::vector<TargetInstruction> select_sass_half2(const Dag& dag, const Program& 
   return Half2Selector(dag, program, with_text).run();
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

@@ -21,8 +21,9 @@
 #include "cost/library_calls.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
+#include "shaderfit/core/error.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 namespace {
 
@@ -87,28 +88,28 @@ class TextSelector {
       out = emit(unit, ptx_ ? ptx_op : spirv_op, args, c);
     };
     switch (st.op) {
-      case StepOp::Add: simple(U::Fp32, "add.ftz.f32", "OpFAdd", {a, b}); break;
-      case StepOp::Sub: simple(U::Fp32, "sub.ftz.f32", "OpFSub", {a, b}); break;
-      case StepOp::Mul: simple(U::Fp32, "mul.ftz.f32", "OpFMul", {a, b}); break;
-      case StepOp::Fma: simple(U::Fp32, "fma.rn.ftz.f32", "OpExtInst Fma", {a, b, name(st.args[2])}); break;
-      case StepOp::Neg: simple(U::Fp32, "neg.ftz.f32", "OpFNegate", {a}); break;
-      case StepOp::Abs: simple(U::Fp32, "abs.ftz.f32", "OpExtInst FAbs", {a}); break;
-      case StepOp::Div:
+      case Op::Add: simple(U::Fp32, "add.ftz.f32", "OpFAdd", {a, b}); break;
+      case Op::Sub: simple(U::Fp32, "sub.ftz.f32", "OpFSub", {a, b}); break;
+      case Op::Mul: simple(U::Fp32, "mul.ftz.f32", "OpFMul", {a, b}); break;
+      case Op::Fma: simple(U::Fp32, "fma.rn.ftz.f32", "OpExtInst Fma", {a, b, name(st.args[2])}); break;
+      case Op::Neg: simple(U::Fp32, "neg.ftz.f32", "OpFNegate", {a}); break;
+      case Op::Abs: simple(U::Fp32, "abs.ftz.f32", "OpExtInst FAbs", {a}); break;
+      case Op::Div:
         if (ptx_ && st.args[0].kind == Operand::Kind::Const && st.args[0].value == 1.0f)
           simple(U::Mufu, "rcp.approx.ftz.f32", "", {b});
         else
           simple(U::Mufu, "div.approx.ftz.f32", "OpFDiv", {a, b});
         break;
-      case StepOp::Sqrt: simple(U::Mufu, "sqrt.approx.ftz.f32", "OpExtInst Sqrt", {a}); break;
-      case StepOp::Rsqrt: simple(U::Mufu, "rsqrt.approx.ftz.f32", "OpExtInst InverseSqrt", {a}); break;
-      case StepOp::Exp2: simple(U::Mufu, "ex2.approx.ftz.f32", "OpExtInst Exp2", {a}); break;
-      case StepOp::Log2: simple(U::Mufu, "lg2.approx.ftz.f32", "OpExtInst Log2", {a}); break;
-      case StepOp::Sin: simple(U::Mufu, "sin.approx.ftz.f32", "OpExtInst Sin", {a}); break;
-      case StepOp::Cos: simple(U::Mufu, "cos.approx.ftz.f32", "OpExtInst Cos", {a}); break;
-      case StepOp::Sat: simple(U::Fp32, "cvt.ftz.sat.f32.f32", "OpExtInst FClamp", ptx_ ? std::initializer_list<std::string>{a} : std::initializer_list<std::string>{a, "0", "1"}); break;
-      case StepOp::Min: simple(U::MinMax, "min.ftz.f32", "OpExtInst FMin", {a, b}); break;
-      case StepOp::Max: simple(U::MinMax, "max.ftz.f32", "OpExtInst FMax", {a, b}); break;
-      case StepOp::Exp:
+      case Op::Sqrt: simple(U::Mufu, "sqrt.approx.ftz.f32", "OpExtInst Sqrt", {a}); break;
+      case Op::Rsqrt: simple(U::Mufu, "rsqrt.approx.ftz.f32", "OpExtInst InverseSqrt", {a}); break;
+      case Op::Exp2: simple(U::Mufu, "ex2.approx.ftz.f32", "OpExtInst Exp2", {a}); break;
+      case Op::Log2: simple(U::Mufu, "lg2.approx.ftz.f32", "OpExtInst Log2", {a}); break;
+      case Op::Sin: simple(U::Mufu, "sin.approx.ftz.f32", "OpExtInst Sin", {a}); break;
+      case Op::Cos: simple(U::Mufu, "cos.approx.ftz.f32", "OpExtInst Cos", {a}); break;
+      case Op::Saturate: simple(U::Fp32, "cvt.ftz.sat.f32.f32", "OpExtInst FClamp", ptx_ ? std::initializer_list<std::string>{a} : std::initializer_list<std::string>{a, "0", "1"}); break;
+      case Op::Min: simple(U::MinMax, "min.ftz.f32", "OpExtInst FMin", {a, b}); break;
+      case Op::Max: simple(U::MinMax, "max.ftz.f32", "OpExtInst FMax", {a, b}); break;
+      case Op::Exp:
         if (ptx_) {
           const std::string t = emit(U::Fp32, "mul.ftz.f32", {a, ptx_const(kLog2E)}, "log2(e) * ...");
           out = emit(U::Mufu, "ex2.approx.ftz.f32", {t}, c);
@@ -116,7 +117,7 @@ class TextSelector {
           simple(U::Mufu, "", "OpExtInst Exp", {a});
         }
         break;
-      case StepOp::Sign:
+      case Op::Sign:
         if (ptx_) {
           const std::string t = emit(U::Fp32, "abs.ftz.f32", {a}, "magnitude for " + c);
           const std::string p =
@@ -131,7 +132,7 @@ class TextSelector {
           out = emit(U::MinMax, "OpSelect", {gt, "1", in}, c);
         }
         break;
-      case StepOp::CopySign:
+      case Op::CopySign:
         if (ptx_) {
           simple(U::MinMax, "copysign.f32", "", {b, a});
         } else {
@@ -142,7 +143,7 @@ class TextSelector {
           out = emit(U::MinMax, "OpBitwiseOr", {m, sb}, c);
         }
         break;
-      case StepOp::Select: {
+      case Op::Select: {
         std::string p;
         const auto key = std::make_pair(a, st.neg_arg);
         if (ptx_ && conditions_.count(key)) {
@@ -158,16 +159,21 @@ class TextSelector {
                     : std::initializer_list<std::string>{p, b, name(st.args[2])});
         break;
       }
-      case StepOp::Asin:
-      case StepOp::Acos:
-      case StepOp::Atan:
-      case StepOp::Atan2:
-      case StepOp::Tanh:
-      case StepOp::Erf: {
-        const LibraryCall& call = *library_call(st.op);
+      case Op::Log:
+        if (ptx_) {
+          const std::string t = emit(U::Mufu, "lg2.approx.ftz.f32", {a}, "log2 of ...");
+          out = emit(U::Fp32, "mul.ftz.f32", {t, ptx_const(kLn2)}, c);
+        } else {
+          simple(U::Mufu, "", "OpExtInst Log", {a});
+        }
+        break;
+      default: {
+        const LibraryCall* f = library_call(st.op);
+        if (f == nullptr) throw Error("internal: no text form for '" + std::string(op_info(st.op).name) + "'");
+        const LibraryCall& call = *f;
         const std::vector<std::string_view> ops = mnemonics(ptx_ ? call.ptx : call.spirv);
         const std::string_view name =
-            ptx_ ? call.cuda : (st.op == StepOp::Erf ? kErfHelperName : "");
+            ptx_ ? call.cuda : call.helper;
         for (std::size_t k = 0; k < ops.size(); ++k) {
           const std::string what =
               !text_ || k + 1 == ops.size() ? c : fmt::format("{} {}/{}", name, k + 1, ops.size());
@@ -179,14 +185,6 @@ class TextSelector {
         }
         break;
       }
-      case StepOp::Log:
-        if (ptx_) {
-          const std::string t = emit(U::Mufu, "lg2.approx.ftz.f32", {a}, "log2 of ...");
-          out = emit(U::Fp32, "mul.ftz.f32", {t, ptx_const(kLn2)}, c);
-        } else {
-          simple(U::Mufu, "", "OpExtInst Log", {a});
-        }
-        break;
     }
   }
 
@@ -210,4 +208,4 @@ std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& pro
   return TextSelector(dag, program, with_text, false).run();
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

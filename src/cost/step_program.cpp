@@ -4,7 +4,7 @@
 
 #include "shaderfit/core/error.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 namespace {
 
@@ -17,7 +17,7 @@ struct Want {
 };
 
 struct Plan {
-  StepOp op = StepOp::Add;
+  Op op = Op::Add;
   std::array<Want, 3> args{};
   int arity = 0;
   int cost = 0;          // negations this form asks of operands that cannot give them for free
@@ -130,7 +130,7 @@ class ProgramBuilder {
     const DagNode& nd = node(id);
     Plan pl;
     pl.valid = true;
-    auto unary = [&](StepOp op, Want a) {
+    auto unary = [&](Op op, Want a) {
       pl.op = op;
       pl.arity = 1;
       pl.args[0] = a;
@@ -142,18 +142,18 @@ class ProgramBuilder {
         if (slot >= 0) {
           const DagRef mref = slot == 0 ? nd.a : nd.b, c = slot == 0 ? nd.b : nd.a;
           const DagNode& m = node(mref.id);
-          pl.op = StepOp::Fma;
+          pl.op = Op::Fma;
           pl.arity = 3;
           product_args(m.a, m.b, mref.neg != s, pl, 0);
           pl.args[2] = want(c.id, c.neg != s);
         } else if (!s) {
-          pl.op = nd.b.neg ? StepOp::Sub : StepOp::Add;
+          pl.op = nd.b.neg ? Op::Sub : Op::Add;
           pl.args = {want(nd.a.id, false), want(nd.b.id, false), Want{}};
         } else if (nd.b.neg) {
-          pl.op = StepOp::Sub;  // -(a - b) = b - a
+          pl.op = Op::Sub;  // -(a - b) = b - a
           pl.args = {want(nd.b.id, false), want(nd.a.id, false), Want{}};
         } else {
-          pl.op = StepOp::Sub;  // -(a + b) = -b - a or -a - b
+          pl.op = Op::Sub;  // -(a + b) = -b - a or -a - b
           const bool on_b =
               is_const(nd.b.id) || (!is_const(nd.a.id) && flexible(nd.b.id) && !flexible(nd.a.id));
           pl.args = on_b ? std::array<Want, 3>{want(nd.b.id, true), want(nd.a.id, false), Want{}}
@@ -163,19 +163,19 @@ class ProgramBuilder {
       }
       case Op::Mul: {
         pl.arity = 2;
-        pl.op = StepOp::Mul;
+        pl.op = Op::Mul;
         const int log2_id = node(nd.a.id).op == Op::Log2 ? nd.a.id : nd.b.id;
         const int rcp_id =
             node(nd.b.id).op == Op::Rcp ? nd.b.id : (node(nd.a.id).op == Op::Rcp ? nd.a.id : -1);
         if (nd.log_scale && !s && uses(log2_id) == 1 &&
             fuse_count_[static_cast<std::size_t>(id)] == 0) {
           const DagRef x = node(log2_id).a;
-          unary(StepOp::Log, want(x.id, x.neg));
+          unary(Op::Log, want(x.id, x.neg));
           pl.skip = log2_id;
         } else if (!fused_ && !dag_.half && rcp_id >= 0 && nd.a.id != nd.b.id &&
                    uses(rcp_id) == 1) {
           const int other = rcp_id == nd.a.id ? nd.b.id : nd.a.id;
-          pl.op = StepOp::Div;
+          pl.op = Op::Div;
           pl.args = {want(other, s), want(node(rcp_id).a.id, false), Want{}};
           pl.skip = rcp_id;
         } else {
@@ -184,28 +184,28 @@ class ProgramBuilder {
         break;
       }
       case Op::Div:  // half DAGs: a / b, the sign put on an operand as for a product
-        pl.op = StepOp::Div;
+        pl.op = Op::Div;
         pl.arity = 2;
         product_args(nd.a, nd.b, s, pl, 0);
         break;
       case Op::Fma:  // half DAGs: -fma(a, b, c) = fma(-a, b, -c)
-        pl.op = StepOp::Fma;
+        pl.op = Op::Fma;
         pl.arity = 3;
         product_args(nd.a, nd.b, s, pl, 0);
         pl.args[2] = want(nd.c.id, nd.c.neg != s);
         break;
       case Op::Rcp:
-        pl.op = StepOp::Div;
+        pl.op = Op::Div;
         pl.arity = 2;
         pl.args = {Want{-1, false, true, s ? -1.0f : 1.0f}, want(nd.a.id, false), Want{}};
         break;
       case Op::CopySign:  // -copysign(a, b) = copysign(a, -b)
-        pl.op = StepOp::CopySign;
+        pl.op = Op::CopySign;
         pl.arity = 2;
         pl.args = {want(nd.a.id, false), want(nd.b.id, s), Want{}};
         break;
       case Op::Select:  // -select(a, b, c) = select(a, -b, -c)
-        pl.op = StepOp::Select;
+        pl.op = Op::Select;
         pl.arity = 3;
         pl.args = {want(nd.a.id, false), want(nd.b.id, nd.b.neg != s),
                    want(nd.c.id, nd.c.neg != s)};
@@ -214,7 +214,7 @@ class ProgramBuilder {
       case Op::Min:
       case Op::Max: {
         const bool is_min = (nd.op == Op::Min) != s;  // -min(a, b) = max(-a, -b)
-        pl.op = is_min ? StepOp::Min : StepOp::Max;
+        pl.op = is_min ? Op::Min : Op::Max;
         pl.arity = 2;
         pl.args = {want(nd.a.id, nd.a.neg != s), want(nd.b.id, nd.b.neg != s), Want{}};
         break;
@@ -224,39 +224,27 @@ class ProgramBuilder {
         switch (nd.op) {
           case Op::Var:
           case Op::Param: pl.arity = 0; break;
-          case Op::Sqrt: unary(StepOp::Sqrt, want(nd.a.id, nd.a.neg)); break;
-          case Op::Rsqrt: unary(StepOp::Rsqrt, want(nd.a.id, nd.a.neg)); break;
-          case Op::Exp2: unary(StepOp::Exp2, want(nd.a.id, nd.a.neg)); break;
-          case Op::Log2: unary(StepOp::Log2, want(nd.a.id, nd.a.neg)); break;
-          case Op::Log: unary(StepOp::Log, want(nd.a.id, nd.a.neg)); break;  // half DAGs
           case Op::Exp:
-            unary(StepOp::Exp, want(nd.a.id, nd.a.neg && !fused_));
+            unary(Op::Exp, want(nd.a.id, nd.a.neg && !fused_));
             pl.neg_arg = nd.a.neg && fused_;
             break;
-          case Op::Saturate: unary(StepOp::Sat, want(nd.a.id, nd.a.neg)); break;
-          case Op::Sin: unary(StepOp::Sin, want(nd.a.id, false)); break;
-          case Op::Cos: unary(StepOp::Cos, want(nd.a.id, false)); break;
-          case Op::Abs: unary(StepOp::Abs, want(nd.a.id, false)); break;
-          case Op::Sign: unary(StepOp::Sign, want(nd.a.id, false)); break;
-          case Op::Asin: unary(StepOp::Asin, want(nd.a.id, false)); break;
-          case Op::Acos: unary(StepOp::Acos, want(nd.a.id, nd.a.neg)); break;
-          case Op::Atan: unary(StepOp::Atan, want(nd.a.id, false)); break;
-          case Op::Tanh: unary(StepOp::Tanh, want(nd.a.id, false)); break;
-          case Op::Erf: unary(StepOp::Erf, want(nd.a.id, false)); break;
-          case Op::Atan2:
-            pl.op = StepOp::Atan2;
-            pl.arity = 2;
-            pl.args = {want(nd.a.id, false), want(nd.b.id, nd.b.neg), Want{}};
+          default:
+            // The other functions (a leaf, a power or a negation never gets here). An odd or
+            // even function's operand is never negated in the DAG: dag.cpp moved its sign.
+            if (is_leaf(nd.op) || arity(nd.op) > 2)
+              throw Error("internal: unexpected DAG operator");
+            pl.op = nd.op;
+            pl.arity = arity(nd.op);
+            pl.args = {want(nd.a.id, nd.a.neg), pl.arity == 2 ? want(nd.b.id, nd.b.neg) : Want{},
+                       Want{}};
             break;
-          default: throw Error("internal: unexpected DAG operator");
         }
         break;
     }
     // nvcc turns x - 1/y into a full-range division (five SASS instructions); x + -1/y stays one
     // MUFU.RCP. So a fused program never subtracts a reciprocal.
-    if (fused_ && pl.op == StepOp::Sub && !pl.args[1].literal &&
-        node(pl.args[1].id).op == Op::Rcp) {
-      pl.op = StepOp::Add;
+    if (fused_ && pl.op == Op::Sub && !pl.args[1].literal && node(pl.args[1].id).op == Op::Rcp) {
+      pl.op = Op::Add;
       pl.args[1].neg = !pl.args[1].neg;
     }
     for (int k = 0; k < pl.arity; ++k) pl.cost += neg_cost(pl.args[static_cast<std::size_t>(k)]);
@@ -322,7 +310,7 @@ class ProgramBuilder {
       value_[i][s ? 1 : 0] = self;
       if (want_[i][s ? 0 : 1] > 0) {
         Step ng;
-        ng.op = StepOp::Neg;
+        ng.op = Op::Neg;
         ng.arity = 1;
         ng.args[0] = self;
         ng.dag_id = id;
@@ -359,4 +347,4 @@ Program build_program(const Dag& dag, bool fused) {
   return ProgramBuilder(dag, fused && !dag.half).build();
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

@@ -19,38 +19,7 @@
 
 #include "cost/dag.hpp"
 
-namespace shaderfit::lowering {
-
-enum class StepOp : std::uint8_t {
-  Add,
-  Sub,
-  Mul,
-  Div,
-  Fma,
-  Neg,
-  Abs,
-  Sqrt,
-  Rsqrt,
-  Exp2,
-  Log2,
-  Exp,
-  Log,
-  Sin,
-  Cos,
-  Sat,
-  Min,
-  Max,
-  Sign,
-  CopySign,
-  Select,
-  // Library functions (cost/library_calls.hpp).
-  Asin,
-  Acos,
-  Atan,
-  Atan2,
-  Tanh,
-  Erf,
-};
+namespace shaderfit::cost_detail {
 
 struct Operand {
   enum class Kind : std::uint8_t { None, Step, Var, Param, Const };
@@ -60,7 +29,9 @@ struct Operand {
 };
 
 struct Step {
-  StepOp op = StepOp::Add;
+  // An operator of expr/op.hpp, as the languages compute it: never a leaf, IPow, Pow or Rcp
+  // (powers are products, a reciprocal is a Div of a literal 1).
+  Op op = Op::Add;
   Operand args[3];
   int arity = 0;
   int dag_id = -1;       // the DAG node whose value (or negation) this step computes
@@ -83,9 +54,9 @@ Program build_program(const Dag& dag, bool fused);
 
 // True for the steps whose SASS forms take negated and absolute-value operands for free:
 // FADD (Add, Sub), FMUL, FFMA, FMNMX.
-constexpr bool takes_operand_modifiers(StepOp op) {
-  return op == StepOp::Add || op == StepOp::Sub || op == StepOp::Mul || op == StepOp::Fma ||
-         op == StepOp::Min || op == StepOp::Max;
+constexpr bool takes_operand_modifiers(Op op) {
+  return op == Op::Add || op == Op::Sub || op == Op::Mul || op == Op::Fma || op == Op::Min ||
+         op == Op::Max;
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

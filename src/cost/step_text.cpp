@@ -4,7 +4,7 @@
 
 #include "cost/float_text.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
 namespace {
 
@@ -14,52 +14,27 @@ bool same(const Operand& a, const Operand& b) {
 }
 
 // Precedence: 1 sums, 2 products, 3 unary minus, 4 atoms and calls.
-int level(StepOp op) {
+int level(Op op) {
   switch (op) {
-    case StepOp::Add:
-    case StepOp::Sub: return 1;
-    case StepOp::Mul:
-    case StepOp::Div: return 2;
-    case StepOp::Neg: return 3;
+    case Op::Add:
+    case Op::Sub: return 1;
+    case Op::Mul:
+    case Op::Div: return 2;
+    case Op::Neg: return 3;
     default: return 4;
   }
 }
 
 }  // namespace
 
-const char* step_call_name(StepOp op) {
-  switch (op) {
-    case StepOp::Fma: return "fma";
-    case StepOp::Abs: return "abs";
-    case StepOp::Sqrt: return "sqrt";
-    case StepOp::Rsqrt: return "rsqrt";
-    case StepOp::Exp2: return "exp2";
-    case StepOp::Log2: return "log2";
-    case StepOp::Exp: return "exp";
-    case StepOp::Log: return "log";
-    case StepOp::Sin: return "sin";
-    case StepOp::Cos: return "cos";
-    case StepOp::Sat: return "saturate";
-    case StepOp::Min: return "min";
-    case StepOp::Max: return "max";
-    case StepOp::Sign: return "sign";
-    case StepOp::CopySign: return "copysign";
-    case StepOp::Asin: return "asin";
-    case StepOp::Acos: return "acos";
-    case StepOp::Atan: return "atan";
-    case StepOp::Atan2: return "atan2";
-    case StepOp::Tanh: return "tanh";
-    case StepOp::Erf: return "erf";
-    default: return "?";
-  }
-}
+std::string_view step_call_name(Op op) { return op_info(op).name; }
 
 StepText::StepText(const Dag& dag, const Program& program) : dag_(dag), p_(program) {
   powers_.resize(p_.steps.size());
   for (std::size_t i = 0; i < p_.steps.size(); ++i) {
     const Step& st = p_.steps[i];
     powers_[i] = {Operand{Operand::Kind::Step, static_cast<int>(i), 0.0f}, 1};
-    if (st.op != StepOp::Mul) continue;
+    if (st.op != Op::Mul) continue;
     auto pw = [&](const Operand& o) {
       return o.kind == Operand::Kind::Step ? powers_[static_cast<std::size_t>(o.index)]
                                            : Power{o, 1};
@@ -105,12 +80,12 @@ std::string StepText::step(int i, int min_level, std::size_t limit) const {
     lv = 4;
   } else {
     switch (st.op) {
-      case StepOp::Add: t = pair(st.args[0], 1, " + ", st.args[1], 2, limit); break;
-      case StepOp::Sub: t = pair(st.args[0], 1, " - ", st.args[1], 2, limit); break;
-      case StepOp::Mul: t = pair(st.args[0], 2, " * ", st.args[1], 3, limit); break;
-      case StepOp::Div: t = pair(st.args[0], 2, " / ", st.args[1], 3, limit); break;
-      case StepOp::Neg: t = "-" + operand(st.args[0], 4, limit); break;
-      case StepOp::Select:
+      case Op::Add: t = pair(st.args[0], 1, " + ", st.args[1], 2, limit); break;
+      case Op::Sub: t = pair(st.args[0], 1, " - ", st.args[1], 2, limit); break;
+      case Op::Mul: t = pair(st.args[0], 2, " * ", st.args[1], 3, limit); break;
+      case Op::Div: t = pair(st.args[0], 2, " / ", st.args[1], 3, limit); break;
+      case Op::Neg: t = "-" + operand(st.args[0], 4, limit); break;
+      case Op::Select:
         t = "select(" + std::string(st.neg_arg ? "-" : "") +
             operand(st.args[0], st.neg_arg ? 4 : 0, limit) + " >= 0, " +
             operand(st.args[1], 0, limit) + ", " + operand(st.args[2], 0, limit) + ")";
@@ -135,4 +110,4 @@ std::string StepText::of(int i, std::size_t max_chars) const {
   return t;
 }
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

@@ -7,11 +7,11 @@
 
 #include "cost/step_program.hpp"
 
-namespace shaderfit::lowering {
+namespace shaderfit::cost_detail {
 
-// The name of the function a call step prints as ("sqrt", "fma", "saturate"), "?" for an
-// operator step.
-const char* step_call_name(StepOp op);
+// The name of the function a call step prints as ("sqrt", "fma", "saturate"): its operator's
+// name (expr/op.hpp).
+std::string_view step_call_name(Op op);
 
 class StepText {
  public:
@@ -38,4 +38,4 @@ class StepText {
   std::vector<Power> powers_;  // x^k chains of the squaring expansion, printed as powers
 };
 
-}  // namespace shaderfit::lowering
+}  // namespace shaderfit::cost_detail

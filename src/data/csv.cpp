@@ -14,7 +14,7 @@ namespace shaderfit {
 
 namespace {
 
-using data_internal::NumberParse;
+using data_detail::NumberParse;
 
 struct Cell {
   std::string text;
@@ -126,7 +126,7 @@ struct Pending {
 void add_cell(Pending& col, const Cell& cell, const std::string& source) {
   SourceLocation where{source, cell.line, cell.column};
   double value = 0.0;
-  switch (data_internal::parse_number(cell.text, value)) {
+  switch (data_detail::parse_number(cell.text, value)) {
     case NumberParse::kNumber:
       if (col.first_non_number.source.empty()) col.values.push_back(value);
       break;
@@ -249,7 +249,7 @@ std::string to_csv(const Dataset& data) {
       if (!c.numeric()) {
         out += quoted_if_needed(c.labels[r]);
       } else if (std::isfinite(c.values[r])) {
-        out += data_internal::format_number(c.values[r]);
+        out += data_detail::format_number(c.values[r]);
       } else {
         throw Error("cannot write " +
                         std::string(std::isnan(c.values[r]) ? "NaN" : "an infinite value") +

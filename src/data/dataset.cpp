@@ -30,8 +30,8 @@ const Column& Dataset::numeric(std::string_view name) const {
   // made the column text, and first_non_number says where it is.
   std::size_t row = 0;
   double ignored = 0.0;
-  while (row + 1 < c.labels.size() && data_internal::parse_number(c.labels[row], ignored) ==
-                                          data_internal::NumberParse::kNumber) {
+  while (row + 1 < c.labels.size() &&
+         data_detail::parse_number(c.labels[row], ignored) == data_detail::NumberParse::kNumber) {
     ++row;
   }
   SourceLocation where = c.first_non_number;

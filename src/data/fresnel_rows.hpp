@@ -9,7 +9,7 @@
 #include "shaderfit/data/dataset.hpp"
 #include "shaderfit/reference/fresnel.hpp"
 
-namespace shaderfit::data_internal {
+namespace shaderfit::data_detail {
 
 struct FresnelRows {
   std::vector<double> r0, cos_theta, x, reflectance, ior_n, ior_k;
@@ -42,4 +42,4 @@ struct FresnelRows {
   }
 };
 
-}  // namespace shaderfit::data_internal
+}  // namespace shaderfit::data_detail

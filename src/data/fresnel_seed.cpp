@@ -24,15 +24,14 @@ constexpr double kGlassProbability = 0.4;
 constexpr double kDielectricProbability = 0.8;  // glass or a random dielectric
 
 std::string metal_name(const Metal& m) {
-  return "metal " + data_internal::format_number(m.n) + "+" + data_internal::format_number(m.k) +
-         "i";
+  return "metal " + data_detail::format_number(m.n) + "+" + data_detail::format_number(m.k) + "i";
 }
 
 }  // namespace
 
 Dataset make_fresnel_seed_dataset(Rng& rng, const FresnelSeedOptions& options) {
   const double theta_max = options.half_range ? 0.5 * std::numbers::pi : std::numbers::pi;
-  data_internal::FresnelRows rows;
+  data_detail::FresnelRows rows;
   for (std::size_t i = 0; i < options.rows; ++i) {
     double theta = uniform(rng, 0.0, theta_max);
     double c = std::abs(std::cos(theta));

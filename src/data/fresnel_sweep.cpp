@@ -73,7 +73,7 @@ Dataset make_fresnel_sweep(const std::vector<Material>& materials, int angles) {
   if (materials.empty())
     throw Error("a sweep needs at least one material", {"fresnel_sweep::materials"});
   std::vector<double> deg;
-  data_internal::FresnelRows rows;
+  data_detail::FresnelRows rows;
   for (const Material& m : materials) {
     for (int a = 0; a < angles; ++a) {
       const double d = 90.0 * a / (angles - 1);

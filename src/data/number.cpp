@@ -4,7 +4,7 @@
 #include <cmath>
 #include <system_error>
 
-namespace shaderfit::data_internal {
+namespace shaderfit::data_detail {
 
 NumberParse parse_number(std::string_view cell, double& out) {
   if (cell.size() >= 2 && cell[0] == '+' && cell[1] != '+' && cell[1] != '-') cell.remove_prefix(1);
@@ -38,4 +38,4 @@ std::string format_count(std::size_t n) {
   return out;
 }
 
-}  // namespace shaderfit::data_internal
+}  // namespace shaderfit::data_detail

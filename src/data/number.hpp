@@ -6,7 +6,7 @@
 #include <string>
 #include <string_view>
 
-namespace shaderfit::data_internal {
+namespace shaderfit::data_detail {
 
 enum class NumberParse {
   kNumber,      // a finite number, the whole cell
@@ -26,4 +26,4 @@ std::string format_number(double value);
 // A count for people, its digits grouped by commas: 10001 -> "10,001".
 std::string format_count(std::size_t n);
 
-}  // namespace shaderfit::data_internal
+}  // namespace shaderfit::data_detail

@@ -92,7 +92,7 @@ std::size_t capped_product(std::size_t a, std::size_t b) {
 void check_size(std::size_t points, const SourceLocation& where) {
   if (points > kMaxDesignPoints) {
     throw Error("the sample design would have more than " +
-                    data_internal::format_count(kMaxDesignPoints) + " points",
+                    data_detail::format_count(kMaxDesignPoints) + " points",
                 where);
   }
 }

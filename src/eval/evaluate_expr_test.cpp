@@ -4,8 +4,8 @@
 #include <cstring>
 #include <vector>
 
+#include "eval/eval_test_support.hpp"
 #include "eval/interpreter.hpp"
-#include "eval/test_support.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/eval/evaluate.hpp"

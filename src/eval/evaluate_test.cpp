@@ -12,8 +12,8 @@
 #include <string_view>
 #include <vector>
 
+#include "eval/eval_test_support.hpp"
 #include "eval/interpreter.hpp"
-#include "eval/test_support.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/expr/expression.hpp"

@@ -2,7 +2,10 @@
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 #include <cstring>
+#include <limits>
+#include <numbers>
 
 #include "shaderfit/core/error.hpp"
 
@@ -156,6 +159,35 @@ Op op_from_name(std::string_view name) {
     if (kOpInfo[i].name == name) return op;
   }
   return Op::Count_;
+}
+
+double inverse_erf(double y) {
+  if (std::isnan(y) || std::fabs(y) > 1) return std::numeric_limits<double>::quiet_NaN();
+  if (std::fabs(y) == 1) return std::copysign(std::numeric_limits<double>::infinity(), y);
+  const double a = std::fabs(y);
+  double x = 0;
+  if (a <= 0.5) {
+    // Newton's method on erf(x) = a from the first term of erf's series.
+    x = a * std::sqrt(std::numbers::pi) / 2;
+    for (int i = 0; i < 50; ++i) {
+      const double step = (std::erf(x) - a) / (2 / std::sqrt(std::numbers::pi) * std::exp(-x * x));
+      x -= step;
+      if (std::fabs(step) <= 1e-16 * x) break;
+    }
+  } else {
+    // On log erfc(x) = log(1 - a), nearly a parabola in x: 1 - a is exact here, and the
+    // logarithm keeps the steps good far in the tail.
+    const double target = std::log(1 - a);
+    x = std::sqrt(-target);
+    for (int i = 0; i < 100; ++i) {
+      const double e = std::erfc(x);
+      const double slope = -2 / std::sqrt(std::numbers::pi) * std::exp(-x * x) / e;
+      const double step = (std::log(e) - target) / slope;
+      x = std::max(x - step, 0.5 * x);
+      if (std::fabs(step) <= 1e-16 * x) break;
+    }
+  }
+  return std::copysign(x, y);
 }
 
 }  // namespace shaderfit

@@ -24,21 +24,24 @@ constexpr Metal kMetals[] = {{"metal 0.3+3i", 0.3, 3},         {"metal 0.15+4i",
                              {"metal 1.84+3.73i", 1.84, 3.73}, {"metal 2.1+4i", 2.1, 4},
                              {"metal 2.9+3.1i", 2.9, 3.1}};
 
-detail::FvReference function_ref(FvFunction f) {
-  detail::FvReference r;
+lut_detail::FvReference function_ref(FvFunction f) {
+  lut_detail::FvReference r;
   r.function = f;
   return r;
 }
 
-ExactComparisonRow compare_row(const FvLutOptions& o, FvVariant v, const detail::FvReference& truth,
-                               std::span<const detail::CellSpec> cells, ProgressCounter& progress) {
-  const detail::FvReference seed = function_ref(
+ExactComparisonRow compare_row(const FvLutOptions& o, FvVariant v,
+                               const lut_detail::FvReference& truth,
+                               std::span<const lut_detail::CellSpec> cells,
+                               ProgressCounter& progress) {
+  const lut_detail::FvReference seed = function_ref(
       [](double d, double f0, double r) { return reference::fv_schlick_smith_lh(d, f0, r); });
-  const detail::FvReference peak = function_ref(
+  const lut_detail::FvReference peak = function_ref(
       [](double d, double f0, double r) { return reference::fv_schlick_smith_peak(d, f0, r); });
   const EndpointAdjustment unused;
-  const std::vector<FvCell> seed_cells = detail::fit_cells(o, v, seed, cells, unused, progress);
-  const std::vector<FvCell> exact_cells = detail::fit_cells(o, v, truth, cells, unused, progress);
+  const std::vector<FvCell> seed_cells = lut_detail::fit_cells(o, v, seed, cells, unused, progress);
+  const std::vector<FvCell> exact_cells =
+      lut_detail::fit_cells(o, v, truth, cells, unused, progress);
   const std::size_t n = cells.size();
   std::vector<CellError> e_lh(n), e_peak(n), e_seed(n), e_exact(n);
   std::vector<FvCell> usable(n);
@@ -47,23 +50,23 @@ ExactComparisonRow compare_row(const FvLutOptions& o, FvVariant v, const detail:
     usable[k].ok = seed_cells[k].ok && exact_cells[k].ok;
     row.failed += usable[k].ok ? 0 : 1;
   }
-  const std::vector<double> cosines = detail::eval_cosines(o);
+  const std::vector<double> cosines = lut_detail::eval_cosines(o);
   parallel_for(
       n, 64,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) {
           if (!usable[k].ok) continue;
-          e_lh[k] = detail::reference_error(truth, cosines, cells[k], seed);
-          e_peak[k] = detail::reference_error(truth, cosines, cells[k], peak);
-          e_seed[k] = detail::model_error(truth, cosines, cells[k], seed_cells[k]);
-          e_exact[k] = detail::model_error(truth, cosines, cells[k], exact_cells[k]);
+          e_lh[k] = lut_detail::reference_error(truth, cosines, cells[k], seed);
+          e_peak[k] = lut_detail::reference_error(truth, cosines, cells[k], peak);
+          e_seed[k] = lut_detail::model_error(truth, cosines, cells[k], seed_cells[k]);
+          e_exact[k] = lut_detail::model_error(truth, cosines, cells[k], exact_cells[k]);
         }
       },
       o.threads);
-  row.schlick_lh = detail::summarize(e_lh, usable);
-  row.schlick_peak = detail::summarize(e_peak, usable);
-  row.seed_fit = detail::summarize(e_seed, usable);
-  row.exact_fit = detail::summarize(e_exact, usable);
+  row.schlick_lh = lut_detail::summarize(e_lh, usable);
+  row.schlick_peak = lut_detail::summarize(e_peak, usable);
+  row.seed_fit = lut_detail::summarize(e_seed, usable);
+  row.exact_fit = lut_detail::summarize(e_exact, usable);
   return row;
 }
 
@@ -84,20 +87,20 @@ ExactComparison compare_with_exact(const FvLutOptions& options, FvVariant varian
   ProgressCounter progress(options.on_progress,
                            2 * options.size * (options.size + std::size(kMetals)), "cells");
   {
-    const detail::FvReference truth = function_ref(
+    const lut_detail::FvReference truth = function_ref(
         [](double d, double f0, double r) { return reference::fv_exact_dielectric(d, f0, r); });
     ExactComparisonRow row =
-        compare_row(options, variant, truth, detail::square_grid(options.size), progress);
+        compare_row(options, variant, truth, lut_detail::square_grid(options.size), progress);
     row.material = "dielectrics (grid)";
     c.rows.push_back(row);
   }
   for (const Metal& m : kMetals) {
-    detail::FvReference truth;
-    truth.kind = detail::FvReference::Kind::conductor;
+    lut_detail::FvReference truth;
+    truth.kind = lut_detail::FvReference::Kind::conductor;
     truth.n = m.n;
     truth.k = m.k;
     const double f0 = reference::r0_from_complex_ior(m.n, m.k);
-    std::vector<detail::CellSpec> cells;
+    std::vector<lut_detail::CellSpec> cells;
     for (std::size_t i = 0; i < options.size; ++i)
       cells.push_back({i, 0, cell_roughness(i, options.size), f0});
     ExactComparisonRow row = compare_row(options, variant, truth, cells, progress);

@@ -14,7 +14,9 @@
 #include "shaderfit/fit/linear.hpp"
 #include "shaderfit/reference/smith_ggx.hpp"
 
-namespace shaderfit::lut::detail {
+namespace shaderfit::lut_detail {
+
+using namespace shaderfit::lut;  // the area's public names
 
 namespace {
 
@@ -131,7 +133,7 @@ std::vector<FvCell> fit_cells(const FvLutOptions& o, FvVariant v, const FvRefere
   return out;
 }
 
-}  // namespace shaderfit::lut::detail
+}  // namespace shaderfit::lut_detail
 
 namespace shaderfit::lut {
 

@@ -9,7 +9,9 @@
 #include "shaderfit/lut/fv_lut.hpp"
 #include "shaderfit/reference/fv_reference.hpp"
 
-namespace shaderfit::lut::detail {
+namespace shaderfit::lut_detail {
+
+using namespace shaderfit::lut;  // the area's public names
 
 // A reference FV dispatched on a tag (no indirect call per sample for the conductor case, and
 // no captured state to carry through a function pointer).
@@ -68,4 +70,4 @@ void texel_errors(const FvReference& ref, std::span<const double> cosines, const
 // Mean of the per-cell means and max of the per-cell maxima, over the fitted cells.
 ErrorSummary summarize(std::span<const CellError> errors, std::span<const FvCell> cells);
 
-}  // namespace shaderfit::lut::detail
+}  // namespace shaderfit::lut_detail

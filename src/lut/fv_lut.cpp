@@ -22,29 +22,29 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-FvTable bake_table(const FvLutOptions& o, FvVariant v, const detail::FvReference& ref,
-                   std::span<const detail::CellSpec> cells, EndpointAdjustment* adjustment,
+FvTable bake_table(const FvLutOptions& o, FvVariant v, const lut_detail::FvReference& ref,
+                   std::span<const lut_detail::CellSpec> cells, EndpointAdjustment* adjustment,
                    ProgressCounter& progress) {
   const auto t0 = std::chrono::steady_clock::now();
   FvTable t;
   t.variant = v;
   t.size = o.size;
   if (v == FvVariant::endpoint) *adjustment = derive_endpoint_adjustment(o);
-  t.cells = detail::fit_cells(o, v, ref, cells, *adjustment, progress);
+  t.cells = lut_detail::fit_cells(o, v, ref, cells, *adjustment, progress);
   const std::size_t n = cells.size();
   t.texels.resize(4 * n);
   t.texels_half.resize(4 * n);
   t.errors.resize(n);
   t.errors_half.resize(n);
-  const std::vector<double> cosines = detail::eval_cosines(o);
+  const std::vector<double> cosines = lut_detail::eval_cosines(o);
   parallel_for(
       n, 64,
       [&](std::size_t begin, std::size_t end) {
         for (std::size_t k = begin; k < end; ++k) {
-          detail::fold_texel(t.cells[k], cells[k].f0, &t.texels[4 * k], &t.texels_half[4 * k]);
+          lut_detail::fold_texel(t.cells[k], cells[k].f0, &t.texels[4 * k], &t.texels_half[4 * k]);
           if (t.cells[k].ok)
-            detail::texel_errors(ref, cosines, cells[k], &t.texels[4 * k], &t.texels_half[4 * k],
-                                 &t.errors[k], &t.errors_half[k]);
+            lut_detail::texel_errors(ref, cosines, cells[k], &t.texels[4 * k],
+                                     &t.texels_half[4 * k], &t.errors[k], &t.errors_half[k]);
         }
       },
       o.threads);
@@ -52,12 +52,13 @@ FvTable bake_table(const FvLutOptions& o, FvVariant v, const detail::FvReference
     if (!t.cells[k].ok) t.failures.push_back(cells[k].label() + ": " + t.cells[k].failure);
   for (std::size_t k = 0; k < n; ++k) {
     if (!t.cells[k].ok) continue;
-    t.f0_deviation = std::max(t.f0_deviation, detail::f0_deviation(&t.texels[4 * k], cells[k].f0));
+    t.f0_deviation =
+        std::max(t.f0_deviation, lut_detail::f0_deviation(&t.texels[4 * k], cells[k].f0));
     t.f0_deviation_half =
-        std::max(t.f0_deviation_half, detail::f0_deviation(&t.texels_half[4 * k], cells[k].f0));
+        std::max(t.f0_deviation_half, lut_detail::f0_deviation(&t.texels_half[4 * k], cells[k].f0));
   }
-  t.summary = detail::summarize(t.errors, t.cells);
-  t.summary_half = detail::summarize(t.errors_half, t.cells);
+  t.summary = lut_detail::summarize(t.errors, t.cells);
+  t.summary_half = lut_detail::summarize(t.errors_half, t.cells);
   t.seconds = seconds_since(t0);
   return t;
 }
@@ -172,9 +173,9 @@ FvBake bake_fv_luts(const FvLutOptions& options, std::span<const FvVariant> vari
   const auto t0 = std::chrono::steady_clock::now();
   FvBake bake;
   bake.reference = options.function != nullptr ? "custom" : options.reference;
-  detail::FvReference ref;
+  lut_detail::FvReference ref;
   ref.function = reference_function(options);
-  const std::vector<detail::CellSpec> cells = detail::square_grid(options.size);
+  const std::vector<lut_detail::CellSpec> cells = lut_detail::square_grid(options.size);
   bake.tables.resize(variants.size());
   ProgressCounter progress(options.on_progress, variants.size() * cells.size(), "cells");
   // The four tables at once; each also spreads its cells over the pool (nested loops are safe).

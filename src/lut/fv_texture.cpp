@@ -15,7 +15,11 @@ double fv_from_texel(const float* rgba, double l_dot_h) {
   return std::exp2((p0 * l_dot_h + p1) * l_dot_h + p2);
 }
 
-namespace detail {
+}  // namespace shaderfit::lut
+
+namespace shaderfit::lut_detail {
+
+using namespace shaderfit::lut;  // the area's public names
 
 void fold_texel(const FvCell& cell, double f0, float* rgba, float* rgba_half) {
   if (!cell.ok) {
@@ -141,5 +145,6 @@ ErrorSummary summarize(std::span<const CellError> errors, std::span<const FvCell
   return s;
 }
 
-}  // namespace detail
-}  // namespace shaderfit::lut
+}  // namespace shaderfit::lut_detail
+
+namespace shaderfit::lut {}  // namespace shaderfit::lut

@@ -38,7 +38,7 @@ bool contains(const std::vector<std::string>& names, std::string_view name) {
   return std::find(names.begin(), names.end(), name) != names.end();
 }
 
-using data_internal::format_count;
+using data_detail::format_count;
 
 std::string number_text(double v) { return format_number(v, PrintOptions::for_people()); }
 

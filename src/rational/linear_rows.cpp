@@ -6,7 +6,9 @@
 #include "shaderfit/expr/forward.hpp"
 #include "shaderfit/expr/jet.hpp"
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
+
+using namespace shaderfit::rational;  // the area's public names
 
 namespace {
 
@@ -122,4 +124,4 @@ Eigen::VectorXd coefficients_of(const Rational& r) {
   return c;
 }
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

@@ -15,7 +15,9 @@
 #include "shaderfit/rational/rational_function.hpp"
 #include "shaderfit/rational/solve.hpp"
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
+
+using namespace shaderfit::rational;  // the area's public names
 
 struct ResolvedCondition {
   const Condition* source = nullptr;
@@ -45,4 +47,4 @@ Eigen::VectorXd coefficients_of(const Rational& r);
 // Taylor coefficient k at x0 of t^i, t = offset + scale x.
 double power_taylor(const Transform& t, int i, double x0, int k);
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

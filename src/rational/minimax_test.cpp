@@ -98,15 +98,15 @@ TEST(RationalMinimax, KeepsChosenConditionsExact) {
 }
 
 TEST(RationalMinimax, ChooseReferenceKeepsAlternationAndTheLargest) {
-  using detail::Extremum;
+  using rational_detail::Extremum;
   const std::vector<Extremum> c = {{0, 1}, {1, 0.5}, {2, -2}, {3, 0.1}, {4, -0.2}, {5, 3}, {6, -1}};
-  const auto r = detail::choose_reference(c, 4);
+  const auto r = rational_detail::choose_reference(c, 4);
   ASSERT_EQ(r.size(), 4u);
   for (std::size_t i = 1; i < r.size(); ++i) EXPECT_LT(r[i - 1].e * r[i].e, 0);
   bool has_max = false;
   for (const Extremum& e : r) has_max = has_max || e.e == 3;
   EXPECT_TRUE(has_max);
-  EXPECT_TRUE(detail::choose_reference({{0, 1}, {1, 2}}, 2).empty());
+  EXPECT_TRUE(rational_detail::choose_reference({{0, 1}, {1, 2}}, 2).empty());
 }
 
 }  // namespace

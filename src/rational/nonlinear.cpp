@@ -7,7 +7,7 @@
 
 #include "shaderfit/fit/least_squares.hpp"
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
 
 namespace {
 
@@ -162,4 +162,4 @@ NonlinearOutcome nonlinear_least_squares(const NonlinearSystem& sys, Eigen::Vect
   return out;
 }
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

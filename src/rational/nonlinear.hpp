@@ -12,7 +12,7 @@
 #include <Eigen/Dense>
 #include <functional>
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
 
 struct NonlinearSystem {
   std::function<Eigen::VectorXd(const Eigen::VectorXd&)> constraints;  // g; may return size 0
@@ -35,4 +35,4 @@ NonlinearOutcome nonlinear_least_squares(const NonlinearSystem& system, Eigen::V
 Eigen::VectorXd constrained_least_squares(const Eigen::MatrixXd& a, const Eigen::VectorXd& b,
                                           const Eigen::MatrixXd& e, const Eigen::VectorXd& d);
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

@@ -8,7 +8,9 @@
 
 #include <cmath>
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
+
+using namespace shaderfit::rational;  // the area's public names
 
 inline constexpr double kGaussNodes[5] = {0.1488743389816312, 0.4333953941292472,
                                           0.6794095682990244, 0.8650633666889845,
@@ -60,4 +62,4 @@ double integrate_fixed(const F& f, double a, double b, int panels = 8) {
   return s;
 }
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

@@ -6,7 +6,9 @@
 #include <limits>
 #include <numbers>
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
+
+using namespace shaderfit::rational;  // the area's public names
 
 namespace {
 
@@ -375,4 +377,4 @@ MinimaxOutcome remez(const Target& target, std::span<const double> params, Inter
   return out;
 }
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

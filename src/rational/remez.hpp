@@ -11,7 +11,9 @@
 #include "shaderfit/rational/solve.hpp"
 #include "shaderfit/rational/target.hpp"
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
+
+using namespace shaderfit::rational;  // the area's public names
 
 struct MinimaxOutcome {
   FormStatus status = FormStatus::Failed;
@@ -36,4 +38,4 @@ struct Extremum {
 // adjacent pairs of the smallest |e| are dropped. Empty if fewer than `count` alternate.
 std::vector<Extremum> choose_reference(const std::vector<Extremum>& candidates, std::size_t count);
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

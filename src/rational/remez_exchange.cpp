@@ -3,7 +3,9 @@
 
 #include "rational/remez.hpp"
 
-namespace shaderfit::rational::detail {
+namespace shaderfit::rational_detail {
+
+using namespace shaderfit::rational;  // the area's public names
 
 std::vector<Extremum> choose_reference(const std::vector<Extremum>& c, std::size_t count) {
   std::vector<Extremum> merged;
@@ -40,4 +42,4 @@ std::vector<Extremum> choose_reference(const std::vector<Extremum>& c, std::size
   return merged;
 }
 
-}  // namespace shaderfit::rational::detail
+}  // namespace shaderfit::rational_detail

@@ -19,8 +19,8 @@ namespace shaderfit::rational {
 
 namespace {
 
-using detail::ResolvedCondition;
 using Eigen::Index;
+using rational_detail::ResolvedCondition;
 
 // What every form of one problem shares: the resolved conditions and the reference on a grid.
 struct Workspace {
@@ -31,7 +31,7 @@ struct Workspace {
 
 Workspace make_workspace(const RationalOptions& options, const RationalProblem& problem) {
   Workspace ws;
-  ws.conditions = detail::resolve_conditions(problem);
+  ws.conditions = rational_detail::resolve_conditions(problem);
   ws.params = problem.target_parameter_values();
   const int n = std::max(options.samples, 2);
   for (int i = 0; i < n; ++i) {
@@ -58,7 +58,7 @@ Eigen::MatrixXd linear_rows(const RationalForm& form, const Workspace& ws, bool*
   std::vector<Eigen::RowVectorXd> rows;
   *all_linear = true;
   for (std::size_t i = 0; i < ws.conditions.size(); ++i) {
-    auto r = detail::linear_row(form, ws.conditions[i], ws.conditions);
+    auto r = rational_detail::linear_row(form, ws.conditions[i], ws.conditions);
     if (r) {
       rows.push_back(*r);
     } else {
@@ -99,21 +99,21 @@ Eigen::VectorXd linearised_start(const RationalForm& form, const Workspace& ws,
   Eigen::VectorXd bl, dl;
   normalise(form, a, &al, &bl);
   normalise(form, rows, &el, &dl);
-  return detail::constrained_least_squares(al, bl, el, dl);
+  return rational_detail::constrained_least_squares(al, bl, el, dl);
 }
 
 Eigen::VectorXd condition_residuals(const RationalForm& form, const Workspace& ws,
                                     const Eigen::VectorXd& c) {
-  const Rational r = detail::rational_from(form, c);
+  const Rational r = rational_detail::rational_from(form, c);
   Eigen::VectorXd g(static_cast<Index>(ws.conditions.size()));
   for (std::size_t i = 0; i < ws.conditions.size(); ++i)
-    g(static_cast<Index>(i)) = detail::condition_residual(r, ws.conditions[i]);
+    g(static_cast<Index>(i)) = rational_detail::condition_residual(r, ws.conditions[i]);
   return g;
 }
 
 Eigen::VectorXd sample_residuals(const RationalForm& form, const Workspace& ws,
                                  const Eigen::VectorXd& c) {
-  const Rational r = detail::rational_from(form, c);
+  const Rational r = rational_detail::rational_from(form, c);
   const double w = 1.0 / std::sqrt(static_cast<double>(ws.xs.size()));
   Eigen::VectorXd out(static_cast<Index>(ws.xs.size()));
   for (std::size_t i = 0; i < ws.xs.size(); ++i)
@@ -121,9 +121,9 @@ Eigen::VectorXd sample_residuals(const RationalForm& form, const Workspace& ws,
   return out;
 }
 
-void take_nonlinear(FormResult& res, const detail::NonlinearOutcome& o, const RationalForm& form,
-                    const RationalOptions& options, bool square) {
-  res.rational = detail::rational_from(form, o.x);
+void take_nonlinear(FormResult& res, const rational_detail::NonlinearOutcome& o,
+                    const RationalForm& form, const RationalOptions& options, bool square) {
+  res.rational = rational_detail::rational_from(form, o.x);
   res.condition_number = o.condition_number;
   if (square && o.rank_deficient) {
     res.status = FormStatus::Singular;
@@ -146,9 +146,10 @@ void solve_exact(FormResult& res, const RationalOptions& options, const Workspac
   bool all_linear = false;
   const Eigen::MatrixXd rows = linear_rows(form, ws, &all_linear);
   if (!all_linear) {
-    detail::NonlinearSystem sys;
+    rational_detail::NonlinearSystem sys;
     sys.constraints = [&](const Eigen::VectorXd& c) { return condition_residuals(form, ws, c); };
-    take_nonlinear(res, detail::nonlinear_least_squares(sys, linearised_start(form, ws, rows)),
+    take_nonlinear(res,
+                   rational_detail::nonlinear_least_squares(sys, linearised_start(form, ws, rows)),
                    form, options, true);
     return;
   }
@@ -171,7 +172,7 @@ void solve_exact(FormResult& res, const RationalOptions& options, const Workspac
   Eigen::FullPivLU<Eigen::MatrixXd> lu(a);
   Eigen::VectorXd c = lu.solve(b);
   c += lu.solve(b - a * c);
-  res.rational = detail::rational_from(form, c);
+  res.rational = rational_detail::rational_from(form, c);
   res.status = cond > options.ill_conditioned ? FormStatus::IllConditioned : FormStatus::Ok;
   if (res.status == FormStatus::IllConditioned)
     res.message = fmt::format("ill-conditioned system (condition number {:.3g})", cond);
@@ -181,7 +182,7 @@ void solve_least_squares(FormResult& res, const RationalOptions& options, const 
   const RationalForm& form = res.form;
   bool all_linear = false;
   const Eigen::MatrixXd rows = linear_rows(form, ws, &all_linear);
-  detail::NonlinearSystem sys;
+  rational_detail::NonlinearSystem sys;
   const bool over = static_cast<int>(ws.conditions.size()) > form.coefficient_count();
   Eigen::VectorXd start;
   if (over) {  // more conditions than coefficients: meet them in the least-squares sense
@@ -192,9 +193,9 @@ void solve_least_squares(FormResult& res, const RationalOptions& options, const 
     sys.residuals = [&](const Eigen::VectorXd& c) { return sample_residuals(form, ws, c); };
     start = linearised_start(form, ws, rows);
   }
-  const detail::NonlinearOutcome o = detail::nonlinear_least_squares(sys, start);
+  const rational_detail::NonlinearOutcome o = rational_detail::nonlinear_least_squares(sys, start);
   if (over) {
-    res.rational = detail::rational_from(form, o.x);
+    res.rational = rational_detail::rational_from(form, o.x);
     res.status = FormStatus::Ok;
     res.message = fmt::format("conditions met in the least-squares sense (residual norm {:.3g})",
                               o.residual_norm);
@@ -216,8 +217,9 @@ void solve_minimax(FormResult& res, const RationalOptions& options, const Ration
                     c.text, res.form.name(problem.target.variable())),
         c.where);
   }
-  detail::MinimaxOutcome o = detail::remez(problem.target, ws.params, problem.domain, res.form,
-                                           rows, options.relative_minimax, options.minimax);
+  rational_detail::MinimaxOutcome o =
+      rational_detail::remez(problem.target, ws.params, problem.domain, res.form, rows,
+                             options.relative_minimax, options.minimax);
   res.status = o.status;
   res.message = o.message;
   res.rational = o.rational;

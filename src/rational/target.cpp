@@ -143,7 +143,7 @@ std::vector<double> Target::derivatives(double x, int order, std::span<const dou
 }
 
 double Target::integral(double a, double b, std::span<const double> params) const {
-  return detail::integrate([&](double x) { return value(x, params); }, a, b);
+  return rational_detail::integrate([&](double x) { return value(x, params); }, a, b);
 }
 
 }  // namespace shaderfit::rational

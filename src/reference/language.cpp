@@ -15,11 +15,11 @@ namespace shaderfit::reference {
 
 namespace {
 
-using detail::Dialect;
-using detail::ExpressionParser;
-using detail::ProgramBuilder;
-using detail::Reg;
-using detail::Value;
+using reference_detail::Dialect;
+using reference_detail::ExpressionParser;
+using reference_detail::ProgramBuilder;
+using reference_detail::Reg;
+using reference_detail::Value;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front())) != 0) s.remove_prefix(1);
@@ -36,8 +36,8 @@ bool is_identifier(std::string_view s) {
 }
 
 bool is_function_name(std::string_view s) {
-  return !detail::find_library_function(s, detail::kFormulaLibrary).empty() ||
-         detail::find_builtin_by_call_name(s) != nullptr;
+  return !reference_detail::find_library_function(s, reference_detail::kFormulaLibrary).empty() ||
+         reference_detail::find_builtin_by_call_name(s) != nullptr;
 }
 
 // The names a formula may use besides functions: the variables (given, or found in order of
@@ -87,7 +87,7 @@ class FormulaParser : public ExpressionParser {
       std::vector<std::string> known = vars;
       for (const auto& d : scope_.definitions) known.push_back(d.first);
       known.emplace_back("pi");
-      fail("unknown variable '" + s + "' (known: " + detail::join_names(known) + ")", t);
+      fail("unknown variable '" + s + "' (known: " + reference_detail::join_names(known) + ")", t);
     }
     if (s == kReferenceOutput)
       fail("'" + s + "' names the reference's own output: give the variable another name", t);
@@ -107,10 +107,11 @@ class FormulaParser : public ExpressionParser {
 void add_definition(const std::string& text, int line, const ReferenceText& ref, ProgramBuilder& b,
                     Scope& scope) {
   const std::string& source = ref.definitions_source;
-  const std::vector<Token> tokens = detail::tokenize(text, Dialect::Formula, source, line, 1);
+  const std::vector<Token> tokens =
+      reference_detail::tokenize(text, Dialect::Formula, source, line, 1);
   if (tokens.size() < 3 || tokens[0].kind != Token::Ident || !tokens[1].is("=")) {
-    detail::fail_at("expected 'name = formula', got '" + std::string(trim(text)) + "'", source,
-                    tokens[0]);
+    reference_detail::fail_at("expected 'name = formula', got '" + std::string(trim(text)) + "'",
+                              source, tokens[0]);
   }
   int nesting = 0;
   FormulaParser parser(std::span<const Token>(tokens).subspan(2), b, source, nesting, scope);
@@ -118,7 +119,7 @@ void add_definition(const std::string& text, int line, const ReferenceText& ref,
   const Token& name = tokens[0];
   const std::string s(name.text);
   auto taken = [&](const std::string& why) {
-    detail::fail_at("definition '" + s + "' redefines " + why, source, name);
+    reference_detail::fail_at("definition '" + s + "' redefines " + why, source, name);
   };
   if (std::find(scope.variables.begin(), scope.variables.end(), s) != scope.variables.end())
     taken("the variable " + s);
@@ -134,8 +135,8 @@ void add_definition(const std::string& text, int line, const ReferenceText& ref,
 std::string formula_text(std::string_view formula) {
   const std::string_view t = trim(formula);
   for (const BuiltinFunction& f : builtin_functions()) {
-    if (t != f.name && t != detail::builtin_call_name(f)) continue;
-    std::string call = detail::builtin_call_name(f) + "(";
+    if (t != f.name && t != reference_detail::builtin_call_name(f)) continue;
+    std::string call = reference_detail::builtin_call_name(f) + "(";
     for (std::size_t i = 0; i < f.arguments.size(); ++i)
       call += (i == 0 ? "" : ", ") + std::string(f.arguments[i]);
     return call + ")";
@@ -172,7 +173,8 @@ Program compile_reference(const ReferenceText& text) {
   scope.program = &program;
   Reg reference = 0;
   if (shader) {
-    const detail::ShaderFunction f = detail::compile_shader_function(text, b, program);
+    const reference_detail::ShaderFunction f =
+        reference_detail::compile_shader_function(text, b, program);
     scope.variables = program.inputs;
     scope.variable_registers = f.inputs;
     scope.fixed = true;
@@ -191,7 +193,7 @@ Program compile_reference(const ReferenceText& text) {
   if (!shader) {
     const std::string formula = formula_text(text.formula);
     const std::vector<Token> tokens =
-        detail::tokenize(formula, Dialect::Formula, text.formula_source);
+        reference_detail::tokenize(formula, Dialect::Formula, text.formula_source);
     int nesting = 0;
     FormulaParser parser(tokens, b, text.formula_source, nesting, scope);
     reference = parser.run("formula").reg;
@@ -207,7 +209,7 @@ Program compile_reference(const ReferenceText& text) {
   }
   program.output_names.emplace_back(kReferenceOutput);
   program.outputs.push_back(reference);
-  detail::remove_dead_code(program);
+  reference_detail::remove_dead_code(program);
   return program;
 }
 
@@ -217,7 +219,7 @@ double evaluate_constant(std::string_view text, const std::string& source) {
   Scope scope;
   scope.constants_only = true;
   scope.program = &program;
-  const std::vector<Token> tokens = detail::tokenize(text, Dialect::Formula, source);
+  const std::vector<Token> tokens = reference_detail::tokenize(text, Dialect::Formula, source);
   int nesting = 0;
   FormulaParser parser(tokens, b, source, nesting, scope);
   program.outputs.push_back(parser.run("constant").reg);
@@ -231,7 +233,7 @@ double evaluate_constant(std::string_view text, const std::string& source) {
 }
 
 std::vector<std::string> reference_function_names() {
-  return detail::library_function_names(detail::kFormulaLibrary);
+  return reference_detail::library_function_names(reference_detail::kFormulaLibrary);
 }
 
 std::string read_shader_file(const std::string& path) {

@@ -6,7 +6,9 @@
 
 #include "language_internal.hpp"
 
-namespace shaderfit::reference::detail {
+namespace shaderfit::reference_detail {
+
+using namespace shaderfit::reference;  // the area's public names
 
 namespace {
 
@@ -234,7 +236,9 @@ Value ExpressionParser::call(const Token& name) {
       regs.push_back(a.reg);
       ints = ints && a.type == Type::Int;
     }
-    return {b_.emit(fn->op, regs), fn->keeps_int && ints ? Type::Int : Type::Float};
+    const Reg r = fn->op == ProgramOp::Operator ? b_.emit(library_operator(*fn), regs)
+                                                : b_.emit(fn->op, regs);
+    return {r, fn->keeps_int && ints ? Type::Int : Type::Float};
   }
   if (dialect_ == Dialect::Formula) {
     if (const BuiltinFunction* fn = find_builtin_by_call_name(name.text)) {
@@ -251,4 +255,4 @@ Value ExpressionParser::call(const Token& name) {
   fail(unknown_function(name), name);
 }
 
-}  // namespace shaderfit::reference::detail
+}  // namespace shaderfit::reference_detail

@@ -17,11 +17,14 @@
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/grammar.hpp"
 #include "shaderfit/expr/lexer.hpp"
+#include "shaderfit/expr/op.hpp"
 #include "shaderfit/reference/builtin.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/reference/program.hpp"
 
-namespace shaderfit::reference::detail {
+namespace shaderfit::reference_detail {
+
+using namespace shaderfit::reference;  // the area's public names
 
 // Instructions in one program at most (a shader's inlined calls can multiply its size).
 inline constexpr std::size_t kMaxInstructions = std::size_t{1} << 18;
@@ -59,6 +62,15 @@ class ProgramBuilder {
   Reg input(int index);
   Reg emit(ProgramOp op, std::span<const Reg> operands, std::int32_t index = 0);
   Reg emit(ProgramOp op, Reg a) { return emit(op, std::span<const Reg>(&a, 1)); }
+  // An operator of expr/op.hpp (ProgramOp::Operator).
+  Reg emit(Op op, std::span<const Reg> operands) {
+    return emit(ProgramOp::Operator, operands, static_cast<std::int32_t>(op));
+  }
+  Reg emit(Op op, Reg a) { return emit(op, std::span<const Reg>(&a, 1)); }
+  Reg emit(Op op, Reg a, Reg b) {
+    const Reg r[] = {a, b};
+    return emit(op, r);
+  }
   Reg emit(ProgramOp op, Reg a, Reg b) {
     const Reg r[] = {a, b};
     return emit(op, r);
@@ -109,7 +121,12 @@ struct LibraryFunction {
   ProgramOp op;  // the instruction, when `expand` is null
   Value (*expand)(ProgramBuilder&, std::span<const Value>);
   bool keeps_int;  // Int arguments give an Int (abs, sign, min, max, clamp)
+  // ProgramOp::Operator: the operator's formula name (expr/op.hpp), when not `name` itself.
+  std::string_view operator_name = {};
 };
+
+// The operator (expr/op.hpp) that a ProgramOp::Operator entry computes.
+Op library_operator(const LibraryFunction& fn);
 
 // The entries named `name` offered in `library` (an overloaded name has one per arity).
 std::vector<const LibraryFunction*> find_library_function(std::string_view name, Library library);
@@ -196,4 +213,4 @@ struct ShaderFunction {
 ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder& builder,
                                        Program& program);
 
-}  // namespace shaderfit::reference::detail
+}  // namespace shaderfit::reference_detail

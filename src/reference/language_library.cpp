@@ -11,7 +11,9 @@
 #include "language_internal.hpp"
 #include "shaderfit/reference/program_evaluate.hpp"
 
-namespace shaderfit::reference::detail {
+namespace shaderfit::reference_detail {
+
+using namespace shaderfit::reference;  // the area's public names
 
 // --- builder -------------------------------------------------------------------------------
 
@@ -140,7 +142,7 @@ Value f(Reg r) { return {r, Type::Float}; }
 
 // 1 / sqrt(a), 1 / a: as expr/op.hpp defines rsqrt and rcp.
 Value rsqrt(ProgramBuilder& b, Args a) {
-  return f(b.emit(ProgramOp::Div, b.constant(1.0), b.emit(ProgramOp::Sqrt, a[0].reg)));
+  return f(b.emit(ProgramOp::Div, b.constant(1.0), b.emit(Op::Sqrt, a[0].reg)));
 }
 Value rcp(ProgramBuilder& b, Args a) {
   return f(b.emit(ProgramOp::Div, b.constant(1.0), a[0].reg));
@@ -205,40 +207,41 @@ Value degrees(ProgramBuilder& b, Args a) {
 
 constexpr unsigned kF = kFormulaLibrary, kS = kShaderLibrary, kFS = kF | kS;
 constexpr ProgramOp kExpanded = ProgramOp::Count_;
+constexpr ProgramOp kOperator = ProgramOp::Operator;
 
 // Formulas: C's math library and the approximation's functions (expr/parse.hpp). Shaders: GLSL's
 // and HLSL's scalar built-ins.
 const LibraryFunction kFunctions[] = {
-    {"abs", 1, kFS, ProgramOp::Abs, nullptr, true},
-    {"fabs", 1, kF, ProgramOp::Abs, nullptr, false},
+    {"abs", 1, kFS, kOperator, nullptr, true},
+    {"fabs", 1, kF, kOperator, nullptr, false, "abs"},
     {"sign", 1, kFS, ProgramOp::Sign, nullptr, true},
-    {"sqrt", 1, kFS, ProgramOp::Sqrt, nullptr, false},
+    {"sqrt", 1, kFS, kOperator, nullptr, false},
     {"rsqrt", 1, kFS, kExpanded, rsqrt, false},
     {"inversesqrt", 1, kFS, kExpanded, rsqrt, false},
     {"rcp", 1, kFS, kExpanded, rcp, false},
     {"cbrt", 1, kF, ProgramOp::Cbrt, nullptr, false},
-    {"exp", 1, kFS, ProgramOp::Exp, nullptr, false},
-    {"exp2", 1, kFS, ProgramOp::Exp2, nullptr, false},
+    {"exp", 1, kFS, kOperator, nullptr, false},
+    {"exp2", 1, kFS, kOperator, nullptr, false},
     {"expm1", 1, kF, ProgramOp::Expm1, nullptr, false},
-    {"log", 1, kFS, ProgramOp::Log, nullptr, false},
-    {"log2", 1, kFS, ProgramOp::Log2, nullptr, false},
+    {"log", 1, kFS, kOperator, nullptr, false},
+    {"log2", 1, kFS, kOperator, nullptr, false},
     {"log10", 1, kFS, ProgramOp::Log10, nullptr, false},
     {"log1p", 1, kF, ProgramOp::Log1p, nullptr, false},
-    {"sin", 1, kFS, ProgramOp::Sin, nullptr, false},
-    {"cos", 1, kFS, ProgramOp::Cos, nullptr, false},
+    {"sin", 1, kFS, kOperator, nullptr, false},
+    {"cos", 1, kFS, kOperator, nullptr, false},
     {"tan", 1, kFS, ProgramOp::Tan, nullptr, false},
-    {"asin", 1, kFS, ProgramOp::Asin, nullptr, false},
-    {"acos", 1, kFS, ProgramOp::Acos, nullptr, false},
-    {"atan", 1, kFS, ProgramOp::Atan, nullptr, false},
-    {"atan", 2, kS, ProgramOp::Atan2, nullptr, false},  // GLSL's atan(y, x)
-    {"atan2", 2, kFS, ProgramOp::Atan2, nullptr, false},
+    {"asin", 1, kFS, kOperator, nullptr, false},
+    {"acos", 1, kFS, kOperator, nullptr, false},
+    {"atan", 1, kFS, kOperator, nullptr, false},
+    {"atan", 2, kS, kOperator, nullptr, false, "atan2"},  // GLSL's atan(y, x)
+    {"atan2", 2, kFS, kOperator, nullptr, false},
     {"sinh", 1, kFS, ProgramOp::Sinh, nullptr, false},
     {"cosh", 1, kFS, ProgramOp::Cosh, nullptr, false},
-    {"tanh", 1, kFS, ProgramOp::Tanh, nullptr, false},
+    {"tanh", 1, kFS, kOperator, nullptr, false},
     {"asinh", 1, kFS, ProgramOp::Asinh, nullptr, false},
     {"acosh", 1, kFS, ProgramOp::Acosh, nullptr, false},
     {"atanh", 1, kFS, ProgramOp::Atanh, nullptr, false},
-    {"erf", 1, kF, ProgramOp::Erf, nullptr, false},
+    {"erf", 1, kF, kOperator, nullptr, false},
     {"erfc", 1, kF, ProgramOp::Erfc, nullptr, false},
     {"floor", 1, kFS, ProgramOp::Floor, nullptr, false},
     {"ceil", 1, kFS, ProgramOp::Ceil, nullptr, false},
@@ -251,7 +254,7 @@ const LibraryFunction kFunctions[] = {
     {"fmax", 2, kF, ProgramOp::Max, nullptr, false},
     {"min", 2, kFS, ProgramOp::Min, nullptr, true},
     {"max", 2, kFS, ProgramOp::Max, nullptr, true},
-    {"copysign", 2, kF, ProgramOp::CopySign, nullptr, false},
+    {"copysign", 2, kF, kOperator, nullptr, false},
     {"clamp", 3, kFS, kExpanded, clamp, true},
     {"saturate", 1, kFS, kExpanded, saturate, false},
     {"fma", 3, kFS, kExpanded, fma, false},
@@ -269,6 +272,10 @@ const LibraryFunction kFunctions[] = {
 };
 
 }  // namespace
+
+Op library_operator(const LibraryFunction& fn) {
+  return op_from_name(fn.operator_name.empty() ? fn.name : fn.operator_name);
+}
 
 std::vector<const LibraryFunction*> find_library_function(std::string_view name, Library library) {
   std::vector<const LibraryFunction*> out;
@@ -334,4 +341,4 @@ std::string join_names(std::span<const std::string> names) {
   return s;
 }
 
-}  // namespace shaderfit::reference::detail
+}  // namespace shaderfit::reference_detail

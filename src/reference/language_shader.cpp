@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <limits>
 
-namespace shaderfit::reference::detail {
+namespace shaderfit::reference_detail {
+
+using namespace shaderfit::reference;  // the area's public names
 
 namespace {
 
@@ -446,4 +448,4 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
   return out;
 }
 
-}  // namespace shaderfit::reference::detail
+}  // namespace shaderfit::reference_detail

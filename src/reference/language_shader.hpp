@@ -14,7 +14,9 @@
 
 #include "language_internal.hpp"
 
-namespace shaderfit::reference::detail {
+namespace shaderfit::reference_detail {
+
+using namespace shaderfit::reference;  // the area's public names
 
 // Throws "<what> are not supported (<shown>); the reference subset is listed in
 // docs/reference.md" at the token; `shown` is the token's text unless given.
@@ -87,4 +89,4 @@ class ShaderFile {
   std::map<std::string, Global, std::less<>> globals_;
 };
 
-}  // namespace shaderfit::reference::detail
+}  // namespace shaderfit::reference_detail

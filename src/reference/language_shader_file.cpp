@@ -5,7 +5,9 @@
 
 #include "language_shader.hpp"
 
-namespace shaderfit::reference::detail {
+namespace shaderfit::reference_detail {
+
+using namespace shaderfit::reference;  // the area's public names
 
 namespace {
 
@@ -341,4 +343,4 @@ void ShaderFile::directive(const Token& t) {
   add(std::string(name.text), std::move(g));
 }
 
-}  // namespace shaderfit::reference::detail
+}  // namespace shaderfit::reference_detail

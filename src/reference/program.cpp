@@ -16,16 +16,13 @@ struct OpText {
 };
 
 constexpr std::array<OpText, kProgramOpCount> kOps = {{
-    {"const", 0},    {"input", 0}, {"+", 2},     {"-", 2},     {"*", 2},     {"/", 2},
-    {"neg", 1},      {"ipow", 1},  {"<", 2},     {"<=", 2},    {">", 2},     {">=", 2},
-    {"==", 2},       {"!=", 2},    {"&&", 2},    {"||", 2},    {"!", 1},     {"select", 3},
-    {"abs", 1},      {"sign", 1},  {"sqrt", 1},  {"cbrt", 1},  {"exp", 1},   {"exp2", 1},
-    {"expm1", 1},    {"log", 1},   {"log2", 1},  {"log10", 1}, {"log1p", 1}, {"sin", 1},
-    {"cos", 1},      {"tan", 1},   {"asin", 1},  {"acos", 1},  {"atan", 1},  {"sinh", 1},
-    {"cosh", 1},     {"tanh", 1},  {"asinh", 1}, {"acosh", 1}, {"atanh", 1}, {"erf", 1},
-    {"erfc", 1},     {"floor", 1}, {"ceil", 1},  {"trunc", 1}, {"round", 1}, {"pow", 2},
-    {"atan2", 2},    {"hypot", 2}, {"fmod", 2},  {"min", 2},   {"max", 2},   {"copysign", 2},
-    {"builtin", -1},
+    {"const", 0}, {"input", 0}, {"+", 2},     {"-", 2},         {"*", 2},        {"/", 2},
+    {"neg", 1},   {"ipow", 1},  {"<", 2},     {"<=", 2},        {">", 2},        {">=", 2},
+    {"==", 2},    {"!=", 2},    {"&&", 2},    {"||", 2},        {"!", 1},        {"select", 3},
+    {"sign", 1},  {"cbrt", 1},  {"expm1", 1}, {"log10", 1},     {"log1p", 1},    {"tan", 1},
+    {"sinh", 1},  {"cosh", 1},  {"asinh", 1}, {"acosh", 1},     {"atanh", 1},    {"erfc", 1},
+    {"floor", 1}, {"ceil", 1},  {"trunc", 1}, {"round", 1},     {"pow", 2},      {"hypot", 2},
+    {"fmod", 2},  {"min", 2},   {"max", 2},   {"operator", -1}, {"builtin", -1},
 }};
 
 SourceLocation where(const Program& p) { return SourceLocation{p.description}; }

@@ -28,10 +28,11 @@ TEST(ProgramOps, EachOpHasANameAndAnArity) {
     EXPECT_TRUE(names.insert(program_op_name(op)).second) << program_op_name(op);
     EXPECT_LE(program_op_arity(op), kMaxProgramOperands);
   }
-  EXPECT_EQ(program_op_name(ProgramOp::Acos), "acos");
+  EXPECT_EQ(program_op_name(ProgramOp::Cbrt), "cbrt");
   EXPECT_EQ(program_op_name(ProgramOp::LessEqual), "<=");
   EXPECT_EQ(program_op_arity(ProgramOp::Select), 3);
-  EXPECT_EQ(program_op_arity(ProgramOp::Atan2), 2);
+  EXPECT_EQ(program_op_arity(ProgramOp::Hypot), 2);
+  EXPECT_EQ(program_op_arity(ProgramOp::Operator), -1);
   EXPECT_EQ(program_op_arity(ProgramOp::Input), 0);
   EXPECT_EQ(program_op_arity(ProgramOp::Builtin), -1);
 }

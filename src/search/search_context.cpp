@@ -125,38 +125,6 @@ ErrorMetrics SearchContext::score(const Expression& e) {
   return metrics_of(out);
 }
 
-namespace {
-
-// Operators whose result can be finite while an operand is not (x / inf = 0, rcp(inf) = 0,
-// min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2,
-// sign(inf) = 1, copysign(x, inf) = |x|, select's branch not taken, atan(inf) = pi/2,
-// tanh(inf) = erf(inf) = 1, atan2(x, inf) = 0): a NaN or an infinity can hide below them.
-// Through every other operator it reaches the result.
-bool absorbs_non_finite(const Node& n) {
-  switch (n.op) {
-    case Op::Div:
-    case Op::Rcp:
-    case Op::Rsqrt:
-    case Op::Min:
-    case Op::Max:
-    case Op::Saturate:
-    case Op::Exp2:
-    case Op::Exp:
-    case Op::Pow:
-    case Op::Sign:
-    case Op::CopySign:
-    case Op::Select:
-    case Op::Atan:
-    case Op::Tanh:
-    case Op::Erf:
-    case Op::Atan2: return true;
-    case Op::IPow: return n.index < 0;
-    default: return false;
-  }
-}
-
-}  // namespace
-
 bool SearchContext::finite_everywhere(const Expression& e) {
   for (const Node& n : e.nodes) {
     if (n.op == Op::Const && !std::isfinite(n.value)) return false;
@@ -169,7 +137,7 @@ bool SearchContext::finite_everywhere(const Expression& e) {
   std::array<std::size_t, 3> children{};
   for (std::size_t i = 0; i < e.size(); ++i) {
     const Node& n = e.nodes[i];
-    if (!absorbs_non_finite(n)) continue;
+    if (!absorbs_non_finite(n.op, n.index)) continue;
     const std::size_t k = arity(n.op);
     e.child_indices(i, std::span<std::size_t>(children.data(), k));
     for (std::size_t c = 0; c < k; ++c) {

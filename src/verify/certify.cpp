@@ -33,8 +33,8 @@ namespace {
 using verify::Cell;
 using verify::IntervalError;
 using verify::kMaxCertifyDims;
-using verify::detail::nan_in;
-using verify::detail::slot;
+using verify_detail::nan_in;
+using verify_detail::slot;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 using Point = std::array<double, kMaxCertifyDims>;

@@ -121,7 +121,11 @@ bool is_point(const Cell& c) {
   return c.constant && c.nan == 0 && mpfr_equal_p(&c.v.left, &c.v.right) != 0;
 }
 
-namespace detail {
+}  // namespace shaderfit::verify
+
+namespace shaderfit::verify_detail {
+
+using namespace shaderfit::verify;  // the area's public names
 
 int slots(const Cell* c) { return c->constant ? 1 : 1 + Arena::current().points(); }
 
@@ -363,9 +367,11 @@ bool clip(mpfi_ptr out, mpfi_srcptr a, double min, double max) {
   return true;
 }
 
-}  // namespace detail
+}  // namespace shaderfit::verify_detail
 
-using namespace detail;
+namespace shaderfit::verify {
+
+using namespace verify_detail;
 
 Dual operator+(const Dual& a, const Dual& b) {
   Cell* r = result(a.get(), b.get());

@@ -240,6 +240,10 @@ struct ProgramLogic<verify::Dual> {
   static T select(const T& c, const T& a, const T& b);
   static T sign(const T& a) { return verify::sign(a); }
   static T builtin(BuiltinId id, std::span<const T> args);
+  static T apply(Op op, const T& a, const T& b) {
+    const T operands[] = {a, b};
+    return verify::apply_op(op, 0, std::span<const T>(operands, arity(op)));
+  }
 };
 
 }  // namespace shaderfit::reference

@@ -7,7 +7,9 @@
 
 #include "verify/interval.hpp"
 
-namespace shaderfit::verify::detail {
+namespace shaderfit::verify_detail {
+
+using namespace shaderfit::verify;  // the area's public names
 
 inline mpfr_ptr lo(mpfi_ptr x) { return &x->left; }
 inline mpfr_ptr hi(mpfi_ptr x) { return &x->right; }
@@ -102,4 +104,4 @@ bool clip(mpfi_ptr out, mpfi_srcptr a, double min, double max);
 // Whether a reaches outside [min, max].
 bool leaves(mpfi_srcptr a, double min, double max);
 
-}  // namespace shaderfit::verify::detail
+}  // namespace shaderfit::verify_detail

@@ -8,7 +8,7 @@
 
 namespace shaderfit::verify {
 
-using namespace detail;
+using namespace verify_detail;
 
 namespace {
 

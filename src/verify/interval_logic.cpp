@@ -12,7 +12,7 @@
 
 namespace shaderfit::verify {
 
-using namespace detail;
+using namespace verify_detail;
 
 namespace {
 
@@ -179,14 +179,14 @@ namespace {
 
 using verify::Cell;
 using verify::Dual;
-using verify::detail::flip;
-using verify::detail::hi;
-using verify::detail::lo;
-using verify::detail::nan_in;
-using verify::detail::out;
-using verify::detail::slot;
-using verify::detail::slots;
-using verify::detail::Truth;
+using verify_detail::flip;
+using verify_detail::hi;
+using verify_detail::lo;
+using verify_detail::nan_in;
+using verify_detail::out;
+using verify_detail::slot;
+using verify_detail::slots;
+using verify_detail::Truth;
 
 // Whether slot s of a cell is nonzero (true); a NaN counts as false (0 < NaN and NaN < 0 are
 // both false).
@@ -262,8 +262,8 @@ Dual ProgramLogic<Dual>::compare(ProgramOp op, const Dual& a, const Dual& b) {
     return t;  // NaN compares false
   };
   if (truth(0) == Truth::Maybe) {
-    verify::detail::tighten(a.get());
-    verify::detail::tighten(b.get());
+    verify_detail::tighten(a.get());
+    verify_detail::tighten(b.get());
   }
   Dual r = truth_value(truth);
   if (!r->constant) {
@@ -304,7 +304,7 @@ Dual ProgramLogic<Dual>::select(const Dual& c, const Dual& a, const Dual& b) {
       return greater ? verify::fmin(a, b) : verify::fmax(a, b);
     }
   }
-  return verify::detail::blend(a, b, [&](int s) { return truth_of(c.get(), s); });
+  return verify_detail::blend(a, b, [&](int s) { return truth_of(c.get(), s); });
 }
 
 Dual ProgramLogic<Dual>::builtin(BuiltinId id, std::span<const Dual> args) {

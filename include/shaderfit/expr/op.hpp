@@ -255,6 +255,70 @@ SF_OP_INLINE T binary_value(T a, T b) {
     return a / T(0) * T(0);  // NaN: not a binary operator
 }
 
+// erf^-1(y) for y in (-1, 1), to double precision; +-inf at +-1, NaN outside.
+double inverse_erf(double y);
+
+// Where a library function can be undone on a target (the search's probe of library operators,
+// search/starts/library_operators.cpp: is f^-1(target) simpler than the target?): the values it
+// takes, and f^-1 there (op_inverse_value); atan2's angle is undone as atan's. `invertible` is
+// false for the other operators.
+struct OpInverse {
+  bool invertible = false;
+  double lo = 0, hi = 0;  // the range
+  bool open = false;      // the range excludes its ends
+};
+inline OpInverse op_inverse(Op op) {
+  constexpr double pi = 3.141592653589793;
+  switch (op) {
+    case Op::Asin: return {true, -pi / 2, pi / 2, false};
+    case Op::Acos: return {true, 0, pi, false};
+    case Op::Atan: return {true, -pi / 2, pi / 2, true};
+    case Op::Atan2: return {true, -pi, pi, false};
+    case Op::Tanh: return {true, -1, 1, true};
+    case Op::Erf: return {true, -1, 1, true};
+    default: return {};
+  }
+}
+inline double op_inverse_value(Op op, double y) {
+  switch (op) {
+    case Op::Asin: return std::sin(y);
+    case Op::Acos: return std::cos(y);
+    case Op::Atan:
+    case Op::Atan2: return std::tan(y);
+    case Op::Tanh: return std::atanh(y);
+    case Op::Erf: return inverse_erf(y);
+    default: return y / 0.0 * 0.0;  // NaN
+  }
+}
+
+// Whether the operator's value can be finite while an operand is not (x / inf = 0, rcp(inf) = 0,
+// min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2,
+// sign(inf) = 1, copysign(x, inf) = |x|, select's branch not taken, atan(inf) = pi/2,
+// tanh(inf) = erf(inf) = 1, atan2(x, inf) = 0): a NaN or an infinity can hide below it. Through
+// every other operator it reaches the result. `index` is Node::index (ipow's exponent).
+constexpr bool absorbs_non_finite(Op op, int index) {
+  switch (op) {
+    case Op::Div:
+    case Op::Rcp:
+    case Op::Rsqrt:
+    case Op::Min:
+    case Op::Max:
+    case Op::Saturate:
+    case Op::Exp2:
+    case Op::Exp:
+    case Op::Pow:
+    case Op::Sign:
+    case Op::CopySign:
+    case Op::Select:
+    case Op::Atan:
+    case Op::Tanh:
+    case Op::Erf:
+    case Op::Atan2: return true;
+    case Op::IPow: return index < 0;
+    default: return false;
+  }
+}
+
 // The unary operators by name (a switch over the table, each case unary_value).
 template <typename T>
 SF_OP_INLINE T apply_unary(Op op, T a) {

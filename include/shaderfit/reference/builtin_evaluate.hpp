@@ -42,7 +42,7 @@ T evaluate_builtin(BuiltinId id, std::span<const T> args) {
     case BuiltinId::FvSchlickSmith: return fv_schlick_smith_peak(x, args[1], args[2]);
     case BuiltinId::FvExact: return fv_exact_dielectric(x, args[1], args[2]);
     case BuiltinId::FvExactConductor: return fv_exact_conductor(x, args[1], args[2], args[3]);
-    case BuiltinId::SmithGgxG1: return T(2.0) * x / (x + detail::ggx_root(x, args[1]));
+    case BuiltinId::SmithGgxG1: return T(2.0) * x / (x + reference_detail::ggx_root(x, args[1]));
     case BuiltinId::GgxDistribution: return ggx_distribution(x, args[1]);
     case BuiltinId::Exp: return exp(x);
     case BuiltinId::Exp2: return exp2(x);

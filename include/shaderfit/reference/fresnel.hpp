@@ -31,7 +31,12 @@ SF_CPU_GPU T choose(C condition, T a, T b) {
   return condition ? a : b;
 }
 
-namespace detail {
+}  // namespace shaderfit::reference
+
+namespace shaderfit::reference_detail {
+
+// The branches' choice (above), found with the number type's own by argument-dependent lookup.
+using reference::choose;
 
 template <typename T>
 SF_CPU_GPU constexpr T sqr(T x) {
@@ -53,14 +58,17 @@ SF_CPU_GPU T refracted_cos(T cos_i, T eta) {
   return choose(sin2_t >= T(1), T(-1), sqrt0(T(1) - sin2_t));
 }
 
-}  // namespace detail
+}  // namespace shaderfit::reference_detail
+
+namespace shaderfit::reference {
 
 // Dielectric, s-polarized (electric field perpendicular to the plane of incidence):
 //   R_s = ((cos_i - eta cos_t) / (cos_i + eta cos_t))^2, and 1 under total internal reflection.
 template <typename T>
 SF_CPU_GPU T fresnel_dielectric_s(T cos_i, T eta) {
-  T cos_t = detail::refracted_cos(cos_i, eta);
-  return choose(cos_t < T(0), T(1), detail::sqr((cos_i - eta * cos_t) / (cos_i + eta * cos_t)));
+  T cos_t = reference_detail::refracted_cos(cos_i, eta);
+  return choose(cos_t < T(0), T(1),
+                reference_detail::sqr((cos_i - eta * cos_t) / (cos_i + eta * cos_t)));
 }
 
 // Dielectric, p-polarized (electric field in the plane of incidence):
@@ -68,8 +76,9 @@ SF_CPU_GPU T fresnel_dielectric_s(T cos_i, T eta) {
 //   and 1 under total internal reflection.
 template <typename T>
 SF_CPU_GPU T fresnel_dielectric_p(T cos_i, T eta) {
-  T cos_t = detail::refracted_cos(cos_i, eta);
-  return choose(cos_t < T(0), T(1), detail::sqr((eta * cos_i - cos_t) / (eta * cos_i + cos_t)));
+  T cos_t = reference_detail::refracted_cos(cos_i, eta);
+  return choose(cos_t < T(0), T(1),
+                reference_detail::sqr((eta * cos_i - cos_t) / (eta * cos_i + cos_t)));
 }
 
 // Exact unpolarized dielectric reflectance R = (R_s + R_p) / 2. R(cos_i = 1) = r0_from_ior(eta),
@@ -88,16 +97,16 @@ SF_CPU_GPU T fresnel_dielectric(T cos_i, T eta) {
 // are computed independently of R so that identity can be tested.
 template <typename T>
 SF_CPU_GPU T fresnel_dielectric_transmittance_s(T cos_i, T eta) {
-  T cos_t = detail::refracted_cos(cos_i, eta);
+  T cos_t = reference_detail::refracted_cos(cos_i, eta);
   if (cos_t < T(0)) return T(0);
-  return T(4) * eta * cos_i * cos_t / detail::sqr(cos_i + eta * cos_t);
+  return T(4) * eta * cos_i * cos_t / reference_detail::sqr(cos_i + eta * cos_t);
 }
 
 template <typename T>
 SF_CPU_GPU T fresnel_dielectric_transmittance_p(T cos_i, T eta) {
-  T cos_t = detail::refracted_cos(cos_i, eta);
+  T cos_t = reference_detail::refracted_cos(cos_i, eta);
   if (cos_t < T(0)) return T(0);
-  return T(4) * eta * cos_i * cos_t / detail::sqr(eta * cos_i + cos_t);
+  return T(4) * eta * cos_i * cos_t / reference_detail::sqr(eta * cos_i + cos_t);
 }
 
 // Unpolarized dielectric transmittance T = (T_s + T_p) / 2.
@@ -107,7 +116,9 @@ SF_CPU_GPU T fresnel_dielectric_transmittance(T cos_i, T eta) {
                    fresnel_dielectric_transmittance_p(cos_i, eta));
 }
 
-namespace detail {
+}  // namespace shaderfit::reference
+
+namespace shaderfit::reference_detail {
 
 // The terms of the conductor closed form. With c = cos_i and s2 = sin_i^2, write the complex
 // square root sqrt((n + ik)^2 - s2) = a + ib (the refracted "eta cos_t", with a >= 0). Then
@@ -147,42 +158,44 @@ SF_CPU_GPU T conductor_p_over_s(const ConductorTerms<T>& t) {
   return ratio_or_one(u - v, u + v);
 }
 
-}  // namespace detail
+}  // namespace shaderfit::reference_detail
+
+namespace shaderfit::reference {
 
 // Conductor with complex index n + ik (k >= 0), s-polarized, in closed form (see ConductorTerms):
 //   R_s = (a^2 + b^2 - 2 a c + c^2) / (a^2 + b^2 + 2 a c + c^2).
 // For k = 0 this is the dielectric R_s with eta = n, total internal reflection included.
 template <typename T>
 SF_CPU_GPU T fresnel_conductor_s(T cos_i, T n, T k) {
-  return detail::conductor_s(detail::conductor_terms(cos_i, n, k));
+  return reference_detail::conductor_s(reference_detail::conductor_terms(cos_i, n, k));
 }
 
 // Conductor, p-polarized:
 //   R_p = R_s (c^2 (a^2 + b^2) - 2 a c s2 + s2^2) / (c^2 (a^2 + b^2) + 2 a c s2 + s2^2).
 template <typename T>
 SF_CPU_GPU T fresnel_conductor_p(T cos_i, T n, T k) {
-  auto t = detail::conductor_terms(cos_i, n, k);
-  return detail::conductor_s(t) * detail::conductor_p_over_s(t);
+  auto t = reference_detail::conductor_terms(cos_i, n, k);
+  return reference_detail::conductor_s(t) * reference_detail::conductor_p_over_s(t);
 }
 
 // Conductor, unpolarized: (R_s + R_p) / 2. R(cos_i = 1) = r0_from_complex_ior(n, k).
 template <typename T>
 SF_CPU_GPU T fresnel_conductor(T cos_i, T n, T k) {
-  auto t = detail::conductor_terms(cos_i, n, k);
-  T rs = detail::conductor_s(t);
-  return T(0.5) * rs * (T(1) + detail::conductor_p_over_s(t));
+  auto t = reference_detail::conductor_terms(cos_i, n, k);
+  T rs = reference_detail::conductor_s(t);
+  return T(0.5) * rs * (T(1) + reference_detail::conductor_p_over_s(t));
 }
 
 // Normal-incidence reflectance of a dielectric with (relative) index n: ((n - 1) / (n + 1))^2.
 template <typename T>
 SF_CPU_GPU T r0_from_ior(T n) {
-  return detail::sqr((n - T(1)) / (n + T(1)));
+  return reference_detail::sqr((n - T(1)) / (n + T(1)));
 }
 
 // Normal-incidence reflectance of a conductor with index n + ik: ((n-1)^2 + k^2) / ((n+1)^2 + k^2).
 template <typename T>
 SF_CPU_GPU T r0_from_complex_ior(T n, T k) {
-  return (detail::sqr(n - T(1)) + k * k) / (detail::sqr(n + T(1)) + k * k);
+  return (reference_detail::sqr(n - T(1)) + k * k) / (reference_detail::sqr(n + T(1)) + k * k);
 }
 
 // Schlick's approximation: r0 + (1 - r0) (1 - cos)^5.

@@ -10,8 +10,8 @@
 //   std::vector<double> all(p.outputs.size());
 //   p.evaluate_all(std::vector<double>{0.5}, all);             // every output, in order
 //
-// The reference language's functions (acos, erf, atan2, ...) exist only here: the operators a
-// search may use (expr/op.hpp) are not changed by them.
+// The reference language's functions beyond the operators (cbrt, tan, floor, hypot, ...) exist
+// only here: the operators a search may use (expr/op.hpp) are not changed by them.
 #pragma once
 
 #include <array>
@@ -45,43 +45,32 @@ enum class ProgramOp : std::uint8_t {
   Or,      // either operand != 0
   Not,     // the operand == 0
   Select,  // (c, a, b): a where c != 0, else b; only the chosen operand matters
-  // The C math library, in double, with C's meaning (std::acos, ...).
-  Abs,
+  // The rest of C's math library, in double, with C's meaning (std::cbrt, ...).
   Sign,  // 1, -1, or the operand itself for +-0 and NaN (as GLSL's sign)
-  Sqrt,
   Cbrt,
-  Exp,
-  Exp2,
   Expm1,
-  Log,
-  Log2,
   Log10,
   Log1p,
-  Sin,
-  Cos,
   Tan,
-  Asin,
-  Acos,
-  Atan,
   Sinh,
   Cosh,
-  Tanh,
   Asinh,
   Acosh,
   Atanh,
-  Erf,
   Erfc,
   Floor,
   Ceil,
   Trunc,
   Round,  // half away from zero, as std::round
   Pow,    // std::pow(a, b)
-  Atan2,  // std::atan2(a, b): a is y, b is x
   Hypot,
   Fmod,
   Min,  // std::fmin
   Max,  // std::fmax
-  CopySign,
+  // An operator of the approximations (expr/op.hpp), Instruction::index its Op: the functions
+  // whose meaning in double is C's (sqrt, exp, acos, erf, atan2, copysign, ...), computed
+  // as the operator's record defines them.
+  Operator,
   // A built-in reference (reference/builtin.hpp): Instruction::index is its BuiltinId, the
   // operands its arguments in call order.
   Builtin,
@@ -91,16 +80,17 @@ enum class ProgramOp : std::uint8_t {
 inline constexpr int kProgramOpCount = static_cast<int>(ProgramOp::Count_);
 inline constexpr int kMaxProgramOperands = 4;
 
-// The op's name as the reference language spells it ("acos", "+", "<=", "select"; "neg" and
-// "ipow" for the unary minus and the integer power), and its number of operands (-1 for Builtin:
-// given by the instruction).
+// The op's name as the reference language spells it ("+", "<=", "select"; "neg" and "ipow"
+// for the unary minus and the integer power), and its number of operands (-1 for Operator and
+// Builtin: given by the instruction).
 std::string_view program_op_name(ProgramOp op);
 int program_op_arity(ProgramOp op);
 
 struct Instruction {
   ProgramOp op = ProgramOp::Const;
   std::uint8_t arity = 0;  // operands used in `operands`
-  std::int32_t index = 0;  // Input: the input; IPow: the exponent; Builtin: the BuiltinId
+  std::int32_t index = 0;  // Input: the input; IPow: the exponent; Operator: the Op; Builtin:
+                           // the BuiltinId
   double value = 0;        // Const
   // Registers of the operands (each < this instruction's own register), first operand first.
   std::array<std::uint32_t, kMaxProgramOperands> operands{};

@@ -3,11 +3,11 @@
 // verify/). T needs the arithmetic operators, construction from double, and the elementary
 // functions found by argument-dependent lookup or in std (sqrt, acos, erf, atan2, ...).
 //
-// What depends on truth (comparisons, logic, select) and the built-in references go through
-// ProgramLogic<T>. Its default suits types whose comparisons return bool (double, float, jets by
-// their value); a type whose comparisons may be undecided (an interval straddling the other
-// operand) specialises it: compare gives a T within [0, 1] that says "maybe", and select then
-// joins both operands.
+// What depends on truth (comparisons, logic, select), the built-in references and the operators
+// of expr/op.hpp go through ProgramLogic<T>. Its default suits types whose comparisons return
+// bool (double, float, jets by their value); a type whose comparisons may be undecided (an interval
+// straddling the other operand) specialises it: compare gives a T within [0, 1] that says "maybe",
+// and select then joins both operands.
 //
 //   std::vector<Jet> regs;
 //   evaluate_program<Jet>(program, inputs, regs);   // regs[program.outputs[0]] is the result
@@ -52,6 +52,10 @@ struct ProgramLogic {
   // 1, -1, or a itself for +-0 and NaN (a * 0 keeps the zero's sign, and has no derivative).
   static T sign(const T& a) { return a > T(0.0) ? T(1.0) : (a < T(0.0) ? T(-1.0) : a * T(0.0)); }
   static T builtin(BuiltinId id, std::span<const T> args) { return evaluate_builtin<T>(id, args); }
+  // An operator of expr/op.hpp on its operands (b unused by unary ones).
+  static T apply(Op op, const T& a, const T& b) {
+    return arity(op) == 1 ? apply_unary(op, a) : apply_binary(op, a, b);
+  }
 };
 
 // Runs the program on `inputs` (program.inputs.size() values); registers[r] holds register r
@@ -59,11 +63,9 @@ struct ProgramLogic {
 template <typename T>
 void evaluate_program(const Program& program, std::span<const T> inputs,
                       std::vector<T>& registers) {
-  using std::abs, std::sqrt, std::cbrt, std::exp, std::exp2, std::expm1, std::log, std::log2,
-      std::log10, std::log1p, std::sin, std::cos, std::tan, std::asin, std::acos, std::atan,
-      std::sinh, std::cosh, std::tanh, std::asinh, std::acosh, std::atanh, std::erf, std::erfc,
-      std::floor, std::ceil, std::trunc, std::round, std::pow, std::atan2, std::hypot, std::fmod,
-      std::fmin, std::fmax, std::copysign;
+  using std::cbrt, std::expm1, std::log10, std::log1p, std::tan, std::sinh, std::cosh, std::asinh,
+      std::acosh, std::atanh, std::erfc, std::floor, std::ceil, std::trunc, std::round, std::pow,
+      std::hypot, std::fmod, std::fmin, std::fmax;
   using L = ProgramLogic<T>;
   registers.resize(program.code.size(), T(0.0));
   for (std::size_t i = 0; i < program.code.size(); ++i) {
@@ -90,42 +92,28 @@ void evaluate_program(const Program& program, std::span<const T> inputs,
       case ProgramOp::Or:
       case ProgramOp::Not: r = L::logic(in.op, a, b); break;
       case ProgramOp::Select: r = L::select(a, b, registers[in.operands[2]]); break;
-      case ProgramOp::Abs: r = abs(a); break;
       case ProgramOp::Sign: r = L::sign(a); break;
-      case ProgramOp::Sqrt: r = sqrt(a); break;
       case ProgramOp::Cbrt: r = cbrt(a); break;
-      case ProgramOp::Exp: r = exp(a); break;
-      case ProgramOp::Exp2: r = exp2(a); break;
       case ProgramOp::Expm1: r = expm1(a); break;
-      case ProgramOp::Log: r = log(a); break;
-      case ProgramOp::Log2: r = log2(a); break;
       case ProgramOp::Log10: r = log10(a); break;
       case ProgramOp::Log1p: r = log1p(a); break;
-      case ProgramOp::Sin: r = sin(a); break;
-      case ProgramOp::Cos: r = cos(a); break;
       case ProgramOp::Tan: r = tan(a); break;
-      case ProgramOp::Asin: r = asin(a); break;
-      case ProgramOp::Acos: r = acos(a); break;
-      case ProgramOp::Atan: r = atan(a); break;
       case ProgramOp::Sinh: r = sinh(a); break;
       case ProgramOp::Cosh: r = cosh(a); break;
-      case ProgramOp::Tanh: r = tanh(a); break;
       case ProgramOp::Asinh: r = asinh(a); break;
       case ProgramOp::Acosh: r = acosh(a); break;
       case ProgramOp::Atanh: r = atanh(a); break;
-      case ProgramOp::Erf: r = erf(a); break;
       case ProgramOp::Erfc: r = erfc(a); break;
       case ProgramOp::Floor: r = floor(a); break;
       case ProgramOp::Ceil: r = ceil(a); break;
       case ProgramOp::Trunc: r = trunc(a); break;
       case ProgramOp::Round: r = round(a); break;
       case ProgramOp::Pow: r = pow(a, b); break;
-      case ProgramOp::Atan2: r = atan2(a, b); break;
       case ProgramOp::Hypot: r = hypot(a, b); break;
       case ProgramOp::Fmod: r = fmod(a, b); break;
       case ProgramOp::Min: r = fmin(a, b); break;
       case ProgramOp::Max: r = fmax(a, b); break;
-      case ProgramOp::CopySign: r = copysign(a, b); break;
+      case ProgramOp::Operator: r = L::apply(static_cast<Op>(in.index), a, b); break;
       case ProgramOp::Builtin: {
         T args[kMaxProgramOperands] = {T(0.0), T(0.0), T(0.0), T(0.0)};
         // Bounded by the array too, which the compiler cannot know of `arity`.

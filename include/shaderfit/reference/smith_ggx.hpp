@@ -30,7 +30,9 @@ SF_CPU_GPU T ggx_distribution(T n_dot_h, T alpha) {
   return choose(n_dot_h > T(0), a2 / (T(3.14159265358979323846) * d * d), T(0));
 }
 
-namespace detail {
+}  // namespace shaderfit::reference
+
+namespace shaderfit::reference_detail {
 
 // sqrt(alpha^2 + (1 - alpha^2) c^2) = c sqrt(1 + alpha^2 tan^2): Smith's Lambda(c) for GGX is
 // (ggx_root(c) / c - 1) / 2.
@@ -41,14 +43,16 @@ SF_CPU_GPU T ggx_root(T c, T alpha) {
   return sqrt(a2 + (T(1) - a2) * c * c);
 }
 
-}  // namespace detail
+}  // namespace shaderfit::reference_detail
+
+namespace shaderfit::reference {
 
 // Smith masking for GGX: G1(v) = 1 / (1 + Lambda(v)) = 2 (n.v) / (n.v + sqrt(alpha^2 +
 // (1 - alpha^2) (n.v)^2)). 1 at normal incidence, 0 at grazing.
 template <typename T>
 SF_CPU_GPU T smith_ggx_g1(T n_dot_v, T alpha) {
   if (!(n_dot_v > T(0))) return T(0);
-  return T(2) * n_dot_v / (n_dot_v + detail::ggx_root(n_dot_v, alpha));
+  return T(2) * n_dot_v / (n_dot_v + reference_detail::ggx_root(n_dot_v, alpha));
 }
 
 // Separable Smith shadowing-masking: G2 = G1(l) G1(v).
@@ -65,7 +69,8 @@ SF_CPU_GPU T smith_ggx_g2_separable(T n_dot_l, T n_dot_v, T alpha) {
 // removes some of the double-counted shadowing.
 template <typename T>
 SF_CPU_GPU T smith_ggx_g2_height_correlated(T n_dot_l, T n_dot_v, T alpha) {
-  T den = n_dot_v * detail::ggx_root(n_dot_l, alpha) + n_dot_l * detail::ggx_root(n_dot_v, alpha);
+  T den = n_dot_v * reference_detail::ggx_root(n_dot_l, alpha) +
+          n_dot_l * reference_detail::ggx_root(n_dot_v, alpha);
   return choose(n_dot_l > T(0), choose(n_dot_v > T(0), T(2) * n_dot_l * n_dot_v / den, T(0)), T(0));
 }
 

@@ -87,76 +87,33 @@ double explained_by_simple_model(const std::vector<std::vector<double>>& inputs,
   return std::min(linear, monomial);
 }
 
-struct Candidate {
-  Op op;
-  double lo, hi;  // the function's range
-  bool open;      // the range excludes its ends
-  double (*inverse)(double);
-};
-
 bool program_calls(const reference::Program& p, Op op) {
   using reference::ProgramOp;
   return std::any_of(p.code.begin(), p.code.end(), [op](const reference::Instruction& in) {
-    switch (in.op) {
-      case ProgramOp::Asin: return op == Op::Asin;
-      case ProgramOp::Acos: return op == Op::Acos;
-      case ProgramOp::Atan: return op == Op::Atan;
-      case ProgramOp::Atan2: return op == Op::Atan2;
-      case ProgramOp::Tanh: return op == Op::Tanh;
-      case ProgramOp::Erf:
-      case ProgramOp::Erfc: return op == Op::Erf;
-      default: return false;
-    }
+    if (in.op == ProgramOp::Operator) return static_cast<Op>(in.index) == op;
+    return in.op == ProgramOp::Erfc && op == Op::Erf;
   });
 }
 
 }  // namespace
 
-double inverse_erf(double y) {
-  if (std::isnan(y) || std::fabs(y) > 1) return kNaN;
-  if (std::fabs(y) == 1) return std::copysign(std::numeric_limits<double>::infinity(), y);
-  const double a = std::fabs(y);
-  double x = 0;
-  if (a <= 0.5) {
-    // Newton's method on erf(x) = a from the first term of erf's series.
-    x = a * std::sqrt(kPi) / 2;
-    for (int i = 0; i < 50; ++i) {
-      const double step = (std::erf(x) - a) / (2 / std::sqrt(kPi) * std::exp(-x * x));
-      x -= step;
-      if (std::fabs(step) <= 1e-16 * x) break;
-    }
-  } else {
-    // On log erfc(x) = log(1 - a), nearly a parabola in x: 1 - a is exact here, and the
-    // logarithm keeps the steps good far in the tail.
-    const double target = std::log(1 - a);
-    x = std::sqrt(-target);
-    for (int i = 0; i < 100; ++i) {
-      const double e = std::erfc(x);
-      const double slope = -2 / std::sqrt(kPi) * std::exp(-x * x) / e;
-      const double step = (std::log(e) - target) / slope;
-      x = std::max(x - step, 0.5 * x);
-      if (std::fabs(step) <= 1e-16 * x) break;
-    }
-  }
-  return std::copysign(x, y);
-}
-
 std::vector<Op> suggested_library_operators(const SearchProblem& p) {
-  static const Candidate kCandidates[] = {
-      {Op::Asin, -kPi / 2, kPi / 2, false, [](double y) { return std::sin(y); }},
-      {Op::Acos, 0, kPi, false, [](double y) { return std::cos(y); }},
-      {Op::Atan, -kPi / 2, kPi / 2, true, [](double y) { return std::tan(y); }},
-      {Op::Atan2, -kPi, kPi, false, [](double y) { return std::tan(y); }},
-      {Op::Tanh, -1, 1, true, [](double y) { return std::atanh(y); }},
-      {Op::Erf, -1, 1, true, inverse_erf},
+  // The operators that can be undone (expr/op.hpp's op_inverse), in enum order.
+  struct Candidate {
+    Op op;
+    OpInverse range;
   };
+  std::vector<Candidate> candidates;
+  for (int i = 0; i < kOpCount; ++i)
+    if (const OpInverse r = op_inverse(static_cast<Op>(i)); r.invertible)
+      candidates.push_back({static_cast<Op>(i), r});
   std::vector<Op> out;
   // A function of one input is what a user approximates such a function by: its exact form is
   // the function itself, at 17 to 33 instructions, and the operator only spends the search's
   // mutations (the yardstick's acos cases lost 3 of their wins to it).
   if (p.inputs.size() < 2) return out;
   if (p.reference)
-    for (const Candidate& c : kCandidates)
+    for (const Candidate& c : candidates)
       if (program_calls(p.reference->program, c.op)) out.push_back(c.op);
 
   // At most kLibraryProbeRows rows, evenly spread.
@@ -177,15 +134,16 @@ std::vector<Op> suggested_library_operators(const SearchProblem& p) {
   const double target_score = explained_by_simple_model(inputs, y);
   if (!(target_score > 0)) return out;  // constant, or a simple model already explains it exactly
   std::vector<double> z(n);
-  for (const Candidate& c : kCandidates) {
+  for (const Candidate& c : candidates) {
     if (std::find(out.begin(), out.end(), c.op) != out.end()) continue;
-    const bool inside = c.open ? *y_lo > c.lo && *y_hi < c.hi : *y_lo >= c.lo && *y_hi <= c.hi;
+    const OpInverse& r = c.range;
+    const bool inside = r.open ? *y_lo > r.lo && *y_hi < r.hi : *y_lo >= r.lo && *y_hi <= r.hi;
     if (!inside) continue;
     // atan2 only where atan's range does not hold the target.
     if (c.op == Op::Atan2 && std::max(-*y_lo, *y_hi) <= kPi / 2) continue;
     bool finite = true;
     for (std::size_t i = 0; i < n; ++i) {
-      z[i] = c.inverse(y[i]);
+      z[i] = op_inverse_value(c.op, y[i]);
       finite = finite && std::isfinite(z[i]);
     }
     if (!finite) continue;
@@ -194,7 +152,7 @@ std::vector<Op> suggested_library_operators(const SearchProblem& p) {
   }
   // In the order of the list.
   std::vector<Op> ordered;
-  for (const Candidate& c : kCandidates)
+  for (const Candidate& c : candidates)
     if (std::find(out.begin(), out.end(), c.op) != out.end()) ordered.push_back(c.op);
   return ordered;
 }

@@ -31,8 +31,4 @@ inline constexpr double kBetter = 1e4;
 // The operators of the list above that the problem points at, in that order.
 std::vector<Op> suggested_library_operators(const SearchProblem& problem);
 
-// erf^-1(y) for y in (-1, 1), to double precision (Newton's method on std::erf); +-inf at +-1,
-// NaN outside.
-double inverse_erf(double y);
-
 }  // namespace shaderfit::search_detail
