@@ -347,15 +347,16 @@ void check_name(const std::string& name, std::string_view what, const SourceLoca
 
 namespace {
 
-// The spelling of `op` in the columns glsl, hlsl, cuda, cpp, metal (Language's order).
-using Spelling = std::array<std::string_view, 5>;
-
-// Float spellings that differ from the rule in `float_spellings`.
-struct FloatException {
+// An operator's spelling in five columns (the tables below say which); empty: none, written out
+// by the printer (GLSL clamp, C++'s 1 / std::sqrt, operators).
+struct OpSpelling {
   Op op;
-  Spelling names;  // empty: written out by the printer (GLSL clamp, C++'s 1 / std::sqrt)
+  std::array<std::string_view, 5> names;
 };
-constexpr FloatException kFloatExceptions[] = {
+
+// Float spellings, in the columns glsl, hlsl, cuda, cpp, metal (Language's order), that differ
+// from the rule in `float_spellings`.
+constexpr OpSpelling kFloatExceptions[] = {
     {Op::Rsqrt, {"inversesqrt", "rsqrt", "rsqrtf", "", "rsqrt"}},
     {Op::Abs, {"abs", "abs", "fabsf", "std::fabs", "fabs"}},
     {Op::Min, {"min", "min", "fminf", "std::fmin", "fmin"}},
@@ -380,7 +381,7 @@ const std::vector<std::array<std::string, 5>>& float_spellings() {
                                                                   : cost_detail::helper_of(op));
       t[static_cast<std::size_t>(i)] = {shader, shader, name + "f", "std::" + name, shader};
     }
-    for (const FloatException& e : kFloatExceptions)
+    for (const OpSpelling& e : kFloatExceptions)
       for (std::size_t l = 0; l < 5; ++l)
         t[static_cast<std::size_t>(e.op)][l] = std::string(e.names[l]);
     return t;
@@ -390,11 +391,7 @@ const std::vector<std::array<std::string, 5>>& float_spellings() {
 
 // Half spellings in the columns glsl, hlsl, cuda __half, cuda __half2, metal; none in C++, and
 // no half form of the operators not listed (sign, select, asin ... erf).
-struct HalfSpelling {
-  Op op;
-  Spelling names;
-};
-constexpr HalfSpelling kHalfSpellings[] = {
+constexpr OpSpelling kHalfSpellings[] = {
     {Op::Sqrt, {"sqrt", "sqrt", "sf_hsqrt", "h2sqrt", "sqrt"}},
     {Op::Rsqrt, {"inversesqrt", "rsqrt", "sf_hrsqrt", "h2rsqrt", "rsqrt"}},
     {Op::Exp2, {"exp2", "exp2", "sf_hexp2", "h2exp2", "exp2"}},
@@ -454,7 +451,7 @@ std::string_view call(Language l, Op op, Form form) {
     case Language::Metal: column = 4; break;
     case Language::Cpp: return {};
   }
-  for (const HalfSpelling& h : kHalfSpellings)
+  for (const OpSpelling& h : kHalfSpellings)
     if (h.op == op) return h.names[static_cast<std::size_t>(column)];
   return {};
 }
