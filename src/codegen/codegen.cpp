@@ -246,17 +246,12 @@ class FunctionPrinter {
     if (!calls_only()) return std::nullopt;
     const bool rcp = st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
                      std::fabs(st.args[0].value) == 1.0f;
-    switch (st.op) {
-      case Op::Add: return call_of(Op::Add, {arg(0), arg(1)});
-      case Op::Sub: return call_of(Op::Sub, {arg(0), arg(1)});
-      case Op::Mul: return call_of(Op::Mul, {arg(0), arg(1)});
-      case Op::Neg: return call_of(Op::Neg, {arg(0)});
-      case Op::Div:
-        if (!rcp) return call_of(Op::Div, {arg(0), arg(1)});
-        // -1 / x = 1 / -x: rcp is odd.
-        return call_of(Op::Rcp, {st.args[0].value < 0 ? call_of(Op::Neg, {arg(1)}).s : arg(1)});
-      default: return std::nullopt;
-    }
+    // -1 / x = 1 / -x: rcp is odd.
+    if (rcp)
+      return call_of(Op::Rcp, {st.args[0].value < 0 ? call_of(Op::Neg, {arg(1)}).s : arg(1)});
+    if (!op_info(st.op).infix && st.op != Op::Neg) return std::nullopt;
+    if (st.arity == 1) return call_of(st.op, {arg(0)});
+    return call_of(st.op, {arg(0), arg(1)});
   }
 
   Text step(const Step& st) {

@@ -56,22 +56,9 @@ bool non_negative(const Expression& e, std::size_t i) {
       const auto k = static_cast<std::size_t>(n.index);
       return k < e.parameter_values.size() && e.parameter_values[k] >= 0;
     }
-    case Op::Sqrt:
-    case Op::Rsqrt:
-    case Op::Exp2:
-    case Op::Exp:
-    case Op::Abs:
-    case Op::Saturate: return true;
-    case Op::IPow: return n.index % 2 == 0 || non_negative(e, c[0]);
-    case Op::Rcp: return non_negative(e, c[0]);
-    case Op::Pow: return non_negative(e, c[0]);
-    case Op::Add:
-    case Op::Mul:
-    case Op::Div:
-    case Op::Min: return non_negative(e, c[0]) && non_negative(e, c[1]);
-    case Op::Max: return non_negative(e, c[0]) || non_negative(e, c[1]);
-    case Op::Select: return non_negative(e, c[1]) && non_negative(e, c[2]);
-    default: return false;
+    default:
+      return value_nonnegative(
+          n.op, n.index, [&](int k) { return non_negative(e, c[static_cast<std::size_t>(k)]); });
   }
 }
 

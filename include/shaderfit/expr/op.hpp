@@ -291,6 +291,47 @@ inline double op_inverse_value(Op op, double y) {
   }
 }
 
+// Whether the operator's value is >= 0 (or NaN) for every value of its operands, given which
+// operands are: operand_nonnegative(k) for operand k (called only where the answer needs it).
+// `index` is Node::index (ipow's exponent). The leaves are the caller's.
+template <typename F>
+constexpr bool value_nonnegative(Op op, int index, F&& operand_nonnegative) {
+  switch (op) {
+    case Op::Sqrt:
+    case Op::Rsqrt:
+    case Op::Exp2:
+    case Op::Exp:
+    case Op::Abs:
+    case Op::Saturate: return true;
+    case Op::IPow: return index % 2 == 0 || operand_nonnegative(0);
+    case Op::Rcp:
+    case Op::Pow: return operand_nonnegative(0);
+    case Op::Add:
+    case Op::Mul:
+    case Op::Div:
+    case Op::Min: return operand_nonnegative(0) && operand_nonnegative(1);
+    case Op::Max: return operand_nonnegative(0) || operand_nonnegative(1);
+    case Op::Select: return operand_nonnegative(1) && operand_nonnegative(2);
+    default: return false;
+  }
+}
+
+// Whether the operator is piecewise (min, max, abs, saturate, sign, copysign, select): two
+// formulas with one can agree on many points and differ elsewhere, where formulas of the others
+// (rational and analytic functions) that agree on a few dozen points are the same.
+constexpr bool is_piecewise(Op op) {
+  switch (op) {
+    case Op::Min:
+    case Op::Max:
+    case Op::Abs:
+    case Op::Saturate:
+    case Op::Sign:
+    case Op::CopySign:
+    case Op::Select: return true;
+    default: return false;
+  }
+}
+
 // Whether the operator's value can be finite while an operand is not (x / inf = 0, rcp(inf) = 0,
 // min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2,
 // sign(inf) = 1, copysign(x, inf) = |x|, select's branch not taken, atan(inf) = pi/2,

@@ -24,10 +24,7 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
   // Formulas built from + - * / and powers are rational functions: two that agree on 64 random
   // points to 2e-5 are the same function. Piecewise operators can agree on many points and
   // differ elsewhere, so with them every screen row is checked.
-  bool piecewise = false;
-  for (Op op : o.operators)
-    piecewise = piecewise || op == Op::Min || op == Op::Max || op == Op::Abs ||
-                op == Op::Saturate || op == Op::Sign || op == Op::CopySign || op == Op::Select;
+  const bool piecewise = std::any_of(o.operators.begin(), o.operators.end(), is_piecewise);
   store_ = std::make_unique<ClassStore>(screen_rows_, o.max_classes, piecewise ? screen_rows_ : 64);
   const std::size_t levels = static_cast<std::size_t>(std::max(o.max_enumeration_cost, 0)) + 2;
   level_ids_.resize(levels);
