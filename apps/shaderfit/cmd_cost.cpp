@@ -13,6 +13,8 @@
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/reference/language.hpp"
+#include "shaderfit/reference/program_formula.hpp"
 #include "shaderfit/report/command_json.hpp"
 
 namespace shaderfit::cli {
@@ -24,14 +26,43 @@ struct CostArgs {
   std::string target = "sass";
   std::vector<std::string> inputs, params, uniform;
   std::string json_path;
+  std::string reference_file, function;  // a shader function, costed as written
 };
+
+// The formula to cost: the positional one, or the shader function of --reference-file as its
+// author wrote it (reference/program_formula.hpp), over its own parameters.
+Expression formula_to_cost(const CostArgs& a) {
+  if (a.reference_file.empty()) {
+    if (!a.function.empty())
+      throw Error("--function names a function of --reference-file, which is not given",
+                  SourceLocation{"--function"});
+    if (a.formula.empty())
+      throw Error("give a formula, or --reference-file with --function", SourceLocation{"formula"});
+    ParseOptions po;
+    po.variables = a.inputs;
+    po.parameters = a.params;
+    return parse_formula(a.formula, po);
+  }
+  if (!a.formula.empty())
+    throw Error("give a formula or --reference-file, not both", SourceLocation{"--reference-file"});
+  if (a.function.empty())
+    throw Error("name the function of the reference file to cost (--function NAME)",
+                SourceLocation{"--function"});
+  reference::ReferenceText t;
+  t.shader_source = reference::read_shader_file(a.reference_file);
+  t.shader_path = a.reference_file;
+  t.function = a.function;
+  const reference::Program p = reference::compile_reference(t);
+  const reference::ProgramFormula f = reference::program_formula(p, p.inputs);
+  if (!f.formula)
+    throw Error(a.function + " cannot be costed as written: " + f.why,
+                SourceLocation{"--reference-file"});
+  return *f.formula;
+}
 
 void run_cost(const CostArgs& a, Context& ctx) {
   const InstructionTarget target = parse_instruction_target(a.target, SourceLocation{"--target"});
-  ParseOptions po;
-  po.variables = a.inputs;
-  po.parameters = a.params;
-  const Expression e = parse_formula(a.formula, po);
+  const Expression e = formula_to_cost(a);
   const CostTable table = cost_table(e, target, a.uniform, SourceLocation{"UniformInputs"});
   const std::vector<InstructionCost>& costs = table.costs;
   const MaterialCosts* m = table.material ? &*table.material : nullptr;
@@ -86,9 +117,12 @@ void register_cost_command(CLI::App& app, Context& ctx) {
   CLI::App* cmd = app.add_subcommand(
       "cost", "GPU instruction count of a formula per target, with the instruction listing");
   cmd->add_option(
-         "formula", args->formula,
-         "the formula; every identifier is an input unless --inputs/--params say otherwise")
-      ->required();
+      "formula", args->formula,
+      "the formula; every identifier is an input unless --inputs/--params say otherwise");
+  cmd->add_option("--reference-file", args->reference_file,
+                  "instead of a formula, a GLSL or HLSL file whose function (--function) is "
+                  "costed as written: helpers inlined, constants folded, branches as selects");
+  cmd->add_option("--function", args->function, "the function of --reference-file to cost");
   cmd->add_option("--target", args->target,
                   "listing to print: sass (default), ptx, generic or sass-half2 (the __half2 "
                   "code of codegen --precision half, per call of two values)");
@@ -98,7 +132,8 @@ void register_cost_command(CLI::App& app, Context& ctx) {
                   "write the counts and listing as JSON to PATH ('-' for stdout)");
   cmd->footer(
       "Examples:\n  shaderfit cost 'r0 + (1 - r0) * (1 - cos_theta)^5'\n"
-      "  shaderfit cost --uniform alpha '1/(3.14159*alpha^2) * pow(NoH, 2/alpha^2 - 2)'");
+      "  shaderfit cost --uniform alpha '1/(3.14159*alpha^2) * pow(NoH, 2/alpha^2 - 2)'\n"
+      "  shaderfit cost --reference-file burley.hlsl --function Fd_Burley");
   cmd->callback([args, &ctx] { run_cost(*args, ctx); });
 }
 

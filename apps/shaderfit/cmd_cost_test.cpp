@@ -53,5 +53,39 @@ TEST(CmdCost, BadFormulaIsOneLineAndStatus2) {
   EXPECT_NE(r.err.find("formula:1:"), std::string::npos) << r.err;
 }
 
+// A phase function as a volumetric shader writes it: its cost as written, and the same count as
+// the formula it is.
+TEST(CmdCost, AShaderFunctionIsCostedAsWritten) {
+  const std::string path = scratch_file("hg.glsl", R"(
+#define PI 3.14159265
+float phase(float mu, float g) {
+  float g2 = g * g;
+  float inv = inversesqrt(max(1.0 + g2 - 2.0 * g * mu, 1e-6));
+  return (1.0 - g2) * inv * inv * inv / (4.0 * PI);
+})");
+  const CliResult r = run({"cost", "--reference-file", path, "--function", "phase"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("inputs: mu, g"), std::string::npos) << r.out;
+  const CliResult f = run(
+      {"cost", "--inputs", "mu,g", "(1 - g*g) * rsqrt(max(1 + g*g - 2*g*mu, 1e-6))^3 / 12.566371"});
+  ASSERT_EQ(f.status, 0) << f.err;
+  const std::regex sass("\\nsass +([0-9]+) ");
+  std::smatch a, b;
+  ASSERT_TRUE(std::regex_search(r.out, a, sass)) << r.out;
+  ASSERT_TRUE(std::regex_search(f.out, b, sass)) << f.out;
+  EXPECT_EQ(a[1].str(), b[1].str());
+}
+
+TEST(CmdCost, AShaderFunctionThatCannotBeCostedIsOneLineAndStatus2) {
+  const std::string path = scratch_file("floor.glsl", "float f(float x) { return floor(x) * x; }");
+  expect_bad_input({"cost", "--reference-file", path, "--function", "f"},
+                   "--reference-file: f cannot be costed as written: it calls floor");
+  expect_bad_input({"cost", "--reference-file", path}, "--function: name the function");
+  expect_bad_input({"cost", "--reference-file", path, "--function", "f", "x + 1"},
+                   "give a formula or --reference-file, not both");
+  expect_bad_input({"cost", "--function", "f", "x + 1"}, "--function names a function");
+  expect_bad_input({"cost"}, "give a formula, or --reference-file with --function");
+}
+
 }  // namespace
 }  // namespace shaderfit::cli::testing

@@ -69,6 +69,7 @@
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/reference/program.hpp"
 #include "shaderfit/reference/program_evaluate.hpp"
+#include "shaderfit/reference/program_formula.hpp"
 #include "shaderfit/reference/smith_ggx.hpp"
 #include "shaderfit/report/command_json.hpp"
 #include "shaderfit/report/html.hpp"
