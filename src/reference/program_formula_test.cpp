@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "expr/random_expression_test_util.hpp"
 #include "shaderfit/reference/language.hpp"
 
 namespace shaderfit::reference {
@@ -28,31 +29,7 @@ Program formula(const std::string& text, std::vector<std::string> variables) {
 
 // The formula's value at `x` (one value per variable), by op.hpp's meaning.
 double value(const Expression& e, const std::vector<double>& x) {
-  std::vector<double> st;
-  for (const Node& n : e.nodes) {
-    if (n.op == Op::Const) {
-      st.push_back(n.value);
-      continue;
-    }
-    if (n.op == Op::Var) {
-      st.push_back(x[static_cast<std::size_t>(n.index)]);
-      continue;
-    }
-    double r = 0;
-    const std::size_t k = n.arity;
-    const double* a = st.data() + st.size() - k;
-    if (n.op == Op::IPow)
-      r = apply_ipow(a[0], n.index);
-    else if (k == 1)
-      r = apply_unary(n.op, a[0]);
-    else if (k == 2)
-      r = apply_binary(n.op, a[0], a[1]);
-    else
-      r = apply_ternary(n.op, a[0], a[1], a[2]);
-    st.resize(st.size() - k);
-    st.push_back(r);
-  }
-  return st.back();
+  return testing::eval_reference(e, x);
 }
 
 // The formula means the program on random points of [lo, hi]^n.
