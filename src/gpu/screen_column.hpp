@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "eval/screen_math.hpp"
 #include "gpu/device_program.hpp"
 #include "shaderfit/eval/loss.hpp"
 
@@ -54,85 +55,14 @@ inline constexpr float kInf = std::numeric_limits<float>::infinity();
 
 SF_CPU_GPU inline float nan_value() { return bits_float(0x7fc00000u); }
 SF_CPU_GPU inline float abs_bits(float x) { return bits_float(float_bits(x) & 0x7fffffffu); }
-// Float to int32 toward zero, as the vector conversion (cvttps2dq) for in-range values.
-SF_CPU_GPU inline std::int32_t trunc_int(float x) { return static_cast<std::int32_t>(x); }
 
 }  // namespace screen_detail
 
-// Twins of the CPU kernels' screening-precision vsqrt, vexp2 and vlog2 (one lane of them).
-SF_CPU_GPU inline float screen_sqrt(float x) {
-  using namespace screen_detail;
-  const auto i = static_cast<std::int32_t>(float_bits(x));
-  float y = bits_float(static_cast<std::uint32_t>((i >> 1) + 0x1fbd1df5));
-  y = 0.5f * (y + x / y);
-  y = 0.5f * (y + x / y);
-  y = 0.5f * (y + x / y);
-  y = x == 0.0f ? 0.0f : y;
-  y = x == kInf ? kInf : y;
-  return x >= 0.0f ? y : nan_value();
-}
-
-SF_CPU_GPU inline float screen_exp2(float x) {
-  using namespace screen_detail;
-  if (!(x == x)) return nan_value();
-  const float xc = x > 128.0f ? 128.0f : (x < -126.0f ? -126.0f : x);
-  const float r = xc + 0.5f;
-  std::int32_t n = trunc_int(r);
-  n -= static_cast<float>(n) > r ? 1 : 0;  // floor
-  const float f = xc - static_cast<float>(n);
-  const float t = f * 0.69314718f;
-  float p = 1.0f / 5040;
-  p = p * t + 1.0f / 720;
-  p = p * t + 1.0f / 120;
-  p = p * t + 1.0f / 24;
-  p = p * t + 1.0f / 6;
-  p = p * t + 0.5f;
-  p = p * t + 1.0f;
-  p = p * t + 1.0f;
-  const bool big = n > 127;
-  const float scale = bits_float(static_cast<std::uint32_t>(((n - (big ? 1 : 0)) + 127) << 23));
-  float y = p * scale * (big ? 2.0f : 1.0f);
-  y = x > 128.0f ? kInf : y;
-  y = x < -126.0f ? 0.0f : y;
-  return y;
-}
-
-SF_CPU_GPU inline float screen_log2(float x) {
-  using namespace screen_detail;
-  const std::uint32_t bits = float_bits(x);
-  std::int32_t e = static_cast<std::int32_t>((bits >> 23) & 0xffu) - 127;
-  float m = bits_float((bits & 0x007fffffu) | 0x3f800000u);  // [1, 2)
-  const bool high = m > 1.41421356f;
-  m = high ? m * 0.5f : m;
-  e += high ? 1 : 0;
-  const float t = (m - 1.0f) / (m + 1.0f);
-  const float t2 = t * t;
-  float p = 1.0f / 9;
-  p = p * t2 + 1.0f / 7;
-  p = p * t2 + 1.0f / 5;
-  p = p * t2 + 1.0f / 3;
-  p = p * t2 + 1.0f;
-  float y = static_cast<float>(e) + (2.0f * 1.44269504f) * t * p;
-  y = x == kInf ? kInf : y;
-  y = x == 0.0f ? -kInf : y;
-  return x > 0.0f ? y : (x == 0.0f ? y : nan_value());
-}
-
-SF_CPU_GPU inline float screen_unary(Op op, float a) {
-  switch (op) {
-    case Op::Sqrt: return screen_sqrt(a);
-    case Op::Rsqrt: return 1.0f / screen_sqrt(a);
-    case Op::Rcp: return 1.0f / a;
-    case Op::Exp2: return screen_exp2(a);
-    case Op::Log2: return screen_log2(a);
-    case Op::Exp: return screen_exp2(a * 1.44269504f);
-    case Op::Log: return screen_log2(a) * 0.69314718f;
-    case Op::Abs: return screen_detail::abs_bits(a);
-    case Op::Saturate: return a < 0.0f ? 0.0f : (a > 1.0f ? 1.0f : a);
-    case Op::Sign: return a > 0.0f ? 1.0f : (a < 0.0f ? -1.0f : a * 0.0f);
-    default: return apply_unary(op, a);
-  }
-}
+// One lane of the CPU kernels' screening-precision functions (eval/screen_math.hpp).
+using eval_detail::screen_exp2;
+using eval_detail::screen_log2;
+using eval_detail::screen_sqrt;
+using eval_detail::screen_unary;
 
 // One row of the candidate column from its operands' values on that row.
 SF_CPU_GPU inline float screen_row(const ColumnCandidate& c, float a, float b) {

@@ -9,6 +9,8 @@
 #include <cstring>
 #include <limits>
 
+#include "eval/screen_math.hpp"
+
 // Eight-lane GCC vector types: the compiler emits AVX for the avx2 clone and SSE pairs for the
 // baseline one. Reductions are written lane-wise, so no -ffast-math is needed to vectorise them.
 #define SF_KERNEL __attribute__((target_clones("avx2", "default")))
@@ -33,88 +35,30 @@ SF_INLINE v8f select(v8i mask, v8f a, v8f b) {
   return std::bit_cast<v8f>((mask & std::bit_cast<v8i>(a)) | (~mask & std::bit_cast<v8i>(b)));
 }
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 constexpr float kInf = std::numeric_limits<float>::infinity();
 
-// Screening-precision transcendental functions (relative error below 1e-6), branch-free so that
-// they vectorise. NaN for arguments outside the domain, as the scalar functions.
-SF_INLINE v8f vsqrt(v8f x) {
-  // Bit-level initial guess, then three Newton steps on y^2 = x.
-  v8i i = std::bit_cast<v8i>(x);
-  v8f y = std::bit_cast<v8f>((i >> 1) + 0x1fbd1df5);
-  const v8f half = splat(0.5f);
-  y = half * (y + x / y);
-  y = half * (y + x / y);
-  y = half * (y + x / y);
-  y = select(x == 0.0f, splat(0.0f), y);
-  y = select(x == kInf, splat(kInf), y);
-  return select(x >= 0.0f, y, splat(kNaN));
-}
-
-SF_INLINE v8f vexp2(v8f x) {
-  const v8f xc = select(x > 128.0f, splat(128.0f), select(x < -126.0f, splat(-126.0f), x));
-  v8f r = xc + 0.5f;
-  v8i n = __builtin_convertvector(r, v8i);
-  n -= (__builtin_convertvector(n, v8f) > r) & 1;      // floor
-  const v8f f = xc - __builtin_convertvector(n, v8f);  // in [-0.5, 0.5]
-  const v8f t = f * 0.69314718f;
-  v8f p = splat(1.0f / 5040);
-  p = p * t + 1.0f / 720;
-  p = p * t + 1.0f / 120;
-  p = p * t + 1.0f / 24;
-  p = p * t + 1.0f / 6;
-  p = p * t + 0.5f;
-  p = p * t + 1.0f;
-  p = p * t + 1.0f;
-  const v8i big = n > 127;
-  const v8f scale = std::bit_cast<v8f>(((n - (big & 1)) + 127) << 23);
-  v8f y = p * scale * select(big, splat(2.0f), splat(1.0f));
-  y = select(x > 128.0f, splat(kInf), y);
-  y = select(x < -126.0f, splat(0.0f), y);
-  return select(x == x, y, splat(kNaN));
-}
-
-SF_INLINE v8f vlog2(v8f x) {
-  v8i bits = std::bit_cast<v8i>(x);
-  v8i e = ((bits >> 23) & 0xff) - 127;
-  v8f m = std::bit_cast<v8f>((bits & 0x007fffff) | 0x3f800000);  // [1, 2)
-  const v8i high = m > 1.41421356f;
-  m = select(high, m * 0.5f, m);
-  e += high & 1;
-  const v8f t = (m - 1.0f) / (m + 1.0f);
-  const v8f t2 = t * t;
-  v8f p = splat(1.0f / 9);
-  p = p * t2 + 1.0f / 7;
-  p = p * t2 + 1.0f / 5;
-  p = p * t2 + 1.0f / 3;
-  p = p * t2 + 1.0f;
-  v8f y = __builtin_convertvector(e, v8f) + (2.0f * 1.44269504f) * t * p;
-  y = select(x == kInf, splat(kInf), y);
-  y = select(x == 0.0f, splat(-kInf), y);
-  return select(x > 0.0f, y, select(x == 0.0f, y, splat(kNaN)));
-}
-
-SF_INLINE v8f vunary(Op op, v8f a) {
-  switch (op) {
-    case Op::Sqrt: return vsqrt(a);
-    case Op::Rsqrt: return 1.0f / vsqrt(a);
-    case Op::Rcp: return 1.0f / a;
-    case Op::Exp2: return vexp2(a);
-    case Op::Log2: return vlog2(a);
-    case Op::Exp: return vexp2(a * 1.44269504f);
-    case Op::Log: return vlog2(a) * 0.69314718f;
-    case Op::Abs: return std::bit_cast<v8f>(std::bit_cast<v8i>(a) & 0x7fffffff);
-    case Op::Saturate: return select(a < 0.0f, splat(0.0f), select(a > 1.0f, splat(1.0f), a));
-    case Op::Sign:  // as apply_unary: +-1, and a * 0 for zeros and NaN
-      return select(a > 0.0f, splat(1.0f), select(a < 0.0f, splat(-1.0f), a * 0.0f));
-    default: {
-      v8f r = {};
-      // sin, cos, asin, acos, atan, tanh, erf: rare, scalar
-      for (int l = 0; l < 8; ++l) r[l] = apply_unary(op, a[l]);
-      return r;
-    }
+// The lanes' operations of eval/screen_math.hpp for eight-float vectors.
+struct V8Lanes {
+  using I = v8i;
+  SF_INLINE static v8i bits(v8f x) { return std::bit_cast<v8i>(x); }
+  SF_INLINE static v8f from_bits(v8i i) { return std::bit_cast<v8f>(i); }
+  SF_INLINE static v8f pick(v8i m, v8f a, v8f b) { return select(m, a, b); }
+  SF_INLINE static v8i to_int(v8f x) { return __builtin_convertvector(x, v8i); }
+  SF_INLINE static v8f to_float(v8i i) { return __builtin_convertvector(i, v8f); }
+  SF_INLINE static v8i one_where(v8i m) { return m & 1; }
+  SF_INLINE static v8i shl23(v8i i) { return i << 23; }
+  SF_INLINE static v8f splat(float x) { return shaderfit::search_detail::splat(x); }
+  // sin, cos, asin ... erf: rare, scalar.
+  SF_INLINE static v8f apply(Op op, v8f a) {
+    v8f r = {};
+    for (int l = 0; l < 8; ++l) r[l] = apply_unary(op, a[l]);
+    return r;
   }
-}
+};
+
+SF_INLINE v8f vexp2(v8f x) { return eval_detail::screen_exp2<v8f, V8Lanes>(x); }
+SF_INLINE v8f vlog2(v8f x) { return eval_detail::screen_log2<v8f, V8Lanes>(x); }
+SF_INLINE v8f vunary(Op op, v8f a) { return eval_detail::screen_unary<v8f, V8Lanes>(op, a); }
 
 }  // namespace
 
