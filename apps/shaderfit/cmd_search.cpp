@@ -142,6 +142,14 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
         "operators (auto): {}; the evolution also {}\n", operator_list_name(options.operators),
         options.evolution_operators.empty() ? "none"
                                             : operator_list_name(options.evolution_operators));
+  // The reference's own formula: the front's first member, or one line on why it is not.
+  if (const reference::ProgramFormula own = reference_formula(problem); own.formula)
+    human << fmt::format(
+        "reference: {} {}{} as written, the front's first member; the search descends from it\n",
+        expression_cost(*own.formula, options.cost, options.uniform),
+        cost_target_name(options.cost), options.uniform.empty() ? "" : " per pixel");
+  else if (!own.why.empty())
+    human << "reference: not on the front as written: " << own.why << "\n";
   ProgressBar bar(ctx, "search");
   if (!a.quiet) {
     options.on_new_member = [&](const FrontMember& m) {

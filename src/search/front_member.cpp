@@ -24,6 +24,8 @@ std::string_view search_phase_name(SearchPhase phase) {
     case SearchPhase::PowerSum: return "power_sum";
     case SearchPhase::Polynomial: return "polynomial";
     case SearchPhase::Material: return "material";
+    case SearchPhase::Reference: return "reference";
+    case SearchPhase::Rewrite: return "rewrite";
   }
   return "enumeration";
 }
@@ -35,6 +37,8 @@ std::optional<SearchPhase> search_phase_from_name(std::string_view name) {
   if (name == "power_sum") return SearchPhase::PowerSum;
   if (name == "polynomial") return SearchPhase::Polynomial;
   if (name == "material") return SearchPhase::Material;
+  if (name == "reference") return SearchPhase::Reference;
+  if (name == "rewrite") return SearchPhase::Rewrite;
   return std::nullopt;
 }
 

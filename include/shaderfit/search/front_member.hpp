@@ -26,9 +26,20 @@ namespace shaderfit {
 // Polynomial: a least-squares polynomial of a one-input problem, tried there too.
 // Material: a form with coefficients that are functions of the per-material inputs, tried there
 // too (search/uniform_starts.hpp).
-enum class SearchPhase { Enumeration, Evolution, Start, PowerSum, Polynomial, Material };
-// "enumeration", "evolution", "start", "power_sum", "polynomial", "material" (and back; nullopt
-// for anything else).
+// Reference: the reference's own formula (reference/program_formula.hpp); Rewrite: a cheaper
+// formula rewritten from it (docs/search.md, "Downward from the reference").
+enum class SearchPhase {
+  Enumeration,
+  Evolution,
+  Start,
+  PowerSum,
+  Polynomial,
+  Material,
+  Reference,
+  Rewrite
+};
+// "enumeration", "evolution", "start", "power_sum", "polynomial", "material", "reference",
+// "rewrite" (and back; nullopt for anything else).
 std::string_view search_phase_name(SearchPhase phase);
 std::optional<SearchPhase> search_phase_from_name(std::string_view name);
 

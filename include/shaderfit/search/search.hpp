@@ -36,6 +36,7 @@
 #include "shaderfit/expr/expression.hpp"
 #include "shaderfit/gpu/device.hpp"
 #include "shaderfit/reference/function.hpp"
+#include "shaderfit/reference/program_formula.hpp"
 #include "shaderfit/search/front_member.hpp"
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/symmetry.hpp"
@@ -109,6 +110,13 @@ struct SearchSummary {
   // A few lines: termination, times, counts, and the front as a table.
   [[nodiscard]] std::string brief_report() const;
 };
+
+// The reference's own formula over the problem's inputs (reference/program_formula.hpp), or why
+// it has none; nothing (no formula, no why) without a reference. Where there is one, run_search
+// offers it to the front as written and with its constants refitted (origin "reference"), seeds
+// the evolution with it and descends from it to cheaper formulas (docs/search.md, "Downward from
+// the reference").
+reference::ProgramFormula reference_formula(const SearchProblem& problem);
 
 // Runs the search. Throws shaderfit::Error when the problem is invalid (SearchProblem::validate)
 // or the options are (SearchOptions::validate); for the log or rel loss, also when a target is

@@ -62,7 +62,7 @@ void SymmetricFront::finish(const std::vector<StartFormula>& starts, SearchSumma
   std::vector<FrontMember> front = whole_.front.members();
   const Float32Check float32(whole_.problem);
   for (FrontMember& m : front) {
-    if (m.origin == SearchPhase::Start)
+    if (m.origin == SearchPhase::Start || m.origin == SearchPhase::Reference)
       m.time_s = 0;  // known before the search began, as when it searches the data as it is
     else if (auto it = found.find(m.formula); it != found.end())
       std::tie(m.time_s, m.origin) = it->second;

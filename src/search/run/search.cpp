@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <set>
@@ -16,6 +17,7 @@
 #include "search/starts/polynomial_starts.hpp"
 #include "search/starts/power_sum.hpp"
 #include "search/search_context.hpp"
+#include "search/starts/descent.hpp"
 #include "search/starts/start.hpp"
 #include "search/front/symmetry_front.hpp"
 #include "search/front/tidy.hpp"
@@ -172,23 +174,25 @@ std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
   const std::vector<std::string>& names = problem.input_names;
   if (const auto sum = search_detail::exact_power_sum(problem))
     return search_detail::offer_start_formulas(
-        ctx, {start_over_indexed_inputs(*sum, names, "power sum")}, SearchPhase::PowerSum);
+        ctx, {start_over_indexed_inputs(*sum, names, "power sum", SearchPhase::PowerSum)});
   std::vector<search_detail::StartFormula> material;
   for (const std::string& text :
        search_detail::uniform_starts(problem, ctx.options, ctx.terminals)) {
-    material.push_back(start_over_indexed_inputs(text, names, "per-material start"));
+    material.push_back(
+        start_over_indexed_inputs(text, names, "per-material start", SearchPhase::Material));
     material.back().fitted = true;
   }
   std::vector<Expression> seeds =
-      search_detail::offer_start_formulas(ctx, material, SearchPhase::Material);
+      search_detail::offer_start_formulas(ctx, material);
   std::vector<search_detail::StartFormula> polynomials;
   for (const std::string& text :
        search_detail::polynomial_starts(problem, symmetry, ctx.options.loss)) {
-    polynomials.push_back(start_over_indexed_inputs(text, names, "polynomial"));
+    polynomials.push_back(
+        start_over_indexed_inputs(text, names, "polynomial", SearchPhase::Polynomial));
     polynomials.back().fitted = true;
   }
   for (Expression& e :
-       search_detail::offer_start_formulas(ctx, polynomials, SearchPhase::Polynomial))
+       search_detail::offer_start_formulas(ctx, polynomials))
     seeds.push_back(std::move(e));
   return seeds;
 }
@@ -237,6 +241,20 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     std::vector<Expression> seeds;
     if (ctx.ranks.leader()) {
       seeds = search_detail::offer_start_formulas(ctx, starts);
+      // Downward from the reference's own formula (search/starts/descent.hpp), before the
+      // enumeration so that a candidate budget leaves it its share: its seeds after the starts.
+      for (const search_detail::StartFormula& start : starts) {
+        if (start.origin != SearchPhase::Reference || ctx.should_stop()) continue;
+        const double share = search_detail::kDescentShare;
+        const std::uint64_t budget =
+            options.max_candidates
+                ? static_cast<std::uint64_t>(share * static_cast<double>(*options.max_candidates))
+                : std::numeric_limits<std::uint64_t>::max();
+        std::vector<Expression> found = search_detail::descend(
+            ctx, start.written, ctx.elapsed() + share * options.time_limit_s, budget);
+        seeds.insert(seeds.begin() + static_cast<std::ptrdiff_t>(starts.size()),
+                     std::make_move_iterator(found.begin()), std::make_move_iterator(found.end()));
+      }
       if (options.enumerate) {
         search_detail::Enumerator enumerator(ctx, rng);
         enumerator.run();
@@ -314,6 +332,11 @@ void check_half_range(const SearchProblem& problem) {
 
 }  // namespace
 
+reference::ProgramFormula reference_formula(const SearchProblem& problem) {
+  if (!problem.reference) return {};
+  return reference::program_formula(problem.reference->program, problem.input_names);
+}
+
 void run_search(const SearchOptions& given, const SearchProblem& problem, SearchSummary* summary) {
   problem.validate();
   given.validate();
@@ -339,8 +362,10 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
 
   if (options.precision == Precision::Half) check_half_range(problem);
   check_uniform_inputs(options.uniform, problem.input_names, {"SearchOptions::uniform"});
-  const std::vector<search_detail::StartFormula> starts =
+  std::vector<search_detail::StartFormula> starts =
       search_detail::parse_start_formulas(options, problem);
+  // The reference's own formula, where it lowers into the operators, is the first start.
+  if (auto own = search_detail::reference_start(problem)) starts.insert(starts.begin(), *own);
 
   const search_detail::RankGroup ranks(options.communicator);
   if (ranks.distributed() && options.evolve && options.islands < ranks.size())

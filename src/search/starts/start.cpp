@@ -1,6 +1,7 @@
 #include "search/starts/start.hpp"
 
 #include "search/evolution/constant_fit.hpp"
+#include "search/starts/descent.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/fit/fixed_form.hpp"
 
@@ -63,7 +64,7 @@ Expression refit_for_loss(Expression e, const SearchOptions& options,
 
 StartFormula start_over_indexed_inputs(const std::string& text,
                                        const std::vector<std::string>& names,
-                                       const std::string& source) {
+                                       const std::string& source, SearchPhase origin) {
   ParseOptions po;
   for (std::size_t k = 0; k < names.size(); ++k) po.variables.push_back("x" + std::to_string(k));
   po.source = source;
@@ -72,12 +73,12 @@ StartFormula start_over_indexed_inputs(const std::string& text,
   po.literals_as_parameters = true;
   s.free = parse_formula(text, po);
   s.written.variables = s.free.variables = names;
+  s.origin = origin;
   return s;
 }
 
 std::vector<Expression> offer_start_formulas(SearchContext& ctx,
-                                             const std::vector<StartFormula>& starts,
-                                             SearchPhase origin) {
+                                             const std::vector<StartFormula>& starts) {
   std::vector<Expression> seeds;
   for (const StartFormula& s : starts) {
     Expression fitted = s.fitted ? s.free : refit_for_loss(s.free, ctx.options, ctx.problem);
@@ -85,12 +86,22 @@ std::vector<Expression> offer_start_formulas(SearchContext& ctx,
     std::vector<const Expression*> forms = {s.fitted ? &s.free : &s.written};
     if (!s.fitted && !fitted.parameters.empty()) forms.push_back(&fitted);
     for (const Expression* e : forms) {
-      ctx.offer(*e, loss_value(ctx.options.loss, ctx.score(*e)), origin);
+      ctx.offer(*e, loss_value(ctx.options.loss, ctx.score(*e)), s.origin);
       ctx.candidates.fetch_add(1, std::memory_order_relaxed);
     }
     seeds.push_back(std::move(fitted));
   }
   return seeds;
+}
+
+std::optional<StartFormula> reference_start(const SearchProblem& problem) {
+  reference::ProgramFormula f = reference_formula(problem);
+  if (!f.formula) return std::nullopt;
+  StartFormula s;
+  s.written = std::move(*f.formula);
+  s.free = with_shared_literal_parameters(s.written);
+  s.origin = SearchPhase::Reference;
+  return s;
 }
 
 }  // namespace shaderfit::search_detail

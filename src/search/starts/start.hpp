@@ -2,6 +2,7 @@
 // formula").
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@ struct StartFormula {
   Expression written;   // as the user wrote it, over the problem's inputs
   Expression free;      // the same with its number literals as parameters, at their written values
   bool fitted = false;  // its literals are already the loss's best (no refit_for_loss)
+  SearchPhase origin = SearchPhase::Start;  // what the front records it as
 };
 
 // options.start parsed over problem.input_names. Throws Error located at "SearchOptions::start",
@@ -27,20 +29,24 @@ std::vector<StartFormula> parse_start_formulas(const SearchOptions& options,
 // target). Where the fit fails, e keeps its values.
 Expression refit_for_loss(Expression e, const SearchOptions& options, const SearchProblem& problem);
 
-// Offers each start formula to ctx's front as written and refitted (with `origin`; a `fitted`
+// Offers each start formula to ctx's front as written and refitted (with its origin; a `fitted`
 // one only with its literals free, at their values), counting them as candidates; returns the
 // refitted forms (a `fitted` one's `free`), which seed the evolution. A member at no more than a
 // start's cost and loss is then on the front for the rest of the search, unless the start is not
 // finite on every row (SearchContext::offer).
 std::vector<Expression> offer_start_formulas(SearchContext& ctx,
-                                             const std::vector<StartFormula>& starts,
-                                             SearchPhase origin = SearchPhase::Start);
+                                             const std::vector<StartFormula>& starts);
 
 // `text` over the variables x0, x1, ... (input k is xk, as search/power_sum.hpp and
 // search/polynomial_starts.hpp write it), as written and with its literals free, over `names`;
 // `source` names it in a parse error.
 StartFormula start_over_indexed_inputs(const std::string& text,
                                        const std::vector<std::string>& names,
-                                       const std::string& source);
+                                       const std::string& source, SearchPhase origin);
+
+// The reference's own formula (reference_formula, search.hpp) as a start: written as the
+// reference computes it, and with its literals free (copies of a subexpression sharing theirs);
+// origin SearchPhase::Reference. nullopt when the problem has no reference or it does not lower.
+std::optional<StartFormula> reference_start(const SearchProblem& problem);
 
 }  // namespace shaderfit::search_detail

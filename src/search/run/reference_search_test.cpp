@@ -1,0 +1,115 @@
+// The search on a shader function (docs/search.md, "Downward from the reference"): the function
+// is the front's first member at its own cost, the descent finds cheaper exact forms, and a
+// function the operators cannot write is said in one line while the search goes on.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "shaderfit/problem/problem.hpp"
+#include "shaderfit/search/search.hpp"
+
+namespace shaderfit {
+namespace {
+
+const char* kHenyeyGreenstein = R"(
+#define PI 3.14159265
+float phaseHG(float cosTheta, float g)
+{
+    float g2 = g * g;
+    float denom = 1.0 + g2 - 2.0 * g * cosTheta;
+    float invLen = inversesqrt(max(denom, 1e-6));
+    return (1.0 - g2) * invLen * invLen * invLen / (4.0 * PI);
+}
+)";
+
+SearchProblem shader_problem(const std::string& source, const std::string& function,
+                             std::vector<std::string> domain) {
+  ProblemSource s;
+  s.reference.shader_source = source;
+  s.reference.shader_path = "test.glsl";
+  s.reference.function = function;
+  s.domain = std::move(domain);
+  s.samples = 1500;
+  return search_problem(load_problem(s));
+}
+
+SearchOptions budgeted() {
+  SearchOptions o;
+  o.threads = 1;
+  o.time_limit_s = 120;
+  o.max_candidates = 400'000;
+  o.seed = 3;
+  return o;
+}
+
+// The cheapest member whose RMS error is at most 1e-6 of the target's standard deviation.
+std::optional<FrontMember> cheapest_exact(const SearchSummary& s, const SearchProblem& p) {
+  double mean = 0, var = 0;
+  for (double t : p.target) mean += t / static_cast<double>(p.target.size());
+  for (double t : p.target) var += (t - mean) * (t - mean) / static_cast<double>(p.target.size());
+  for (const FrontMember& m : s.front)
+    if (m.metrics.rmse <= 1e-6 * std::sqrt(var)) return m;
+  return std::nullopt;
+}
+
+TEST(ReferenceSearch, TheFunctionIsOnTheFrontAtItsOwnCostOrBelow) {
+  const SearchProblem p =
+      shader_problem(kHenyeyGreenstein, "phaseHG", {"cosTheta=-1:1", "g=0:0.9"});
+  const reference::ProgramFormula own = reference_formula(p);
+  ASSERT_TRUE(own.formula.has_value()) << own.why;
+  SearchOptions o = budgeted();
+  const double own_cost = expression_cost(*own.formula, o.cost);
+  EXPECT_EQ(own_cost, 10);  // nvcc --use_fast_math -arch=sm_90 counts 10 as well
+  SearchSummary s;
+  run_search(o, p, &s);
+  const auto exact = cheapest_exact(s, p);
+  ASSERT_TRUE(exact.has_value());
+  // The max(denom, 1e-6) never binds on the domain: dropping it is exact and one cheaper.
+  EXPECT_LE(exact->cost, 9) << exact->formula;
+  EXPECT_TRUE(exact->origin == SearchPhase::Reference || exact->origin == SearchPhase::Rewrite);
+}
+
+TEST(ReferenceSearch, PerMaterialTheFunctionIsAPowerAtFourPerPixel) {
+  const SearchProblem p =
+      shader_problem(kHenyeyGreenstein, "phaseHG", {"cosTheta=-1:1", "g=0:0.9"});
+  SearchOptions o = budgeted();
+  o.uniform = {"g"};
+  SearchSummary s;
+  run_search(o, p, &s);
+  const auto exact = cheapest_exact(s, p);
+  ASSERT_TRUE(exact.has_value());
+  EXPECT_LE(exact->cost, 4) << exact->formula;
+}
+
+TEST(ReferenceSearch, AFunctionTheOperatorsCannotWriteIsSaidAndSearched) {
+  const char* banded = R"(
+float bands(float x) { return floor(x * 4.0) / 4.0 + 0.1 * x; }
+)";
+  const SearchProblem p = shader_problem(banded, "bands", {"x=0:1"});
+  const reference::ProgramFormula own = reference_formula(p);
+  EXPECT_FALSE(own.formula.has_value());
+  EXPECT_NE(own.why.find("floor"), std::string::npos) << own.why;
+  SearchOptions o = budgeted();
+  o.max_candidates = 50'000;
+  SearchSummary s;
+  run_search(o, p, &s);
+  EXPECT_FALSE(s.front.empty());
+  for (const FrontMember& m : s.front) {
+    EXPECT_NE(m.origin, SearchPhase::Reference);
+    EXPECT_NE(m.origin, SearchPhase::Rewrite);
+  }
+}
+
+TEST(ReferenceSearch, NoReferenceNoFormula) {
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs = {{0, 1, 2}};
+  p.target = {0, 1, 4};
+  const reference::ProgramFormula own = reference_formula(p);
+  EXPECT_FALSE(own.formula.has_value());
+  EXPECT_TRUE(own.why.empty());
+}
+
+}  // namespace
+}  // namespace shaderfit
