@@ -225,26 +225,30 @@ std::string heatmap_plot(const Heatmap& m, int w, int h, const PixelBox& frame,
     // A viridis-like ramp: perceptually uniform, lightness rising monotonically (reads in grey).
     s << "set palette defined (0 '#440154', 0.13 '#482878', 0.25 '#3e4989', 0.38 '#31688e', "
          "0.5 '#26828e', 0.63 '#1f9e89', 0.75 '#35b779', 0.88 '#6ece58', 1 '#fde725')\n";
-    s << "set cbrange [*:*]\n";
-    s << (m.log_values ? "set logscale cb\n" : "unset logscale cb\n");
   }
-  // The colour bar labels the values themselves: powers of ten on a log scale that spans a
-  // decade or more; across less, where gnuplot would label none, five values spread evenly.
   double lo = INFINITY, hi = 0;
   for (double v : m.values)
     if (v > 0 && std::isfinite(v)) lo = std::min(lo, v), hi = std::max(hi, v);
-  if (m.log_values && lo <= hi && hi < 10 * lo) {
+  // A log scale needs a value > 0 (an exact formula's error map is 0 everywhere: drawn linear).
+  const bool log_values = m.log_values && lo <= hi;
+  if (m.palette != Heatmap::Palette::Grey) {
+    s << (lo <= hi || !m.log_values ? "set cbrange [*:*]\n" : "set cbrange [0:1]\n");
+    s << (log_values ? "set logscale cb\n" : "unset logscale cb\n");
+  }
+  // The colour bar labels the values themselves: powers of ten on a log scale that spans a
+  // decade or more; across less, where gnuplot would label none, five values spread evenly.
+  if (log_values && hi < 10 * lo) {
     s << "set format cb '%.2g'\nset cbtics (";
     for (int k = 0; k < 5; ++k) s << (k ? ", " : "") << number(lo * std::pow(hi / lo, k / 4.0));
     s << ")\n";
   } else {
-    s << "set format cb '" << (m.log_values ? "%.0e" : "%g") << "'\nset cbtics autofreq\n";
+    s << "set format cb '" << (log_values ? "%.0e" : "%g") << "'\nset cbtics autofreq\n";
   }
   if (m.axes) {
     s << "set border lc rgb " << kBorder
       << "\nset xtics out\nset ytics out\nset cbtics out\nset colorbox\n";
     s << "set xlabel " << quote(m.x_label) << "\nset ylabel " << quote(m.y_label) << "\n";
-    s << "set cblabel " << quote(m.value_label + (m.log_values ? " (log scale)" : ""))
+    s << "set cblabel " << quote(m.value_label + (log_values ? " (log scale)" : ""))
       << " offset 1.5,0\n";
   } else {
     s << "unset tics\nunset colorbox\nunset border\nunset xlabel\nunset ylabel\nunset cblabel\n";
@@ -256,7 +260,7 @@ std::string heatmap_plot(const Heatmap& m, int w, int h, const PixelBox& frame,
     for (int i = 0; i < m.nx; ++i) {
       double v = m.values[static_cast<std::size_t>(j) * static_cast<std::size_t>(m.nx) +
                           static_cast<std::size_t>(i)];
-      if (m.log_values && !(v > 0)) v = NAN;
+      if (log_values && !(v > 0)) v = NAN;
       s << number(m.x_range.min + (i + 0.5) * dx) << " " << number(m.y_range.min + (j + 0.5) * dy)
         << " " << number(v) << "\n";
     }

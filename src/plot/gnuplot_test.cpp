@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -76,6 +78,18 @@ Heatmap small_map(const std::string& title) {
   m.values = {1e-4, 1e-3, 0, 1e-2, 2e-2, 3e-2};
   m.log_values = true;
   return m;
+}
+
+TEST(PlotScript, AnErrorMapOfZerosIsDrawnLinear) {
+  // An exact formula's error map: no value a log scale can show, so a linear one from 0.
+  Heatmap m = small_map("exact");
+  std::fill(m.values.begin(), m.values.end(), 0.0);
+  HeatmapGrid g;
+  g.panels.push_back(m);
+  const std::string s = gnuplot_script(g, ImageFormat::Svg, "g.svg");
+  EXPECT_EQ(s.find("\nset logscale cb"), std::string::npos) << s;
+  EXPECT_NE(s.find("set cbrange [0:1]"), std::string::npos) << s;
+  EXPECT_EQ(s.find(" NaN\n"), std::string::npos);
 }
 
 TEST(PlotScript, HeatmapGridHasATitledPanelEach) {

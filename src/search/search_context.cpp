@@ -140,12 +140,21 @@ bool SearchContext::finite_everywhere(const Expression& e) {
     if (!absorbs_non_finite(n.op, n.index)) continue;
     const std::size_t k = arity(n.op);
     e.child_indices(i, std::span<std::size_t>(children.data(), k));
+    // A select's branch needs to be finite only where it is chosen (the shader computes both
+    // and keeps one, as for `c ? (1 - exp(-x)) / x : 1 - x / 2`).
+    std::vector<double> condition;
+    if (n.op == Op::Select) {
+      condition.resize(rows);
+      predict(e.subtree(children[0]), condition);
+    }
     for (std::size_t c = 0; c < k; ++c) {
       if (arity(e.nodes[children[c]].op) == 0) continue;  // leaves were checked above
       values.resize(rows);
       predict(e.subtree(children[c]), values);
-      for (double v : values)
-        if (!std::isfinite(v)) return false;
+      for (std::size_t r = 0; r < rows; ++r) {
+        if (n.op == Op::Select && c > 0 && (condition[r] >= 0) != (c == 1)) continue;
+        if (!std::isfinite(values[r])) return false;
+      }
     }
   }
   return true;

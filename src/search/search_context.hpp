@@ -97,7 +97,8 @@ class SearchContext {
   // in float64. GLSL leaves x / 0, logs of 0 or less, square roots of negatives and whatever
   // is computed from an infinity or a NaN unspecified (and min, max, saturate and rcp can turn
   // those back into finite values), so a formula that passes through one would not compute
-  // what the search scored in every shader.
+  // what the search scored in every shader. A select's branch counts only on the rows where it
+  // is chosen.
   bool finite_everywhere(const Expression& e);
 
  private:

@@ -9,6 +9,7 @@
 #include "search/evolution/constant_fit.hpp"
 #include "search/exact_json.hpp"
 #include "search/evolution/nsga2.hpp"
+#include "search/evolution/rewrites.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/simplify.hpp"
@@ -111,6 +112,13 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
     if (!p.weights.empty()) fit_weights_[i] = p.weights[pick[i]];
   }
   for (const auto& c : fit_columns_) fit_pointers_.push_back(c.data());
+  rewrites_ = reference_formula(p).formula.has_value();
+  if (rewrites_) {
+    rewrite_rows_.input_names = p.input_names;
+    rewrite_rows_.inputs = fit_columns_;
+    rewrite_rows_.target = fit_target_;
+    rewrite_rows_.weights = fit_weights_;
+  }
 
   Expression x;
   x.variables = {"x"};
@@ -310,7 +318,10 @@ bool Evolution::generation(Island& island, const Snapshot& front) {
     const bool local = attempts % 4 == 3;
     const Individual& a = local ? island.population[best] : tournament(island, rank, crowd);
     Expression child =
-        !local && bernoulli(island.rng, 0.5)
+        rewrites_ && local && bernoulli(island.rng, 0.25)
+            ? normalize_parameters(random_rewrite(island.rng, a.expr, ctx_.options, rewrite_rows_),
+                                   limits_)
+        : !local && bernoulli(island.rng, 0.5)
             ? crossover(island.rng, a.expr, tournament(island, rank, crowd).expr, limits_)
             : mutate(island.rng, a.expr, limits_);
     if (child.empty()) continue;

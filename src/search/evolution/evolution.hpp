@@ -62,6 +62,10 @@ class Evolution {
     std::vector<Candidate> found;
     std::uint64_t evaluated = 0;
   };
+  // With a reference that lowers into the operators: the fit rows as a problem, for the
+  // cost-lowering rewrites (rewrites.hpp) that a quarter of the local mutants are.
+  bool rewrites_ = false;
+  SearchProblem rewrite_rows_;
   using Snapshot = std::vector<std::pair<double, double>>;  // (cost, loss) of the front
   // What the ranks of a distributed search decide together at a synchronisation point.
   struct Joint {

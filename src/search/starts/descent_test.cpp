@@ -1,5 +1,6 @@
 // Downward from the reference (search/starts/descent.hpp): the rewrites are cheaper and keep
 // what they claim; the descent finds the exact cheaper forms a person writes by hand.
+#include "search/evolution/rewrites.hpp"
 #include "search/starts/descent.hpp"
 
 #include <gtest/gtest.h>

@@ -1,7 +1,7 @@
 #include "search/starts/start.hpp"
 
 #include "search/evolution/constant_fit.hpp"
-#include "search/starts/descent.hpp"
+#include "search/evolution/rewrites.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/fit/fixed_form.hpp"
 
