@@ -65,12 +65,15 @@ std::vector<Expression> descend(SearchContext& ctx, const Expression& start, dou
            ctx.candidates.load() - first >= max_candidates;
   };
   while (!out_of_budget()) {
-    // The most expensive formula not yet rewritten, the most accurate at its cost first.
+    // In rounds: the best not yet rewritten at each cost, then the second best, ...; within a
+    // round the most expensive first.
     Kept* next = nullptr;
-    for (auto it = kept.rbegin(); it != kept.rend() && next == nullptr; ++it)
-      for (Kept& k : it->second)
-        if (!k.expanded) {
-          next = &k;
+    std::size_t round = kDescentKeptPerCost;
+    for (auto it = kept.rbegin(); it != kept.rend(); ++it)
+      for (std::size_t k = 0; k < it->second.size() && k < round; ++k)
+        if (!it->second[k].expanded) {
+          next = &it->second[k];
+          round = k;
           break;
         }
     if (next == nullptr) break;

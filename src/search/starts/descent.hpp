@@ -3,8 +3,8 @@
 // the rewrites of search/evolution/rewrites.hpp. Rewrites are screened on a sample of the rows;
 // the best few at each cost are refitted there (every literal free, copies of a subexpression
 // keeping one set of constants) and offered to the front (SearchPhase::Rewrite). The best at
-// each cost are rewritten in turn, the most expensive first, until the descent's budget is
-// spent.
+// each cost are rewritten in turn, in rounds (the best at each cost, the most expensive first,
+// then the second best, ...), until the descent's budget is spent.
 #pragma once
 
 #include <cstddef>
@@ -17,8 +17,8 @@ namespace shaderfit::search_detail {
 // The share of the time limit (and of a candidate budget) the descent may use.
 inline constexpr double kDescentShare = 0.3;
 // Rewrites refitted per cost level and expansion, and formulas kept per cost level to rewrite.
-inline constexpr std::size_t kDescentRefitsPerCost = 6;
-inline constexpr std::size_t kDescentKeptPerCost = 3;
+inline constexpr std::size_t kDescentRefitsPerCost = 8;
+inline constexpr std::size_t kDescentKeptPerCost = 6;
 // Levenberg-Marquardt steps (and Lawson passes) of a rewrite's refit.
 inline constexpr int kDescentFitSteps = 30;
 
