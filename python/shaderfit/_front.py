@@ -202,7 +202,8 @@ class Front(Sequence):
         if not members:
             raise ValueError("the front is empty")
         index, why = _shaderfit.choose([float(m.cost) for m in members],
-                                       [m.loss for m in members], rule,
+                                       [m.loss for m in members],
+                                       [m.origin for m in members], rule,
                                        self.options.get("loss", "error"))
         return members[index], why
 

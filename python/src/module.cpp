@@ -387,17 +387,20 @@ SearchRun run(const std::vector<Column>& columns, const std::vector<std::string>
 }
 
 // The member `rule` picks ("knee", "cost=N", "error=E") from a front given as its members'
-// costs and errors (cheapest first): (index, why).
+// costs, errors and origins (cheapest first): (index, why).
 std::pair<std::size_t, std::string> choose(const std::vector<double>& costs,
                                            const std::vector<double>& errors,
+                                           const std::vector<std::string>& origins,
                                            const std::string& rule_text,
                                            const std::string& error_name) {
   const ChoiceRule rule = parse_choice_rule(rule_text, {"ChoiceRule"});
-  if (costs.size() != errors.size()) throw Error("one error per cost", {"errors"});
+  if (costs.size() != errors.size() || costs.size() != origins.size())
+    throw Error("one error and one origin per cost", {"errors"});
   std::vector<FrontMember> front(costs.size());
   for (std::size_t i = 0; i < costs.size(); ++i) {
     front[i].cost = costs[i];
     front[i].loss = errors[i];
+    front[i].origin = search_phase_from_name(origins[i]).value_or(SearchPhase::Enumeration);
   }
   const Choice c = choose_member(front, rule, error_name);
   return {c.index, c.why};
@@ -626,8 +629,8 @@ NB_MODULE(_shaderfit, m) {
       .def_prop_ro("interrupted", &SearchRun::interrupted)
       .def_prop_ro("termination", &SearchRun::termination)
       .def("summary_text", &SearchRun::summary_text);
-  m.def("choose", &choose, nb::arg("costs"), nb::arg("errors"), nb::arg("rule"),
-        nb::arg("error_name"));
+  m.def("choose", &choose, nb::arg("costs"), nb::arg("errors"), nb::arg("origins"),
+        nb::arg("rule"), nb::arg("error_name"));
   m.def("option_fields", &option_fields);
   m.def("check_options", [](const std::vector<std::pair<std::string, std::string>>& texts) {
     (void)make_options(texts);

@@ -84,7 +84,7 @@ Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
   std::size_t best = members.front();
   for (std::size_t i : members)
     if (err(i) < err(best)) best = i;
-  const std::size_t cheapest = members.front();
+  std::size_t cheapest = members.front();
 
   switch (rule.kind) {
     case ChoiceRule::Kind::MaxCost: {
@@ -107,6 +107,17 @@ Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
                                 error_name, rule.limit, err(best))};
     }
     case ChoiceRule::Kind::Knee: break;
+  }
+  // The knee is a formula to use instead of the reference: the reference's own member (the
+  // function as written) takes no part while there is another.
+  std::vector<std::size_t> others;
+  for (std::size_t i : members)
+    if (front[i].origin != SearchPhase::Reference) others.push_back(i);
+  if (!others.empty() && others.size() < members.size()) {
+    members = std::move(others);
+    cheapest = best = members.front();
+    for (std::size_t i : members)
+      if (err(i) < err(best)) best = i;
   }
 
   if (members.size() == 1 || cost(best) <= cost(cheapest) || !(err(best) < err(cheapest)))

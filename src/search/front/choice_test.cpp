@@ -42,6 +42,19 @@ TEST(Choice, NoKneeTakesTheMostAccurate) {
   EXPECT_EQ(choose_member(front({{0, 1}, {2, 1e-3}, {3, 0}}), ChoiceRule{}).index, 2u);
 }
 
+TEST(Choice, TheKneePassesOverTheReferenceItself) {
+  // The function as written, exact at cost 24, beside cheap approximations: the knee is one of
+  // them; asked for by cost, the reference may be chosen.
+  auto f = front({{0, 1}, {5, 0.1}, {10, 1e-3}, {16, 8e-4}, {24, 1e-30}});
+  f.back().origin = SearchPhase::Reference;
+  EXPECT_EQ(choose_member(f, ChoiceRule{}).index, 2u);
+  EXPECT_EQ(choose_member(f, parse_choice_rule("cost=30", {"test"})).index, 4u);
+  // Alone, it is chosen.
+  auto alone = front({{24, 1e-30}});
+  alone.back().origin = SearchPhase::Reference;
+  EXPECT_EQ(choose_member(alone, ChoiceRule{}).index, 0u);
+}
+
 TEST(Choice, CostAndErrorLimits) {
   const auto f = front(kKneeAt4);
   EXPECT_EQ(choose_member(f, parse_choice_rule("cost=7", {})).index, 3u);

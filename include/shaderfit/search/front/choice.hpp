@@ -52,7 +52,8 @@ struct Choice {
 
 // The member `rule` picks from `front` (cheapest first, as a search returns it), its error being
 // member.loss, or metrics.mse where loss is NaN, named `error_name` in `why`. Members without a
-// cost or an error are passed over; when none has both, the last member is chosen. When no
+// cost or an error are passed over; when none has both, the last member is chosen. The knee
+// passes over the reference's own member (origin "reference") while there is another. When no
 // member meets a cost or error limit, the nearest is chosen (the cheapest, the most accurate) and
 // `why` says so. Throws shaderfit::Error for an empty front.
 Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
