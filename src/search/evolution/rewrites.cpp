@@ -467,31 +467,33 @@ Expression cheapest_form(Expression x, const SearchOptions& options,
 
 }  // namespace
 
-// The rows' loss of a f + b, a and b fitted by least squares: how good e may be once its
-// constants are refitted (a rewrite that drops a scale is as good as one that keeps it); +inf
+namespace {
+
+// The rows' loss of e for `loss`, of a e + b (a, b fitted by least squares) when `scaled`; +inf
 // when e is not finite on the rows.
-double scaled_rows_loss(const Expression& e, Loss loss, const SearchProblem& rows) {
+double loss_on_rows(const Expression& e, Loss loss, const SearchProblem& rows, bool scaled) {
   std::vector<const double*> cols;
   for (const Column& c : rows.inputs) cols.push_back(c.data());
   Column p(rows.target.size());
   evaluate(e, cols, p);
   if (!all_finite(p)) return HUGE_VAL;
-  if (auto c = least_squares({ones(p.size()), p}, rows.target))
-    for (double& v : p) v = (*c)[0] + (*c)[1] * v;
+  if (scaled)
+    if (auto c = least_squares({ones(p.size()), p}, rows.target))
+      for (double& v : p) v = (*c)[0] + (*c)[1] * v;
   const double l = loss_of(loss, p, rows.target, rows.weights);
   return std::isfinite(l) ? l : HUGE_VAL;
 }
 
-// The rows' loss of e for `loss`; +inf when e is not finite on them.
-double rows_loss(const Expression& e, Loss loss, const SearchProblem& rows) {
-  std::vector<const double*> cols;
-  for (const Column& c : rows.inputs) cols.push_back(c.data());
-  Column p(rows.target.size());
-  evaluate(e, cols, p);
-  if (!all_finite(p)) return HUGE_VAL;
-  const double l = loss_of(loss, p, rows.target, rows.weights);
-  return std::isfinite(l) ? l : HUGE_VAL;
+}  // namespace
+
+double scaled_rows_loss(const Expression& e, Loss loss, const SearchProblem& rows) {
+  return loss_on_rows(e, loss, rows, true);
 }
+
+double rows_loss(const Expression& e, Loss loss, const SearchProblem& rows) {
+  return loss_on_rows(e, loss, rows, false);
+}
+
 SearchProblem descent_rows(const SearchProblem& problem, std::size_t count) {
   const std::size_t rows = problem.target.size();
   if (rows <= count) return problem;

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "shaderfit/problem/problem.hpp"
 #include "shaderfit/search/search.hpp"
@@ -12,16 +14,13 @@
 namespace shaderfit {
 namespace {
 
-const char* kHenyeyGreenstein = R"(
-#define PI 3.14159265
-float phaseHG(float cosTheta, float g)
-{
-    float g2 = g * g;
-    float denom = 1.0 + g2 - 2.0 * g * cosTheta;
-    float invLen = inversesqrt(max(denom, 1e-6));
-    return (1.0 - g2) * invLen * invLen * invLen / (4.0 * PI);
+// The issue's own Henyey-Greenstein shader, as bench/shaders holds it.
+std::string henyey_greenstein() {
+  std::ifstream in(std::string(SHADERFIT_SOURCE_DIR) + "/bench/shaders/hg.glsl");
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
 }
-)";
 
 SearchProblem shader_problem(const std::string& source, const std::string& function,
                              std::vector<std::string> domain) {
@@ -55,7 +54,7 @@ std::optional<FrontMember> cheapest_exact(const SearchSummary& s, const SearchPr
 
 TEST(ReferenceSearch, TheFunctionIsOnTheFrontAtItsOwnCostOrBelow) {
   const SearchProblem p =
-      shader_problem(kHenyeyGreenstein, "phaseHG", {"cosTheta=-1:1", "g=0:0.9"});
+      shader_problem(henyey_greenstein(), "phaseHG", {"cosTheta=-1:1", "g=0:0.9"});
   const reference::ProgramFormula own = reference_formula(p);
   ASSERT_TRUE(own.formula.has_value()) << own.why;
   SearchOptions o = budgeted();
@@ -72,7 +71,7 @@ TEST(ReferenceSearch, TheFunctionIsOnTheFrontAtItsOwnCostOrBelow) {
 
 TEST(ReferenceSearch, PerMaterialTheFunctionIsAPowerAtFourPerPixel) {
   const SearchProblem p =
-      shader_problem(kHenyeyGreenstein, "phaseHG", {"cosTheta=-1:1", "g=0:0.9"});
+      shader_problem(henyey_greenstein(), "phaseHG", {"cosTheta=-1:1", "g=0:0.9"});
   SearchOptions o = budgeted();
   o.uniform = {"g"};
   SearchSummary s;
