@@ -24,6 +24,25 @@ double screen_weight(Loss loss, double w, double y) {
   }
 }
 
+std::vector<std::size_t> stratified_rows(std::span<const double> target,
+                                         std::vector<std::size_t> rows, std::size_t wanted,
+                                         Rng& rng) {
+  if (rows.size() <= wanted) {
+    std::sort(rows.begin(), rows.end());
+    return rows;
+  }
+  std::stable_sort(rows.begin(), rows.end(),
+                   [&](std::size_t a, std::size_t b) { return target[a] < target[b]; });
+  std::vector<std::size_t> picked;
+  const std::size_t n = rows.size();
+  for (std::size_t k = 0; k < wanted; ++k) {
+    const std::size_t lo = k * n / wanted, hi = (k + 1) * n / wanted;
+    picked.push_back(rows[lo + static_cast<std::size_t>(uniform_index(rng, hi - lo))]);
+  }
+  std::sort(picked.begin(), picked.end());
+  return picked;
+}
+
 SearchContext::SearchContext(const SearchOptions& opts, const SearchProblem& prob)
     : options(opts),
       problem(prob),

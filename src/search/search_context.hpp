@@ -13,6 +13,7 @@
 
 #include "search/distributed.hpp"
 #include "search/pareto.hpp"
+#include "shaderfit/core/random.hpp"
 #include "shaderfit/search/search.hpp"
 #include "shaderfit/search/symmetry.hpp"
 
@@ -32,6 +33,15 @@ inline double formula_cost(const Expression& e, const SearchOptions& options) {
   return expression_cost(e, options.cost, options.uniform);
 }
 double screen_weight(Loss loss, double w, double y);
+
+// `wanted` of `rows` (indices into target) stratified by the target: the rows sorted by target
+// value, cut into `wanted` strata of equal size, one row drawn uniformly from each; returned in
+// increasing order. All of `rows` (sorted) when there are no more than `wanted`. The large errors
+// sit at the large targets (grazing angles), so the loss on such a sample has far less sampling
+// noise than on a plain one.
+std::vector<std::size_t> stratified_rows(std::span<const double> target,
+                                         std::vector<std::size_t> rows, std::size_t wanted,
+                                         Rng& rng);
 
 class SearchContext {
  public:

@@ -1,10 +1,14 @@
 // The front's door: a formula that is NaN or infinite on any row never enters, whatever the
-// caller's metrics say, and a member's numbers are those of the formula it shows.
+// caller's metrics say, and a member's numbers are those of the formula it shows; the stratified
+// samples of rows the strategies score on.
 #include "search/search_context.hpp"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
+#include <set>
 
 #include "search/run/seed_problem_test_util.hpp"
 #include "shaderfit/eval/evaluate.hpp"
@@ -97,6 +101,27 @@ TEST(SearchContext, SearchFrontsHoldOnlyFormulasFiniteOnEveryRow) {
     for (double v : f) EXPECT_TRUE(std::isfinite(v)) << m.formula;
     EXPECT_TRUE(std::isfinite(m.loss)) << m.formula;
   }
+}
+
+TEST(SearchContext, StratifiedRowsDrawOneRowFromEachStratumOfTheTarget) {
+  // 100 rows whose targets fall from 99 to 0: ten strata of ten rows by target.
+  std::vector<double> y(100);
+  for (std::size_t i = 0; i < y.size(); ++i) y[i] = 99.0 - static_cast<double>(i);
+  std::vector<std::size_t> rows(y.size());
+  std::iota(rows.begin(), rows.end(), 0);
+  Rng rng(1);
+  const std::vector<std::size_t> picked = stratified_rows(y, rows, 10, rng);
+  ASSERT_EQ(picked.size(), 10u);
+  EXPECT_TRUE(std::is_sorted(picked.begin(), picked.end()));
+  std::set<int> strata;
+  for (std::size_t r : picked) strata.insert(static_cast<int>(y[r]) / 10);
+  EXPECT_EQ(strata.size(), 10u);
+  Rng again(1);
+  EXPECT_EQ(stratified_rows(y, rows, 10, again), picked);  // the generator decides
+  // No more rows than wanted: all of them, sorted, and nothing drawn.
+  Rng few(1), untouched(1);
+  EXPECT_EQ(stratified_rows(y, {7, 3, 5}, 10, few), (std::vector<std::size_t>{3, 5, 7}));
+  EXPECT_EQ(few(), untouched());
 }
 
 }  // namespace

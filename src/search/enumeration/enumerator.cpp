@@ -39,24 +39,10 @@ Enumerator::~Enumerator() = default;
 void Enumerator::setup_screen(Rng& rng) {
   const std::size_t rows = ctx_.rows;
   const std::size_t wanted = ctx_.options.screen_rows;
-  std::vector<std::size_t> picked;
-  if (rows <= wanted) {
-    for (std::size_t i = 0; i < rows; ++i) picked.push_back(i);
-  } else {
-    // Stratified by the target: rows sorted by target value, cut into `wanted` strata of equal
-    // size, one row drawn uniformly from each. The large errors sit at the large targets
-    // (grazing angles), so this screens with far less sampling noise than a plain sample.
-    std::vector<std::size_t> order(rows);
-    for (std::size_t i = 0; i < rows; ++i) order[i] = i;
-    const auto& y = ctx_.problem.target;
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::size_t a, std::size_t b) { return y[a] < y[b]; });
-    for (std::size_t k = 0; k < wanted; ++k) {
-      const std::size_t lo = k * rows / wanted, hi = (k + 1) * rows / wanted;
-      picked.push_back(order[lo + static_cast<std::size_t>(uniform_index(rng, hi - lo))]);
-    }
-    std::sort(picked.begin(), picked.end());
-  }
+  std::vector<std::size_t> all(rows);
+  for (std::size_t i = 0; i < rows; ++i) all[i] = i;
+  std::vector<std::size_t> picked =
+      stratified_rows(ctx_.problem.target, std::move(all), wanted, rng);
   const std::size_t real = picked.size();
   screen_rows_ = std::max<std::size_t>(kHashRows, (real + 7) / 8 * 8);
   while (picked.size() < screen_rows_) picked.push_back(picked.front());  // padding, weight 0

@@ -1,7 +1,9 @@
 // Island-model NSGA-II over expressions, seeded from the enumeration (internal).
 //
 // Each island evolves its own population with its own generator (derived from the seed and the
-// island's number), ranking individuals by (loss on the fit rows, cost). Islands run in
+// island's number), ranking individuals by (loss on the fit rows, cost). A child that could enter
+// the front is scored on every row; on large data it races first, on a larger sample of rows, and
+// only a winner is scored on every row, so that the front holds losses on every row. Islands run in
 // parallel between synchronisation points; at each one the candidates they found for the front
 // are offered in island order, and every migration_interval generations each island sends its
 // best individuals to the next (a ring). The result therefore depends on the seed and the
@@ -16,6 +18,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "search/checkpoint.hpp"
@@ -66,6 +69,19 @@ class Evolution {
   // cost-lowering rewrites (rewrites.hpp) that a quarter of the local mutants are.
   bool rewrites_ = false;
   SearchProblem rewrite_rows_;
+  // Rows copied out of the problem, in the order given: the fit rows, the race rows.
+  struct RowSample {
+    std::vector<std::vector<double>> columns;  // one per input
+    std::vector<const double*> pointers;       // into columns
+    std::vector<double> target, weights;       // weights empty: all 1
+    RowSample() = default;
+    RowSample(const RowSample&) = delete;  // pointers point into columns
+    RowSample& operator=(RowSample&&) = default;
+    // The rows' weights are the problem's times `scale` (one per row; empty: 1).
+    RowSample(const SearchProblem& p, std::span<const std::size_t> rows,
+              std::span<const double> scale = {});
+    [[nodiscard]] std::size_t size() const { return target.size(); }
+  };
   using Snapshot = std::vector<std::pair<double, double>>;  // (cost, loss) of the front
   // What the ranks of a distributed search decide together at a synchronisation point.
   struct Joint {
@@ -87,16 +103,22 @@ class Evolution {
   // False when it stopped early (time or interrupt) with fewer children than usual.
   bool generation(Island& island, const Snapshot& front);
   bool evaluate(Individual& ind, Island& island, std::vector<double>& values) const;
-  // Fits ind's free constants on the fit rows (a few warm-started steps), counting the work.
+  // Fits ind's free constants on the fit rows (a few warm-started steps).
   void fit_constants(Individual& ind) const;
+  // Fits e's free constants on `rows` (at most `steps` warm-started LM steps), counting the work.
+  void fit_constants(Expression& e, const RowSample& rows, int steps) const;
   // evaluate() for a batch of children, their losses non-finite where evaluate() is false: on
   // the CPU one by one, on the GPU in two launches (src/search/evolution/evolution_gpu.cpp).
   void evaluate_batch(std::vector<Individual>& batch, Island& island,
                       std::vector<double>& values) const;
   void evaluate_on_gpu(std::vector<Individual>& batch, Island& island) const;
-  void consider(const Individual& ind, Island& island, const Snapshot& front) const;
-  // e refitted (and, for a minimax loss near front_loss, the front's loss at its cost, minimax
-  // fitted) and scored on every row.
+  // Adds ind, and its scaled form, to the island's finds (scored on every row) where its loss on
+  // the fit rows could enter the front and, racing, so could its loss on the race rows once
+  // refitted there. `values` is scratch.
+  void consider(const Individual& ind, Island& island, const Snapshot& front,
+                std::vector<double>& values) const;
+  // e refitted on every row (racing: as it is, refitted on the race rows) and, for a minimax loss
+  // near front_loss (the front's loss at its cost), minimax fitted, then scored on every row.
   Candidate score_on_all_rows(Expression e, double front_loss) const;
   [[nodiscard]] const Individual& tournament(Island& island, const std::vector<int>& rank,
                                              const std::vector<double>& crowd) const;
@@ -110,15 +132,19 @@ class Evolution {
   // Distributed: the state of every island, from the ranks that own them (collective).
   EvolutionState gathered_state();
   [[nodiscard]] bool owns(std::size_t island) const;
+  [[nodiscard]] bool racing() const { return race_.size() > 0; }
   void polish_front();
   [[nodiscard]] bool out_of_time() const;
 
   SearchContext& ctx_;
   VariationLimits limits_;
   double scaling_cost_ = 1;  // cost(a * f + b) - cost(f)
-  std::vector<std::vector<double>> fit_columns_;
-  std::vector<const double*> fit_pointers_;
-  std::vector<double> fit_target_, fit_weights_;
+  // The fit rows: each child's constants are fitted, and its loss for selection taken, there.
+  RowSample fit_;
+  // The race rows (racing, on data with many rows; else empty), disjoint from the fit rows, each
+  // weighted by the rows it stands for: a front candidate is refitted and scored there before it
+  // is scored on every row (kRaceRows in evolution.cpp).
+  RowSample race_;
   std::vector<Island> islands_;
   std::vector<std::size_t> owned_;  // the islands this rank evolves (all in one process)
   std::uint64_t generations_ = 0;

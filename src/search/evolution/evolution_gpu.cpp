@@ -20,7 +20,7 @@ void Evolution::evaluate_on_gpu(std::vector<Individual>& batch, Island& island) 
     nodes += ind.expr.size();
   }
   const std::vector<PopulationScore> raw = gpu_->evaluate_population(population, loss);
-  ctx_.node_evaluations.fetch_add(nodes * fit_target_.size(), std::memory_order_relaxed);
+  ctx_.node_evaluations.fetch_add(nodes * fit_.size(), std::memory_order_relaxed);
 
   std::vector<std::size_t> to_scale;
   std::vector<const Expression*> scaled_population;

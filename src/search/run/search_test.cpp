@@ -117,6 +117,28 @@ TEST(Search, EvolutionUsesSelectWhenAsked) {
               s.front.back().formula.c_str());
 }
 
+TEST(Search, RacingEvolutionFrontHoldsTheLossOnEveryRow) {
+  // The seed task's 4,096 rows are more than the fit rows and the race rows together, so the
+  // evolution races: a child is refitted and scored on a sample before any is scored on every row.
+  // What enters the front still carries its formula's loss on every row.
+  const SearchProblem p = fresnel_seed_problem();
+  SearchOptions o = small_budget(1);
+  o.enumerate = false;
+  SearchSummary s;
+  run_search(o, p, &s);
+  EXPECT_GT(s.generations, 0u);
+  std::vector<const double*> cols;
+  for (const auto& c : p.inputs) cols.push_back(c.data());
+  int evolved = 0;
+  for (const FrontMember& m : s.front) {
+    std::vector<double> f(p.target.size());
+    evaluate(m.expression, cols, f, {.threads = 1});
+    EXPECT_NEAR(m.loss, error_metrics(f, p.target).mse, 1e-12 * m.loss) << m.formula;
+    evolved += m.origin == SearchPhase::Evolution ? 1 : 0;
+  }
+  EXPECT_GT(evolved, 0);
+}
+
 void expect_same_front(const SearchSummary& a, const SearchSummary& b) {
   ASSERT_EQ(a.front.size(), b.front.size());
   for (std::size_t i = 0; i < a.front.size(); ++i) {
