@@ -62,7 +62,7 @@ class Member:
     them), ``cost`` (see Cost), ``loss`` (the search's loss), each metric (``mse``, ``rmse``,
     ``max_abs``, ``max_rel``, ``rel``, ``log``), ``nodes``, ``time_s`` (when it was found),
     ``origin`` ("enumeration", "evolution", "start", "power_sum", "polynomial", "material",
-    "reference" or "rewrite"),
+    "reference", "rewrite" or "shape"),
     ``float32_stable``, ``float32_max_abs_diff``, ``float32_max_abs`` and ``float32_max_rel``
     (the error computed in float32 as a shader does), ``half_max_abs`` and ``half_max_rel`` (in
     half, docs/precision.md), ``parameters`` (fitted constants by name),

@@ -26,6 +26,7 @@ std::string_view search_phase_name(SearchPhase phase) {
     case SearchPhase::Material: return "material";
     case SearchPhase::Reference: return "reference";
     case SearchPhase::Rewrite: return "rewrite";
+    case SearchPhase::Shape: return "shape";
   }
   return "enumeration";
 }
@@ -39,6 +40,7 @@ std::optional<SearchPhase> search_phase_from_name(std::string_view name) {
   if (name == "material") return SearchPhase::Material;
   if (name == "reference") return SearchPhase::Reference;
   if (name == "rewrite") return SearchPhase::Rewrite;
+  if (name == "shape") return SearchPhase::Shape;
   return std::nullopt;
 }
 

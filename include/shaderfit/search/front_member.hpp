@@ -27,7 +27,8 @@ namespace shaderfit {
 // Material: a form with coefficients that are functions of the per-material inputs, tried there
 // too (search/uniform_starts.hpp).
 // Reference: the reference's own formula (reference/program_formula.hpp); Rewrite: a cheaper
-// formula rewritten from it (docs/search.md, "Downward from the reference").
+// formula rewritten from it (docs/search.md, "Downward from the reference"); Shape: a shading
+// shape fitted to the data (search/starts/shape_starts.hpp), a start of that descent.
 enum class SearchPhase {
   Enumeration,
   Evolution,
@@ -36,10 +37,11 @@ enum class SearchPhase {
   Polynomial,
   Material,
   Reference,
-  Rewrite
+  Rewrite,
+  Shape
 };
 // "enumeration", "evolution", "start", "power_sum", "polynomial", "material", "reference",
-// "rewrite" (and back; nullopt for anything else).
+// "rewrite", "shape" (and back; nullopt for anything else).
 std::string_view search_phase_name(SearchPhase phase);
 std::optional<SearchPhase> search_phase_from_name(std::string_view name);
 

@@ -570,6 +570,11 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
   return out;
 }
 
+Expression cheapest_form(Expression e, const SearchOptions& options, const SearchProblem& rows) {
+  const std::vector<bool> uniform = uniform_flags(e, options.uniform);
+  return cheapest_form(std::move(e), options, uniform, rows);
+}
+
 Expression random_rewrite(Rng& rng, const Expression& e, const SearchOptions& options,
                           const SearchProblem& rows) {
   std::vector<std::size_t> operators;

@@ -40,6 +40,10 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
 Expression random_rewrite(Rng& rng, const Expression& e, const SearchOptions& options,
                           const SearchProblem& rows);
 
+// The cheapest of e, e with its constants folded, with its products and sums regrouped by the
+// inputs their parts read, and with its positive per-material scales moved into exponentials.
+Expression cheapest_form(Expression e, const SearchOptions& options, const SearchProblem& rows);
+
 // e with each number literal a parameter at its value; literals of copies of one subexpression
 // share their parameters, so the copies stay one subexpression to the cost model.
 Expression with_shared_literal_parameters(const Expression& e);

@@ -16,6 +16,7 @@
 #include "search/front/float32_check.hpp"
 #include "search/starts/polynomial_starts.hpp"
 #include "search/starts/power_sum.hpp"
+#include "search/starts/shape_starts.hpp"
 #include "search/search_context.hpp"
 #include "search/starts/descent.hpp"
 #include "search/starts/start.hpp"
@@ -241,17 +242,23 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     std::vector<Expression> seeds;
     if (ctx.ranks.leader()) {
       seeds = search_detail::offer_start_formulas(ctx, starts);
-      // Downward from the reference's own formula (search/starts/descent.hpp), before the
-      // enumeration so that a candidate budget leaves it its share: its seeds after the starts.
+      // Downward from the reference's own formula and the shading shapes fitted to the data
+      // (search/starts/descent.hpp, shape_starts.hpp), before the enumeration so that a
+      // candidate budget leaves them their share: their seeds after the starts.
       for (const search_detail::StartFormula& start : starts) {
         if (start.origin != SearchPhase::Reference || ctx.should_stop()) continue;
+        std::vector<search_detail::StartFormula> shapes = search_detail::shape_starts(
+            ctx, ctx.elapsed() + search_detail::kShapeShare * options.time_limit_s);
+        std::vector<Expression> from{start.written};
+        for (Expression& e : search_detail::offer_start_formulas(ctx, shapes))
+          from.push_back(std::move(e));
         const double share = search_detail::kDescentShare;
         const std::uint64_t budget =
             options.max_candidates
                 ? static_cast<std::uint64_t>(share * static_cast<double>(*options.max_candidates))
                 : std::numeric_limits<std::uint64_t>::max();
         std::vector<Expression> found = search_detail::descend(
-            ctx, start.written, ctx.elapsed() + share * options.time_limit_s, budget);
+            ctx, from, ctx.elapsed() + share * options.time_limit_s, budget);
         seeds.insert(seeds.begin() + static_cast<std::ptrdiff_t>(starts.size()),
                      std::make_move_iterator(found.begin()), std::make_move_iterator(found.end()));
       }

@@ -11,13 +11,8 @@
 
 namespace shaderfit::search_detail {
 
-namespace {
-
 using Column = std::vector<double>;
 
-// e's parameters refitted on the rows from their values: damped least squares (weighted by
-// 1 / y^2 for the rel loss), then Lawson's minimax for the minimax losses. Never worse than the
-// start in least squares; a redundant pair of constants (c + y - d) does not stop it.
 Expression refit_on_rows(Expression e, const SearchOptions& options, const SearchProblem& rows) {
   if (e.parameters.empty()) return e;
   std::vector<const double*> cols;
@@ -37,10 +32,9 @@ Expression refit_on_rows(Expression e, const SearchOptions& options, const Searc
   fit_minimax(&e, options.loss, cols, rows.target, rows.weights, kDescentFitSteps, 4);
   return e;
 }
-}  // namespace
 
-std::vector<Expression> descend(SearchContext& ctx, const Expression& start, double until_s,
-                                std::uint64_t max_candidates) {
+std::vector<Expression> descend(SearchContext& ctx, std::span<const Expression> starts,
+                                double until_s, std::uint64_t max_candidates) {
   const SearchOptions& options = ctx.options;
   const SearchProblem rows = descent_rows(ctx.problem);
   const std::uint64_t first = ctx.candidates.load();
@@ -59,7 +53,7 @@ std::vector<Expression> descend(SearchContext& ctx, const Expression& start, dou
                      [](const Kept& a, const Kept& b) { return a.loss < b.loss; });
     if (level.size() > kDescentKeptPerCost && !level.back().expanded) level.pop_back();
   };
-  keep(start, loss_value(options.loss, ctx.score(start)));
+  for (const Expression& start : starts) keep(start, loss_value(options.loss, ctx.score(start)));
   const auto out_of_budget = [&] {
     return ctx.should_stop() || ctx.elapsed() >= until_s ||
            ctx.candidates.load() - first >= max_candidates;

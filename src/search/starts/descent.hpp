@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include "search/search_context.hpp"
@@ -22,11 +23,17 @@ inline constexpr std::size_t kDescentKeptPerCost = 6;
 // Levenberg-Marquardt steps (and Lawson passes) of a rewrite's refit.
 inline constexpr int kDescentFitSteps = 30;
 
-// Runs the descent from `start` (a formula already offered to ctx's front) until ctx stops,
+// e's parameters refitted on `rows` from their values for options.loss: damped least squares
+// (weighted by 1 / y^2 for the rel loss), then Lawson's minimax for the minimax losses. Never
+// worse than the start in least squares; a redundant pair of constants (c + y - d) does not stop
+// it.
+Expression refit_on_rows(Expression e, const SearchOptions& options, const SearchProblem& rows);
+
+// Runs the descent from `starts` (formulas already offered to ctx's front) until ctx stops,
 // nothing is left to rewrite, ctx.elapsed() passes `until_s` or `max_candidates` more
 // candidates have been counted. Returns the formulas it kept (seeds for the evolution), cheapest
 // first.
-std::vector<Expression> descend(SearchContext& ctx, const Expression& start, double until_s,
-                                std::uint64_t max_candidates);
+std::vector<Expression> descend(SearchContext& ctx, std::span<const Expression> starts,
+                                double until_s, std::uint64_t max_candidates);
 
 }  // namespace shaderfit::search_detail
