@@ -247,18 +247,25 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
       // candidate budget leaves them their share: their seeds after the starts.
       for (const search_detail::StartFormula& start : starts) {
         if (start.origin != SearchPhase::Reference || ctx.should_stop()) continue;
-        std::vector<search_detail::StartFormula> shapes = search_detail::shape_starts(
-            ctx, ctx.elapsed() + search_detail::kShapeShare * options.time_limit_s);
-        std::vector<Expression> from{start.written};
-        for (Expression& e : search_detail::offer_start_formulas(ctx, shapes))
-          from.push_back(std::move(e));
-        const double share = search_detail::kDescentShare;
-        const std::uint64_t budget =
-            options.max_candidates
-                ? static_cast<std::uint64_t>(share * static_cast<double>(*options.max_candidates))
-                : std::numeric_limits<std::uint64_t>::max();
-        std::vector<Expression> found = search_detail::descend(
-            ctx, from, ctx.elapsed() + share * options.time_limit_s, budget);
+        // The reference's descent first, with its own share, then the shapes' with theirs, so
+        // that the shapes never take the reference's rewrites' time.
+        const auto descend_for = [&](std::span<const Expression> from, double share) {
+          const std::uint64_t budget =
+              options.max_candidates
+                  ? static_cast<std::uint64_t>(share * static_cast<double>(*options.max_candidates))
+                  : std::numeric_limits<std::uint64_t>::max();
+          return search_detail::descend(ctx, from, ctx.elapsed() + share * options.time_limit_s,
+                                        budget);
+        };
+        std::vector<Expression> found =
+            descend_for({&start.written, 1}, search_detail::kDescentShare);
+        if (!ctx.should_stop()) {
+          const std::vector<Expression> shapes = search_detail::offer_start_formulas(
+              ctx, search_detail::shape_starts(
+                       ctx, ctx.elapsed() + search_detail::kShapeShare * options.time_limit_s));
+          for (Expression& e : descend_for(shapes, search_detail::kShapeDescentShare))
+            found.push_back(std::move(e));
+        }
         seeds.insert(seeds.begin() + static_cast<std::ptrdiff_t>(starts.size()),
                      std::make_move_iterator(found.begin()), std::make_move_iterator(found.end()));
       }
