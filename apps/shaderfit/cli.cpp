@@ -37,6 +37,8 @@ constexpr FieldFlag kFlags[] = {
     {"SearchReportOptions::formula", "--choose"},
     // What to approximate (problem/problem.hpp), for every command that reads data.
     {"ProblemSource::drop_nonfinite", "--drop-nonfinite"},
+    {"ProblemSource::drop_missing_rows", "--drop-missing"},
+    {"CsvOptions::drop_missing_rows", "--drop-missing"},
     {"ProblemSource::dataset_seed", "--data-seed"},
     {"ProblemSource::reference", "--reference"},
     {"ProblemSource::csv_path", "--data"},

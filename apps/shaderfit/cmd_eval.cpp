@@ -161,10 +161,15 @@ void run_eval(EvalArgs& a, Context& ctx) {
       if (d.find(g)) a.groups.push_back(g);
   }
   for (const std::string& g : a.groups) (void)d.column(g);
+  // The formulas may read any numeric column but the target, or only the inputs given.
+  const bool inputs_given = !a.data.inputs.empty();
   if (!a.uniform.empty()) {
-    std::vector<std::string> inputs;
-    for (const std::string& n : d.names())
-      if (n != p.target && d.column(n).numeric()) inputs.push_back(n);
+    std::vector<std::string> inputs = p.inputs;
+    if (!inputs_given) {
+      inputs.clear();
+      for (const std::string& n : d.names())
+        if (n != p.target && d.column(n).numeric()) inputs.push_back(n);
+    }
     check_uniform_inputs(a.uniform, inputs);
     check_uniform_in_groups(d, a.uniform, a.groups);
   }
@@ -181,6 +186,16 @@ void run_eval(EvalArgs& a, Context& ctx) {
     results.push_back(evaluate_formula_on(a.formulas[i], "formula " + std::to_string(i + 1), d,
                                           target, a.groups, precision_of(a)));
   }
+  if (inputs_given)
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      // results[0] is the baseline when there is one; the formulas count from 1.
+      const std::size_t number = a.baseline.empty() ? i + 1 : i;
+      for (const std::string& v : results[i].expression.variables)
+        if (std::find(p.inputs.begin(), p.inputs.end(), v) == p.inputs.end())
+          throw Error("it reads '" + v + "', which is not one of the inputs given",
+                      SourceLocation{results[i].baseline ? std::string("--baseline")
+                                                         : "formula " + std::to_string(number)});
+    }
   if (p.reference)
     for (EvalFormulaResult& r : results) check_between_samples(r, p, a);
 
@@ -202,7 +217,7 @@ void register_eval_command(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<EvalArgs>();
   CLI::App* cmd = app.add_subcommand(
       "eval", "Error metrics of formulas on a data set, per group, against a baseline");
-  add_data_options(cmd, args->data, DataFiles | References | Target | SeedAlias);
+  add_data_options(cmd, args->data, DataFiles | References | InputsTarget | SeedAlias);
   cmd->add_option("--group", args->groups,
                   "column(s) whose values split the rows into groups (repeat or comma-separate)")
       ->delimiter(',')

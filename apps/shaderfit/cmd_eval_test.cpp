@@ -112,7 +112,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInput{"unknown_variable", {"eval", "--dataset", "fresnel-seed", "--target", "R", "r0 + y"}, nullptr,
                  "formula 1:1:6: unknown variable 'y'"},
         BadInput{"missing_column", kEvalCsv, "r0,x\n0.04,0.5\n", "no column 'R'"},
-        BadInput{"non_number", kEvalCsv, "r0,x,R\n0.04,0.5,0.1\n0.04,abc,0.2\n", ":3:6: column 'x' is not numeric"},
+        BadInput{"non_number", kEvalCsv, "r0,x,R\n0.04,0.5,0.1\n0.04,abc,0.2\n", ":3:6: column 'x' is numbers but for 1 cell: this one is 'abc'"},
         BadInput{"ragged", kEvalCsv, "r0,x,R\n0.04,0.5,0.1\n0.04,0.5\n", ":3:"},
         BadInput{"nan", kEvalCsv, "r0,x,R\n0.04,0.5,nan\n", ":2:10: NaN"},
         BadInput{"inf", kEvalCsv, "r0,x,R\n0.04,inf,0.3\n", ":2:6:"},

@@ -154,6 +154,40 @@ TEST(CmdReference, BadInputsAreOneClearLine) {
                    "--certify");
 }
 
+// A CSV never loses a column silently: a gap in a column of numbers is an error at its cell,
+// or its row is dropped with --drop-missing and counted; every command takes the data options.
+TEST(CmdReference, CsvGapsAreErrorsOrDroppedRows) {
+  std::string csv = "a,b,y\n";
+  for (int i = 0; i < 40; ++i)
+    csv += std::to_string(i) + "," + (i == 7 ? std::string() : std::to_string(0.5 * i)) + "," +
+           std::to_string(i + 0.5 * i) + "\n";
+  const std::string path = scratch_file("gaps.csv", csv);
+  expect_bad_input({"search", "--data", path, "--evals", "2000"},
+                   path + ":9:3: column 'b' is numbers but for 1 cell: this one is empty (fix "
+                          "them, or drop their rows: --drop-missing)");
+  expect_bad_input({"eval", "--data", path, "a + b"}, path + ":9:3:");
+  const auto r = run({"search", "--data", path, "--drop-missing", "--evals", "2000",
+                           "--threads", "1", "--quiet"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("dropped 1 of 40 rows with an empty or non-number cell in a column of "
+                       "numbers, first at line 9"),
+            std::string::npos)
+      << r.out;
+  const std::string word = scratch_file("word.csv", "a,b,y\n1,2,3\n4,five,6\n7,8,9\n");
+  expect_bad_input({"search", "--data", word, "--evals", "2000"},
+                   word + ":3:3: column 'b' is numbers but for 1 cell: this one is 'five'");
+  expect_bad_input({"search", "--reference", "x", "--domain", "x=0:1", "--drop-missing"},
+                   "--drop-missing: dropping rows with gaps is for a CSV file");
+  expect_bad_input({"search", "--reference", "acos(x)", "--domain", "x=0:1", "--samples", "0"},
+                   "--samples");
+  // eval takes --inputs as search does; a formula reading another column is an error.
+  const std::string xy = scratch_file("abxy.csv", "a,b,y\n1,2,3\n2,3,5\n3,5,8\n");
+  const auto e = run({"eval", "--data", xy, "--inputs", "a,b", "--target", "y", "a + b"});
+  ASSERT_EQ(e.status, 0) << e.err;
+  expect_bad_input({"eval", "--data", xy, "--inputs", "a", "--target", "y", "a + b"},
+                   "formula 1: it reads 'b', which is not one of the inputs given");
+}
+
 TEST(CmdReference, NaNPointsAreDroppedOnRequest) {
   const auto r = run({"search", "--reference", "acos(x)", "--domain", "x=-2:1", "--drop-nonfinite",
                       "--evals", "2000", "--threads", "1", "--quiet"});

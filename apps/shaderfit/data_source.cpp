@@ -33,6 +33,9 @@ bool DataSource::given() const {
 void add_data_options(CLI::App* cmd, DataSource& src, unsigned options) {
   if (options & DataFiles) {
     cmd->add_option("--data", src.problem.csv_path, "CSV file with a header row of column names");
+    cmd->add_flag("--drop-missing", src.problem.drop_missing_rows,
+                  "drop the CSV rows with an empty or non-number cell in a column of numbers "
+                  "(default: an error naming the cell)");
     std::string names;
     for (const auto& n : builtin_dataset_names()) names += (names.empty() ? "" : ", ") + n;
     cmd->add_option("--dataset", src.problem.dataset,
@@ -60,7 +63,14 @@ void add_data_options(CLI::App* cmd, DataSource& src, unsigned options) {
         ->allow_extra_args(false);
     cmd->add_option("--samples", src.problem.samples,
                     "points sampled on the domain (default: 10,001 in one variable, about 4,400 "
-                    "in two, 9,000 in three or more; docs/reference.md)");
+                    "in two, 9,000 in three or more; docs/reference.md)")
+        ->check(CLI::Validator(
+            [](const std::string& v) {
+              return v.find_first_not_of("0 ") == std::string::npos
+                         ? std::string("at least 1 (leave --samples out for the default)")
+                         : std::string();
+            },
+            "N >= 1"));
     cmd->add_flag("--drop-nonfinite", src.problem.drop_nonfinite,
                   "drop the points where the reference is NaN or infinite (default: an error)");
   }

@@ -103,13 +103,15 @@ def _domain_texts(domain) -> list[str]:
 def load_problem(*, data=None, dataset: str | None = None, dataset_seed: int = 1,
                  reference: str | None = None, reference_file=None, function: str | None = None,
                  domain=None, define: Sequence[str] | str = (), samples: int = 0,
-                 drop_nonfinite: bool = False, inputs: Sequence[str] | None = None,
-                 target: str | None = None, scene: str | None = None, term: str | None = None):
+                 drop_nonfinite: bool = False, drop_missing: bool = False,
+                 inputs: Sequence[str] | None = None, target: str | None = None,
+                 scene: str | None = None, term: str | None = None):
     """What to approximate, stated as the command line states it (docs/reference.md): a CSV
     file (``data``), a built-in data set, or a ``reference`` formula (or a GLSL/HLSL function:
     ``reference_file`` and ``function``) sampled by shaderfit on ``domain``, or at the shading
     samples of a ``scene`` ("sphere", "plane"; ``term``: the factor it stands for, F, V, D or
-    FV; docs/scenes.md)."""
+    FV; docs/scenes.md). ``drop_missing=True`` drops a CSV's rows with an empty or
+    non-number cell in a column of numbers (otherwise an error naming the cell)."""
     import os
     defines = [define] if isinstance(define, str) else list(define)
     try:
@@ -117,7 +119,7 @@ def load_problem(*, data=None, dataset: str | None = None, dataset_seed: int = 1
             os.fspath(data) if data is not None else "", dataset or "", int(dataset_seed),
             reference or "", os.fspath(reference_file) if reference_file is not None else "",
             function or "", _domain_texts(domain), defines, int(samples), bool(drop_nonfinite),
-            list(inputs or []), target or "", scene or "", term or "")
+            bool(drop_missing), list(inputs or []), target or "", scene or "", term or "")
     except Error as e:
         raise _problem_error(e) from None
 
@@ -129,6 +131,8 @@ _PROBLEM_FIELDS = {
     "ProblemSource::domain": "domain", "ProblemSource::inputs": "inputs",
     "ProblemSource::target": "target", "ProblemSource::samples": "samples",
     "ProblemSource::drop_nonfinite": "drop_nonfinite", "ReferenceText::function": "function",
+    "ProblemSource::drop_missing_rows": "drop_missing",
+    "CsvOptions::drop_missing_rows": "drop_missing",
     "ReferenceText::definitions": "define", "ProblemSource::scene": "scene",
     "SceneSpec::kind": "scene", "SceneSpec::term": "term",
 }
@@ -143,7 +147,8 @@ def _problem_error(e: Error) -> Error:
 
 
 _PROBLEM_KEYWORDS = ("data", "dataset", "dataset_seed", "reference", "reference_file", "function",
-                     "domain", "define", "samples", "drop_nonfinite", "target", "scene", "term")
+                     "domain", "define", "samples", "drop_nonfinite", "drop_missing", "target",
+                     "scene", "term")
 
 
 def search(X=None, y=None, *, inputs: Sequence[str] | None = None, time: float = 10,

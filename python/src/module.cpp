@@ -187,8 +187,9 @@ LoadedProblem load(const std::string& csv_path, const std::string& dataset,
                    std::uint64_t dataset_seed, const std::string& reference,
                    const std::string& reference_file, const std::string& function,
                    const std::vector<std::string>& domain, const std::vector<std::string>& define,
-                   std::size_t samples, bool drop_nonfinite, const std::vector<std::string>& inputs,
-                   const std::string& target, const std::string& scene, const std::string& term) {
+                   std::size_t samples, bool drop_nonfinite, bool drop_missing,
+                   const std::vector<std::string>& inputs, const std::string& target,
+                   const std::string& scene, const std::string& term) {
   ProblemSource s;
   s.csv_path = csv_path;
   s.dataset = dataset;
@@ -201,6 +202,7 @@ LoadedProblem load(const std::string& csv_path, const std::string& dataset,
   s.domain = domain;
   s.samples = samples;
   s.drop_nonfinite = drop_nonfinite;
+  s.drop_missing_rows = drop_missing;
   s.inputs = inputs;
   s.target = target;
   if (!reference_file.empty()) {
@@ -646,8 +648,8 @@ NB_MODULE(_shaderfit, m) {
       .def("columns", &LoadedProblem::columns);
   m.def("load_problem", &load, nb::arg("csv_path"), nb::arg("dataset"), nb::arg("dataset_seed"),
         nb::arg("reference"), nb::arg("reference_file"), nb::arg("function"), nb::arg("domain"),
-        nb::arg("define"), nb::arg("samples"), nb::arg("drop_nonfinite"), nb::arg("inputs"),
-        nb::arg("target"), nb::arg("scene"), nb::arg("term"));
+        nb::arg("define"), nb::arg("samples"), nb::arg("drop_nonfinite"), nb::arg("drop_missing"),
+        nb::arg("inputs"), nb::arg("target"), nb::arg("scene"), nb::arg("term"));
   m.def("search", &run, nb::arg("columns"), nb::arg("names"), nb::arg("target"),
         nb::arg("weights").none(), nb::arg("options"), nb::arg("on_member").none(),
         nb::arg("on_progress").none(), nb::arg("source"), nb::arg("target_name"),

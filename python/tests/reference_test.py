@@ -65,6 +65,21 @@ def test_a_csv_file_needs_no_inputs_or_target(tmp_path):
     assert json.loads(front.to_json())["problem"]["target"] == "y"
 
 
+def test_a_gap_in_a_csv_column_is_an_error_or_a_dropped_row(tmp_path):
+    path = tmp_path / "gap.csv"
+    rows = ["x,y"] + [f"{i / 64},{2.5 * (i / 64) + 1}" for i in range(65)]
+    rows[10] = rows[10].split(",")[0] + ","
+    path.write_text("\n".join(rows) + "\n")
+    with pytest.raises(shaderfit.Error) as e:
+        shaderfit.search(data=path, **BUDGET)
+    assert "column 'y' is numbers but for 1 cell" in str(e.value)
+    assert "drop_missing" in str(e.value)
+    assert (e.value.line, e.value.column) == (11, len(rows[10]) + 1)
+    front = shaderfit.search(data=path, drop_missing=True, **BUDGET)
+    problem = json.loads(front.to_json())["problem"]
+    assert problem["drop_missing"] is True
+
+
 def test_bad_problems_are_errors_at_the_keyword(tmp_path):
     with pytest.raises(shaderfit.Error) as e:
         shaderfit.search(reference="acoss(x)", domain={"x": (-1, 1)}, **BUDGET)

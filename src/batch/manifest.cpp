@@ -44,9 +44,9 @@ constexpr OptionAlias kOptionAliases[] = {{"time", "time_limit_s"}, {"evals", "m
 // An entry's keys besides the search options, in the order messages list them.
 constexpr std::string_view kEntryKeys[] = {
     "name",     "data",        "dataset", "data_seed", "reference",      "reference_file",
-    "function", "domain",      "define",  "samples",   "drop_nonfinite", "inputs",
-    "target",   "scene",       "term",    "weights",   "baseline",       "start_from_baseline",
-    "goal",     "across_ranks"};
+    "function", "domain",      "define",  "samples",   "drop_nonfinite", "drop_missing",
+    "inputs",   "target",      "scene",   "term",      "weights",        "baseline",
+    "start_from_baseline",     "goal",    "across_ranks"};
 
 Error unknown_key(std::string_view key, const SourceLocation& at) {
   std::string known;
@@ -322,6 +322,10 @@ void apply_key(Settings& s, std::string_view key, const toml::node& v, const Rea
     const auto* b = v.as_boolean();
     if (b == nullptr) bad_type(key, "true or false", v, r);
     p.drop_nonfinite = b->get();
+  } else if (key == "drop_missing") {
+    const auto* b = v.as_boolean();
+    if (b == nullptr) bad_type(key, "true or false", v, r);
+    p.drop_missing_rows = b->get();
   } else if (key == "inputs") {
     p.inputs.clear();
     for (auto& item : strings_of(key, v, r, true)) p.inputs.push_back(std::move(item.first));

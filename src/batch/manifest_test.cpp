@@ -331,6 +331,29 @@ weights = "v"
       << m.bad[0].message;
 }
 
+TEST(Manifest, ACsvWithAGapIsAnErrorOrItsRowsDropped) {
+  Scratch dir("gaps");
+  dir.write("g.csv", "x,y\n0,0\n0.5,\n1,1\n1.5,2.25\n");
+  const std::string path = dir.write("m.toml", R"toml(
+[[function]]
+name = "kept"
+data = "g.csv"
+drop_missing = true
+
+[[function]]
+name = "refused"
+data = "g.csv"
+)toml");
+  const Manifest m = read_manifest(path);
+  ASSERT_EQ(m.entries.size(), 1u);
+  EXPECT_TRUE(m.entries[0].problem.drop_missing_rows);
+  EXPECT_EQ(m.entries[0].loaded->data.rows(), 3u);
+  ASSERT_EQ(m.bad.size(), 1u);
+  EXPECT_NE(m.bad[0].message.find("column 'y' is numbers but for 1 cell: this one is empty"),
+            std::string::npos)
+      << m.bad[0].message;
+}
+
 TEST(Manifest, TheDisplayLossTakesASceneAndItsWeights) {
   Scratch dir("display");
   const std::string path = dir.write("m.toml", R"toml(

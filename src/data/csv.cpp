@@ -115,12 +115,15 @@ std::string cells_phrase(std::size_t n) {
   return std::to_string(n) + (n == 1 ? " cell" : " cells");
 }
 
-// A column being read: every cell's text, and its values while all of them are numbers.
+// A column being read: every cell's text and value (NaN where the cell is not a number), how
+// many cells are numbers, and where the first that is not is.
 struct Pending {
   std::string name;
   std::vector<std::string> cells;
   std::vector<double> values;
+  std::size_t numbers = 0;
   SourceLocation first_non_number;  // set once a cell is not a number
+  std::string first_non_number_text;
 };
 
 void add_cell(Pending& col, const Cell& cell, const std::string& source) {
@@ -128,12 +131,14 @@ void add_cell(Pending& col, const Cell& cell, const std::string& source) {
   double value = 0.0;
   switch (data_detail::parse_number(cell.text, value)) {
     case NumberParse::kNumber:
-      if (col.first_non_number.source.empty()) col.values.push_back(value);
+      col.values.push_back(value);
+      ++col.numbers;
       break;
     case NumberParse::kNotNumber:
+      col.values.push_back(std::nan(""));
       if (col.first_non_number.source.empty()) {
         col.first_non_number = where;
-        col.values.clear();
+        col.first_non_number_text = cell.text;
       }
       break;
     case NumberParse::kNaN: throw Error("NaN in column '" + col.name + "'", where);
@@ -143,6 +148,13 @@ void add_cell(Pending& col, const Cell& cell, const std::string& source) {
       throw Error("number out of range '" + cell.text + "' in column '" + col.name + "'", where);
   }
   col.cells.push_back(cell.text);
+}
+
+// A column of numbers with some cells that are not (empty, or a stray word): at least as many
+// numbers as other cells, and some of each. Its rows are an error, or dropped.
+bool numbers_with_gaps(const Pending& col) {
+  const std::size_t others = col.cells.size() - col.numbers;
+  return col.numbers > 0 && others > 0 && col.numbers >= others;
 }
 
 // A cell that starts with the UTF-8 byte-order mark is quoted too: first in the file, the reader
@@ -168,7 +180,7 @@ struct FileCloser {
 
 }  // namespace
 
-Dataset parse_csv(std::string_view text, const std::string& source) {
+Dataset parse_csv(std::string_view text, const std::string& source, const CsvOptions& options) {
   Tokenizer tokens(text, source);
   std::vector<std::vector<Cell>> records;
   while (!tokens.done()) records.push_back(tokens.record());
@@ -194,8 +206,10 @@ Dataset parse_csv(std::string_view text, const std::string& source) {
     throw Error("no data rows (only a header)", {source, header.front().line, 0});
   }
 
+  std::vector<int> lines;  // each data row's line
   for (std::size_t r = first + 1; r < records.size(); ++r) {
     const std::vector<Cell>& row = records[r];
+    lines.push_back(row.front().line);
     if (row.size() != header.size()) {
       int column = row.size() > header.size() ? row[header.size()].column : 1;
       throw Error("row has " + cells_phrase(row.size()) + ", the header has " +
@@ -205,24 +219,51 @@ Dataset parse_csv(std::string_view text, const std::string& source) {
     for (std::size_t i = 0; i < row.size(); ++i) add_cell(columns[i], row[i], source);
   }
 
+  // Numbers with gaps: an error at the first gap, or the rows with a gap dropped.
+  const std::size_t rows = lines.size();
+  std::vector<char> keep(rows, 1);
+  for (const Pending& p : columns) {
+    if (!numbers_with_gaps(p)) continue;
+    const std::size_t gaps = p.cells.size() - p.numbers;
+    if (!options.drop_missing_rows) {
+      const std::string cell = p.first_non_number_text.empty()
+                                   ? "this one is empty"
+                                   : "this one is '" + p.first_non_number_text + "'";
+      throw Error("column '" + p.name + "' is numbers but for " + cells_phrase(gaps) + ": " +
+                      cell + " (fix them, or drop their rows: CsvOptions::drop_missing_rows)",
+                  p.first_non_number);
+    }
+    for (std::size_t r = 0; r < rows; ++r)
+      if (std::isnan(p.values[r])) keep[r] = 0;
+  }
   Dataset data;
   data.source = source;
   data.header_line = header.front().line;
+  for (std::size_t r = 0; r < rows; ++r) {
+    if (keep[r] != 0) continue;
+    if (data.dropped_rows++ == 0) data.first_dropped_line = lines[r];
+  }
+  if (data.dropped_rows == rows)
+    throw Error("every data row has an empty or non-number cell in a column of numbers",
+                {source, header.front().line, 0});
   for (Pending& p : columns) {
     Column c;
     c.name = std::move(p.name);
-    if (p.first_non_number.source.empty()) {
-      c.values = std::move(p.values);
-    } else {
-      c.labels = std::move(p.cells);
-      c.first_non_number = std::move(p.first_non_number);
+    const bool numeric = p.numbers == p.cells.size() || numbers_with_gaps(p);
+    for (std::size_t r = 0; r < rows; ++r) {
+      if (keep[r] == 0) continue;
+      if (numeric)
+        c.values.push_back(p.values[r]);
+      else
+        c.labels.push_back(std::move(p.cells[r]));
     }
+    if (!numeric) c.first_non_number = std::move(p.first_non_number);
     data.columns.push_back(std::move(c));
   }
   return data;
 }
 
-Dataset read_csv(const std::string& path) {
+Dataset read_csv(const std::string& path, const CsvOptions& options) {
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "rb"));
   if (!file) throw Error("cannot open '" + path + "': " + system_reason(), {path, 0, 0});
   std::string text;
@@ -232,7 +273,7 @@ Dataset read_csv(const std::string& path) {
   if (std::ferror(file.get())) {
     throw Error("cannot read '" + path + "': " + system_reason(), {path, 0, 0});
   }
-  return parse_csv(text, path);
+  return parse_csv(text, path, options);
 }
 
 std::string to_csv(const Dataset& data) {

@@ -91,6 +91,36 @@ TEST(DataCsv, NonNumberIsReportedWhenAskedForNumbers) {
   EXPECT_FALSE(parse_csv("x\n0x10\n", "t.csv").column("x").numeric());
 }
 
+// A column of numbers never becomes text for a few cells: an empty cell or a stray word in it is
+// an error at that cell, or its row is dropped and counted.
+TEST(DataCsv, AGapInAColumnOfNumbersIsAnError) {
+  const char* drop = " (fix them, or drop their rows: CsvOptions::drop_missing_rows)";
+  expect_error([] { (void)parse_csv("a,b,c\n1,2,3\n4,,5\n", "t.csv"); },
+               std::string("column 'b' is numbers but for 1 cell: this one is empty") + drop,
+               "t.csv", 3, 3);
+  expect_error([] { (void)parse_csv("a,b\n1,2\n3,oops\n5,6\n7,n/a\n", "t.csv"); },
+               std::string("column 'b' is numbers but for 2 cells: this one is 'oops'") + drop,
+               "t.csv", 3, 3);
+  // Fewer numbers than other cells: a text column, as a column of labels is.
+  EXPECT_FALSE(parse_csv("a,kind\n1,2\n3,gold\n4,glass\n", "t.csv").column("kind").numeric());
+}
+
+TEST(DataCsv, RowsWithGapsAreDroppedWhenAsked) {
+  const Dataset d = parse_csv("a,b,label\n1,2,x\n4,,y\n5,6,z\n7,oops,w\n8,9,\n", "t.csv",
+                              {.drop_missing_rows = true});
+  EXPECT_EQ(d.numeric("a").values, (std::vector<double>{1, 5, 8}));
+  EXPECT_EQ(d.numeric("b").values, (std::vector<double>{2, 6, 9}));
+  EXPECT_EQ(d.column("label").labels, (std::vector<std::string>{"x", "z", ""}));
+  EXPECT_EQ(d.dropped_rows, 2u);
+  EXPECT_EQ(d.first_dropped_line, 3);
+  const Dataset whole = parse_csv("a,b\n1,2\n3,4\n", "t.csv", {.drop_missing_rows = true});
+  EXPECT_EQ(whole.dropped_rows, 0u);
+  EXPECT_EQ(whole.first_dropped_line, 0);
+  expect_error(
+      [] { (void)parse_csv("a,b,c\n1,,3\n,5,6\n7,8,\n", "t.csv", {.drop_missing_rows = true}); },
+      "every data row has an empty or non-number cell in a column of numbers", "t.csv", 1, 0);
+}
+
 TEST(DataCsv, ColumnsCountCharactersNotBytes) {
   Dataset d = parse_csv("name,v\n\xC3\xA9t\xC3\xA9,abc\n", "t.csv");  // "été"
   expect_error([&] { (void)d.numeric("v"); }, "column 'v' is not numeric: 'abc' in row 1", "t.csv",

@@ -67,6 +67,9 @@ void check_source(const ProblemSource& s) {
     throw Error("give one source of data, not both " + given[0].what + " and " + given[1].what,
                 *given[1].field);
   }
+  if (s.drop_missing_rows && given[0].field != &kCsvField)
+    throw Error("dropping rows with gaps is for a CSV file, not for " + given[0].what,
+                SourceLocation{"ProblemSource::drop_missing_rows"});
   if (s.scene && given[0].field != &kReferenceField)
     throw Error("a scene feeds a reference: " + given[0].what + " has its samples already",
                 kSceneField);
@@ -352,8 +355,13 @@ void check_finite(Problem& p, const std::vector<reference::DomainAxis>& axes, bo
 
 Problem load_csv(const ProblemSource& s) {
   Problem p;
-  p.data = read_csv(s.csv_path);
+  p.data = read_csv(s.csv_path, {.drop_missing_rows = s.drop_missing_rows});
   p.description = s.csv_path;
+  if (p.data.dropped_rows > 0)
+    p.notes.push_back("dropped " + format_count(p.data.dropped_rows) + " of " +
+                      format_count(p.data.dropped_rows + p.data.rows()) +
+                      " rows with an empty or non-number cell in a column of numbers, first at "
+                      "line " + std::to_string(p.data.first_dropped_line));
   choose_csv_columns(p.data, s, p);
   return p;
 }

@@ -255,6 +255,27 @@ TEST(ProblemCsv, NamedColumnsAreChecked) {
   expect_problem_error(s, "the target 'x' is also an input", "ProblemSource::target");
 }
 
+TEST(ProblemCsv, RowsWithGapsAreAnErrorOrDroppedAndSaid) {
+  const TempFile f("gaps.csv", "a,b,y\n1,2,3\n4,,5\n6,7,8\n");
+  ProblemSource s = csv_source(f);
+  expect_problem_error(s,
+                       "column 'b' is numbers but for 1 cell: this one is empty (fix them, or "
+                       "drop their rows: CsvOptions::drop_missing_rows)",
+                       f.path(), 3);
+  s.drop_missing_rows = true;
+  const Problem p = load_problem(s);
+  EXPECT_EQ(p.data.rows(), 2u);
+  EXPECT_EQ(p.inputs, (Names{"a", "b"}));
+  EXPECT_NE(std::find(p.notes.begin(), p.notes.end(),
+                      "dropped 1 of 3 rows with an empty or non-number cell in a column of "
+                      "numbers, first at line 3"),
+            p.notes.end());
+  ProblemSource r = reference_source("x", {"x=0:1"});
+  r.drop_missing_rows = true;
+  expect_problem_error(r, "dropping rows with gaps is for a CSV file, not for a reference",
+                       "ProblemSource::drop_missing_rows");
+}
+
 TEST(ProblemCsv, FileErrorsComeFromTheReader) {
   ProblemSource s;
   s.csv_path =

@@ -95,6 +95,7 @@ nlohmann::json problem_source_json(const ProblemSource& p) {
   if (!p.domain.empty()) j["domain"] = p.domain;
   if (p.samples != 0) j["samples"] = p.samples;
   if (p.drop_nonfinite) j["drop_nonfinite"] = true;
+  if (p.drop_missing_rows) j["drop_missing"] = true;
   if (p.scene) {
     const SceneSpec& s = *p.scene;
     json scene = {{"kind", scene_kind_name(s.kind)}, {"size", s.size}, {"exposure", s.exposure}};
@@ -148,6 +149,10 @@ ProblemSource problem_source_from_json(const nlohmann::json& j, const std::strin
   if (j.contains("drop_nonfinite")) {
     if (!j["drop_nonfinite"].is_boolean()) throw bad("\"drop_nonfinite\" is not true or false");
     p.drop_nonfinite = j["drop_nonfinite"].get<bool>();
+  }
+  if (j.contains("drop_missing")) {
+    if (!j["drop_missing"].is_boolean()) throw bad("\"drop_missing\" is not true or false");
+    p.drop_missing_rows = j["drop_missing"].get<bool>();
   }
   if (j.contains("scene")) {
     const nlohmann::json& s = j["scene"];

@@ -36,6 +36,10 @@ struct Dataset {
   // The line of the header row in `source`, or 0 for data not read from a file.
   int header_line = 0;
   std::vector<Column> columns;
+  // Rows the reader dropped for a gap in a column of numbers (CsvOptions::drop_missing_rows),
+  // and the line of the first of them (0: none).
+  std::size_t dropped_rows = 0;
+  int first_dropped_line = 0;
 
   // Number of rows (every column has this many cells); 0 with no columns.
   [[nodiscard]] std::size_t rows() const;

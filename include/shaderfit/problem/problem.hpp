@@ -34,6 +34,9 @@ struct ProblemSource {
   // "ProblemSource::materials"; the reference's own errors at its formula_source /
   // definitions_source / shader_path (reference/language.hpp).
   std::string csv_path;
+  // A CSV's rows with a gap in a column of numbers (an empty or non-number cell) are an error,
+  // or dropped when this is set (said in notes; data/csv.hpp, CsvOptions).
+  bool drop_missing_rows = false;
   std::string dataset;
   std::uint64_t dataset_seed = 1;
   reference::ReferenceText reference;
