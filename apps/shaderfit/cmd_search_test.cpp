@@ -11,8 +11,10 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <thread>
 
 #include "cli_test_util.hpp"
@@ -56,6 +58,50 @@ TEST(CmdSearch, TableForPeople) {
   EXPECT_NE(r.out.find("formula"), std::string::npos);
   EXPECT_NE(r.out.find("] mse="), std::string::npos);
   EXPECT_NE(r.out.find("r0"), std::string::npos);
+}
+
+// Issue 42: no printed front has two members whose losses differ by less than the minimum step
+// (1% by default); --min-step 0 prints every step; the JSON keeps every member.
+TEST(CmdSearch, ThePrintedFrontHasNoNoiseSteps) {
+  const std::vector<std::string> args = {"search", "--dataset", "fresnel-seed", "--inputs",
+                                         "r0,x", "--target", "R", "--evals", "300000",
+                                         "--threads", "1", "--quiet"};
+  // The mse column of the table's rows, cheapest first.
+  const auto losses = [](const std::string& out) {
+    std::vector<double> v;
+    const std::size_t head = out.find("  cost nodes");
+    std::istringstream lines(out.substr(head));
+    std::string line;
+    std::getline(lines, line);
+    while (std::getline(lines, line)) {
+      std::istringstream cells(line);
+      double cost = 0, mse = 0;
+      std::size_t nodes = 0;
+      if (!(cells >> cost >> nodes >> mse)) break;
+      v.push_back(mse);
+    }
+    return v;
+  };
+  auto with_json = args;
+  with_json.insert(with_json.end(), {"--json", scratch_file("steps.json", "")});
+  const auto r = run(with_json);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::vector<double> shown = losses(r.out);
+  ASSERT_GE(shown.size(), 3u) << r.out;
+  for (std::size_t k = 1; k < shown.size(); ++k)
+    EXPECT_LE(shown[k], 0.99 * shown[k - 1] * (1 + 1e-3)) << r.out;  // 4 printed digits
+  std::ifstream f(with_json.back());
+  const auto j = nlohmann::json::parse(f);
+  std::size_t minor = 0;
+  for (const auto& m : j["front"]) minor += m.value("minor_step", false) ? 1 : 0;
+  EXPECT_EQ(j["front"].size(), shown.size() + minor);
+  if (minor > 0) EXPECT_NE(r.out.find("not shown: each lowers the loss"), std::string::npos);
+  auto every = args;
+  every.insert(every.end(), {"--min-step", "0"});
+  const auto all = run(every);
+  ASSERT_EQ(all.status, 0) << all.err;
+  EXPECT_EQ(losses(all.out).size(), j["front"].size()) << all.out;
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--min-step", "0.9"}, "--min-step");
 }
 
 TEST(CmdSearch, SaysWhichFormulaIsChosenHowAndWhy) {

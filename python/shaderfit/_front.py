@@ -62,7 +62,7 @@ class Member:
     them), ``cost`` (see Cost), ``loss`` (the search's loss), each metric (``mse``, ``rmse``,
     ``max_abs``, ``max_rel``, ``rel``, ``log``), ``nodes``, ``time_s`` (when it was found),
     ``origin`` ("enumeration", "evolution", "start", "power_sum", "polynomial", "material",
-    "reference", "rewrite" or "shape"),
+    "reference", "rewrite" or "shape"), ``minor_step`` (not shown: see the min_step option),
     ``float32_stable``, ``float32_max_abs_diff``, ``float32_max_abs`` and ``float32_max_rel``
     (the error computed in float32 as a shader does), ``half_max_abs`` and ``half_max_rel`` (in
     half, docs/precision.md), ``parameters`` (fitted constants by name),
@@ -89,6 +89,9 @@ class Member:
         self.nodes = int(document.get("nodes") or 0)
         self.time_s = _number(document.get("time_s"))
         self.origin: str = document.get("origin", "")
+        # Lowers the loss of the cheaper member shown before it by less than the minimum step
+        # (the min_step option): in the front, but not printed nor chosen.
+        self.minor_step: bool = bool(document.get("minor_step", False))
         self.float32_stable = bool(document.get("float32_stable", True))
         self.float32_max_abs_diff = _number(document.get("float32_max_abs_diff"))
         self.float32_max_abs = _number(document.get("float32_max_abs"))
@@ -194,7 +197,7 @@ class Front(Sequence):
             rule = f"cost={float(max_cost)!r}"
         else:
             rule = "knee"
-        members = self.members
+        members = [m for m in self.members if not m.minor_step]
         if max_cost is not None and max_error is not None:
             members = [m for m in members if float(m.cost) <= max_cost]
             if not members:
@@ -227,7 +230,8 @@ class Front(Sequence):
             row = {"formula": m.formula_display, "cost": float(m.cost), "loss": m.loss}
             row.update(m.metrics)
             row.update(nodes=m.nodes, time_s=m.time_s, origin=m.origin,
-                       float32_stable=m.float32_stable, formula_exact=m.formula)
+                       float32_stable=m.float32_stable, minor_step=m.minor_step,
+                       formula_exact=m.formula)
             rows.append(row)
         return pd.DataFrame(rows)
 

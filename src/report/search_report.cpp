@@ -197,7 +197,9 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   const std::string loss =
       j.contains("options") ? j["options"].value("loss", std::string("loss")) : "loss";
   std::vector<FrontMember> members;
-  for (const ReadFrontMember& read : file.front) members.push_back(read.member);
+  // The front as shown: the members that are minor steps stay in the JSON only.
+  for (const ReadFrontMember& read : file.front)
+    if (!read.member.minor_step) members.push_back(read.member);
   const Precision run_precision =
       j.contains("options") && j["options"].contains("precision") &&
               j["options"]["precision"].is_string()

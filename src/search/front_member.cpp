@@ -169,6 +169,7 @@ json front_member_json(const FrontMember& m, FrontJson style) {
     j["certify_time_s"] = number(m.certify_time_s);
     if (!m.certify_note.empty()) j["certify_note"] = m.certify_note;
   }
+  if (m.minor_step) j["minor_step"] = true;
   if (exact) {
     j["expression"] = search_detail::exact_expression_json(m.expression);
     return j;
@@ -229,6 +230,7 @@ FrontMember exact_member_from(const json& j) {
     m.certify_time_s = exact_number_from(j.at("certify_time_s"));
     m.certify_note = j.value("certify_note", "");
   }
+  if (j.contains("minor_step")) m.minor_step = j.at("minor_step").get<bool>();
   return m;
 }
 
@@ -309,6 +311,8 @@ ReadFrontMember front_member_from_json(const json& m, const std::vector<std::str
         search_phase_from_name(m["origin"].get<std::string>()).value_or(SearchPhase::Enumeration);
   if (m.contains("float32_stable") && m["float32_stable"].is_boolean())
     f.float32_stable = m["float32_stable"].get<bool>();
+  if (m.contains("minor_step") && m["minor_step"].is_boolean())
+    f.minor_step = m["minor_step"].get<bool>();
   return out;
 }
 

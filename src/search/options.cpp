@@ -251,6 +251,12 @@ const SearchOptionField kFields[] = {
      .member = &O::linear_scaling,
      .role = Role::Search,
      .help = "also try a * f + b for each formula of the evolution"},
+    {.name = "min_step",
+     .member = &O::min_step,
+     .role = Role::Run,
+     .help = "a costlier front member is shown only where it lowers the loss by at least this "
+             "fraction of the cheaper member's shown before it (0: every step)",
+     .check = [](const O& o) { return in_range<&O::min_step>(o, 0, 0.5); }},
     {.name = "progress_interval_s",
      .member = &O::progress_interval_s,
      .role = Role::Run,

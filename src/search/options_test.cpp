@@ -193,7 +193,7 @@ std::vector<const void*> member_addresses(const SearchOptions& o) {
                evolve, max_nodes, population, islands, migration_interval, max_parameters, fit_rows,
                linear_scaling, on_new_member, on_progress, progress_interval_s, interrupt,
                communicator, checkpoint_path, checkpoint_interval_s, resume_path, certify,
-               certify_time_limit_s] = o;
+               certify_time_limit_s, min_step] = o;
   return {&time_limit_s,
           &max_candidates,
           &stop_at,
@@ -232,7 +232,8 @@ std::vector<const void*> member_addresses(const SearchOptions& o) {
           &checkpoint_interval_s,
           &resume_path,
           &certify,
-          &certify_time_limit_s};
+          &certify_time_limit_s,
+          &min_step};
 }
 
 // Every described field changed from its default.
@@ -273,6 +274,7 @@ SearchOptions every_field_edited() {
   o.resume_path = "old.ckpt";
   o.certify = true;
   o.certify_time_limit_s = 3;
+  o.min_step = 0.05;
   return o;
 }
 

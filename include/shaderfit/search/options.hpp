@@ -168,6 +168,11 @@ struct SearchOptions {
   bool certify = false;
   double certify_time_limit_s = 10.0;
 
+  // The front as shown: a costlier member is shown only where its loss is at most (1 - min_step)
+  // times that of the member shown before it, cheaper; the others stay in the summary marked
+  // FrontMember::minor_step (docs/search.md, "Tidy front"). 0 shows every step.
+  double min_step = 0.01;
+
   // Each field's check from search_option_fields(), in that order. validate() throws Error
   // located at the first field that fails ("SearchOptions::max_power"); is_valid() returns
   // false instead, with "SearchOptions::max_power: must be in [2, 16]" in *why.

@@ -73,7 +73,7 @@ Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
   if (front.empty()) throw Error("no front to choose from: it is empty");
   std::vector<std::size_t> members;  // scored, cheapest first
   for (std::size_t i = 0; i < front.size(); ++i)
-    if (scored(front[i])) members.push_back(i);
+    if (scored(front[i]) && !front[i].minor_step) members.push_back(i);
   if (members.empty())
     return {front.size() - 1, "the front has no costs or errors; its last member"};
   std::stable_sort(members.begin(), members.end(),

@@ -55,6 +55,14 @@ TEST(Choice, TheKneePassesOverTheReferenceItself) {
   EXPECT_EQ(choose_member(alone, ChoiceRule{}).index, 0u);
 }
 
+// A minor step (less than the minimum step below the member shown before it) is never chosen.
+TEST(Choice, MinorStepsAreNotChosen) {
+  auto f = front({{0, 1e-1}, {4, 1e-3}, {8, 0.999e-3}});
+  f.back().minor_step = true;
+  EXPECT_EQ(choose_member(f, parse_choice_rule("cost=9", {})).index, 1u);
+  EXPECT_EQ(choose_member(f, ChoiceRule{}).index, 1u);
+}
+
 TEST(Choice, CostAndErrorLimits) {
   const auto f = front(kKneeAt4);
   EXPECT_EQ(choose_member(f, parse_choice_rule("cost=7", {})).index, 3u);

@@ -60,7 +60,12 @@ std::string front_table(const SearchSummary& s, Loss loss, const PrintOptions& p
   if (certified) out += fmt::format(" {:>11}", "certified");
   out += fmt::format(" {:>10}  {}\n", "found", "formula");
   bool unstable = false, loose = false;
+  std::size_t minor = 0;
   for (const FrontMember& m : s.front) {
+    if (m.minor_step) {
+      ++minor;
+      continue;
+    }
     out += fmt::format("{:>6g} {:>5}", m.cost, m.nodes);
     if (loss_column) out += fmt::format(" {:>10.4g}", m.loss);
     out += fmt::format(" {:>10.4g} {:>10.4g} {:>11.4g} {:>11.4g}", m.metrics.mse, m.metrics.max_abs,
@@ -84,6 +89,11 @@ std::string front_table(const SearchSummary& s, Loss loss, const PrintOptions& p
         "! not stable in float32: float32 and float64 differ by more than 1e-4 of the "
         "target's scale and 1% of the formula's max_abs error (docs/reliability.md)\n";
   if (loose) out += "* the time for the bound ran out: it holds, but may be well above max_abs\n";
+  if (minor > 0)
+    out += fmt::format(
+        "{} {} not shown: each lowers the loss of the member above it by less than the minimum "
+        "step (the JSON keeps them, \"minor_step\": true)\n",
+        minor, minor == 1 ? "costlier member" : "costlier members");
   return out;
 }
 

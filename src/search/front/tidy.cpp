@@ -325,4 +325,18 @@ std::vector<FrontMember> tidy_front(const SearchOptions& options, const SearchPr
   return out;
 }
 
+void mark_minor_steps(std::vector<FrontMember>& front, double min_step) {
+  std::vector<std::size_t> order(front.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return front[a].cost < front[b].cost; });
+  const FrontMember* shown = nullptr;
+  for (std::size_t i : order) {
+    FrontMember& m = front[i];
+    m.minor_step = shown != nullptr && std::isfinite(m.loss) && std::isfinite(shown->loss) &&
+                   !(m.loss < (1 - min_step) * shown->loss);
+    if (!m.minor_step) shown = &m;
+  }
+}
+
 }  // namespace shaderfit::search_detail

@@ -56,4 +56,9 @@ std::vector<FrontMember> tidy_front(const SearchOptions& options, const SearchPr
                                     std::vector<FrontMember> front,
                                     std::uint64_t* node_evaluations);
 
+// Marks FrontMember::minor_step, cheapest first: a member is shown when its loss is at most
+// (1 - min_step) times that of the last member shown (the cheapest is shown), so that no two
+// members shown differ by less than the margin; with min_step 0 only equal losses are minor.
+void mark_minor_steps(std::vector<FrontMember>& front, double min_step);
+
 }  // namespace shaderfit::search_detail

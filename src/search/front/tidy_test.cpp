@@ -20,6 +20,7 @@
 #include "shaderfit/eval/metrics.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/search/front/front_table.hpp"
 
 namespace shaderfit::search_detail {
 namespace {
@@ -459,6 +460,37 @@ TEST(Tidy, ClampsThatNeverActAreDropped) {
   const std::vector<FrontMember> kept = tidied(clamped, {member(o, clamped, "min(x, 0.5)")});
   ASSERT_EQ(kept.size(), 1u);
   EXPECT_EQ(kept[0].formula, "min(x, 0.5)");
+}
+
+// Issue 42: no two members shown differ by less than the minimum step; small steps show once
+// they add up to it; the others are kept, marked, and left out of the table.
+TEST(MinorSteps, AMemberIsShownWhereItLowersTheLossByTheMargin) {
+  std::vector<FrontMember> f;
+  for (double loss : {1.0, 0.5, 0.499, 0.496, 0.494, 0.2, 0.2}) {
+    FrontMember m;
+    m.cost = static_cast<double>(f.size());
+    m.loss = m.metrics.mse = loss;
+    m.expression = parse_formula("x", {.variables = {"x"}});
+    f.push_back(m);
+  }
+  mark_minor_steps(f, 0.01);
+  std::vector<bool> minor;
+  for (const FrontMember& m : f) minor.push_back(m.minor_step);
+  EXPECT_EQ(minor, (std::vector<bool>{false, false, true, true, false, false, true}));
+  SearchSummary s;
+  s.front = f;
+  const std::string table = front_table(s);
+  EXPECT_NE(table.find("3 costlier members not shown"), std::string::npos) << table;
+  EXPECT_EQ(table.find("0.499"), std::string::npos) << table;
+  mark_minor_steps(f, 0);
+  minor.clear();
+  for (const FrontMember& m : f) minor.push_back(m.minor_step);
+  EXPECT_EQ(minor, (std::vector<bool>{false, false, false, false, false, false, true}));
+  // Kept in the JSON, marked, and read back.
+  FrontMember m = f.back();
+  const nlohmann::json j = front_member_json(m, FrontJson::Exact);
+  EXPECT_EQ(j.at("minor_step"), true);
+  EXPECT_FALSE(front_member_json(f.front(), FrontJson::Result).contains("minor_step"));
 }
 
 }  // namespace

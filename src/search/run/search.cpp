@@ -419,6 +419,7 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
   // Where the function behind the rows is known, the errors between them too (and bounds).
   summary->front =
       search_detail::verify_front(options, problem, std::move(summary->front), summary);
+  search_detail::mark_minor_steps(summary->front, options.min_step);
   if (!options.uniform.empty()) {
     for (FrontMember& m : summary->front) {
       m.uniform = options.uniform;

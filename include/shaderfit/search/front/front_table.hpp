@@ -19,7 +19,8 @@ std::string search_summary_lines(const SearchSummary& summary);
 
 // The front as a table: cost, nodes, the loss (unless it is mse or max_abs, shown anyway), mse,
 // max_abs, when found, and the formula (printed with `print`), marked "!" (with a note below the
-// table) when it is not stable in float32.
+// table) when it is not stable in float32. Members marked FrontMember::minor_step are left out
+// and counted in a line below the table.
 std::string front_table(const SearchSummary& summary, Loss loss = Loss::Mse,
                         const PrintOptions& print = PrintOptions::for_people());
 
