@@ -70,6 +70,20 @@ TEST(CliReport, SearchReportLoadsInHeadlessChromium) {
   EXPECT_EQ(page.find("https://"), std::string::npos);
   EXPECT_NE(page.find("r0 + (x - r0) * x^4"), std::string::npos);
   EXPECT_NE(page.find("float shaderfit_formula"), std::string::npos);  // GLSL code
+  // The answer first (issue 42): the chosen formula, its code as tabs and the baselines before
+  // the front; the data, settings and run last, folded.
+  const std::size_t chosen = page.find("<h2>Chosen formula</h2>"),
+                    tabs = page.find("<div class=\"tabs\">"),
+                    against = page.find("<h2>Against the baselines</h2>"),
+                    front = page.find("<h2>Pareto front</h2>"),
+                    folded = page.find("<details><summary>Data, settings and run</summary>");
+  ASSERT_NE(folded, std::string::npos) << page.substr(0, 2000);
+  EXPECT_LT(chosen, tabs);
+  EXPECT_LT(tabs, against);
+  EXPECT_LT(against, front);
+  EXPECT_LT(front, folded);
+  EXPECT_NE(page.find("<summary>Data, settings and run</summary>\n<table>", folded - 1),
+            std::string::npos);
 
   const std::string chromium = find_chromium();
   if (chromium.empty()) GTEST_SKIP() << "skipped: chromium not found";

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <sstream>
 
 #include "shaderfit/core/error.hpp"
@@ -171,6 +172,35 @@ void HtmlReport::code(const std::string& language, const std::string& source) {
            "</div><pre><code>" + html_escape(source) + "</code></pre></div>\n";
 }
 
+void HtmlReport::code_tabs(const std::vector<std::pair<std::string, std::string>>& sources) {
+  if (sources.empty()) return;
+  if (sources.size() > 6) throw Error("at most 6 code tabs, not " + std::to_string(sources.size()));
+  // Radio buttons and labels, then the panels: the checked button shows its panel (CSS below).
+  // Unique on the page (parts made apart are appended) and the same from run to run.
+  const std::string group =
+      "tabs" + std::to_string(std::hash<std::string>{}(sources.front().second) % 1000000007u);
+  body_ += "<div class=\"tabs\">";
+  for (std::size_t k = 0; k < sources.size(); ++k) {
+    const std::string id = group + "-" + std::to_string(k);
+    body_ += "<input type=\"radio\" name=\"" + group + "\" id=\"" + id + "\"" +
+             (k == 0 ? " checked" : "") + "><label for=\"" + id + "\">" +
+             html_escape(sources[k].first) + "</label>";
+  }
+  for (const auto& [language, source] : sources)
+    body_ += "<div class=\"tab\"><pre><code>" + html_escape(source) + "</code></pre></div>";
+  body_ += "</div>\n";
+}
+
+void HtmlReport::answer(const std::string& text) {
+  body_ += "<p class=\"answer\">" + html_escape(text) + "</p>\n";
+}
+
+void HtmlReport::folded(const std::string& summary, const HtmlReport& content) {
+  body_ += "<details><summary>" + html_escape(summary) + "</summary>\n" + content.body_ +
+           "</details>\n";
+  sortable_ = sortable_ || content.sortable_;
+}
+
 void HtmlReport::append(const HtmlReport& other) {
   body_ += other.body_;
   sortable_ = sortable_ || other.sortable_;
@@ -195,6 +225,20 @@ std::string HtmlReport::html() const {
     << ".code{margin:.8em "
        "0}.lang{font-size:.8em;color:#555;text-transform:uppercase;letter-spacing:.05em}"
        "pre{background:#f6f8fa;border:1px solid #ddd;padding:.7em;overflow-x:auto}\n"
+    << ".tabs>input{position:absolute;opacity:0}.tabs>label{display:inline-block;padding:.25em "
+       ".9em;border:1px solid #ccc;border-bottom:none;font-size:.85em;cursor:pointer;"
+       "background:#eef3f8;margin-right:.2em;text-transform:uppercase}.tabs>.tab{display:none}.tabs>.tab pre{margin-top:0}"
+       ".tabs>input:checked+label{background:#fff;font-weight:bold}"
+       ".tabs>input:nth-of-type(1):checked~.tab:nth-of-type(1),"
+       ".tabs>input:nth-of-type(2):checked~.tab:nth-of-type(2),"
+       ".tabs>input:nth-of-type(3):checked~.tab:nth-of-type(3),"
+       ".tabs>input:nth-of-type(4):checked~.tab:nth-of-type(4),"
+       ".tabs>input:nth-of-type(5):checked~.tab:nth-of-type(5),"
+       ".tabs>input:nth-of-type(6):checked~.tab:nth-of-type(6){display:block}\n"
+    << "details{margin:1.5em 0;border-top:1px solid #ddd;padding-top:.5em}"
+       "summary{cursor:pointer;color:#0072B2;font-weight:bold}\n"
+    << ".answer{font-size:1.25em;font-family:'DejaVu Sans Mono',monospace;background:#f6f8fa;"
+       "padding:.4em .6em;border-left:4px solid #0072B2}\n"
     << (sortable_ ? "table.sortable th{cursor:pointer;user-select:none}"
                     "th[data-order=up]::after{content:' \\25B2'}"
                     "th[data-order=down]::after{content:' \\25BC'}\n"

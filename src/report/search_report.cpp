@@ -187,12 +187,16 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     throw Error("no front to report: 'front' is empty", {source});
   const FrontFile file = front_file_from_json(j, source);
   const std::vector<std::string>& uniform = a.uniform.empty() ? file.uniform : a.uniform;
+  // The page leads with the answer: the chosen formula, its code, its error and cost against
+  // the baselines and its pictures; then the front; the data, settings and run last, folded.
+  // Each part is made apart, then appended in that order.
+  HtmlReport answer(""), front(""), provenance("");
   if (j.contains("data"))
-    r.settings({{"data", scalar_text(j["data"].value("source", json()))},
-                {"rows", scalar_text(j["data"].value("rows", json()))},
-                {"target", scalar_text(j["data"].value("target", json()))}});
-  if (j.contains("options")) add_json_section(r, j["options"], "Settings", 2);
-  if (j.contains("summary")) add_json_section(r, j["summary"], "Run", 2);
+    provenance.settings({{"data", scalar_text(j["data"].value("source", json()))},
+                         {"rows", scalar_text(j["data"].value("rows", json()))},
+                         {"target", scalar_text(j["data"].value("target", json()))}});
+  if (j.contains("options")) add_json_section(provenance, j["options"], "Settings", 2);
+  if (j.contains("summary")) add_json_section(provenance, j["summary"], "Run", 2);
 
   const std::string loss =
       j.contains("options") ? j["options"].value("loss", std::string("loss")) : "loss";
@@ -223,7 +227,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     chosen.by_rule = false;
   }
 
-  r.heading("Pareto front");
+  front.heading("Pareto front");
   // Columns for what the run measured: float32 errors, certified bounds.
   bool float32 = false, half = false, certified = false, checked = false;
   for (const FrontMember& m : members) {
@@ -265,7 +269,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   std::vector<bool> numeric(heads.size(), true);
   numeric.back() = false;
   if (certified) numeric[heads.size() - 3] = false;
-  r.table(heads, rows, numeric);
+  front.table(heads, rows, numeric);
   std::string notes;
   if (checked)
     notes +=
@@ -286,9 +290,9 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     notes +=
         "Certified: a rigorous bound of the error on the whole domain by interval "
         "arithmetic, for the formula's exact constants (docs/reference.md).";
-  if (!notes.empty()) r.paragraph(notes);
+  if (!notes.empty()) front.paragraph(notes);
 
-  Figures figures{r, a.figure_directory};
+  Figures answer_figures{answer, a.figure_directory}, front_figures{front, a.figure_directory};
   // The data, when given, scores the baselines and draws curves.
   const std::string target = j.contains("data") ? j["data"].value("target", std::string("R")) : "R";
   std::vector<Scored> baselines;
@@ -326,7 +330,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     }
   }
   if (pick) pareto_caption += "; chosen = the chosen formula below";
-  figures.add(pareto, "front", pareto_caption);
+  front_figures.add(pareto, "front", pareto_caption);
 
   const std::string formula_location = "SearchReportOptions::formula";
   ParseOptions po;
@@ -334,14 +338,29 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   po.source = formula_location;
   Expression ce = parse_formula(chosen.formula, po);
   const std::string chosen_text = to_infix(ce, PrintOptions::for_people());
-  r.heading("Chosen formula");
-  r.paragraph(chosen_text);
-  r.paragraph("How: " + chosen.how + ". Why: " + chosen.why + ".");
+  answer.heading("Chosen formula");
+  answer.answer(chosen_text);
+  if (pick) {
+    const FrontMember& m = members[pick->index];
+    answer.paragraph(fmt::format("Cost {:g} {}; MSE {}, max abs {}.", m.cost,
+                                 uniform.empty() ? "instructions" : "instructions per pixel",
+                                 number_text(m.metrics.mse), number_text(m.metrics.max_abs)));
+  }
+  answer.paragraph("How: " + chosen.how + ". Why: " + chosen.why + ".");
   if (pick)
-    r.paragraph(
+    answer.paragraph(
         "The rules: knee (the default), the knee of the front; cost=N, the most accurate member "
         "that costs at most N; error=E, the cheapest whose " +
         loss + " is at most E.");
+  std::vector<std::pair<std::string, std::string>> code;
+  for (Language l : {Language::Glsl, Language::Hlsl, Language::Cuda}) {
+    CodegenOptions co;
+    co.language = l;
+    co.comment = {chosen_text, cost_comment(ce, uniform)};
+    co.uniform = uniform;
+    code.emplace_back(std::string(language_name(l)), generate_function(ce, co));
+  }
+  answer.code_tabs(code);
 
   if (a.data != nullptr) {
     const Dataset& d = *a.data;
@@ -360,8 +379,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     };
     for (const Scored& b : baselines) cmp.push_back(row(b, nullptr));
     cmp.push_back(row(c, baselines.empty() ? nullptr : &baselines.front()));
-    r.heading("Against the baselines");
-    r.table({"", "formula", "cost", "MSE", "max abs", "MSE vs first baseline"}, cmp,
+    answer.heading("Against the baselines");
+    answer.table({"", "formula", "cost", "MSE", "max abs", "MSE vs first baseline"}, cmp,
             {false, false, true, true, true, true});
 
     // One input: the reference and the chosen formula over it, and the error.
@@ -392,8 +411,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
       }
       curves.series = {ref, fit};
       error.series = {err};
-      figures.add(curves, "curves", "The reference and " + c.label + " = " + chosen_text);
-      figures.add(error, "error",
+      answer_figures.add(curves, "curves", "The reference and " + c.label + " = " + chosen_text);
+      answer_figures.add(error, "error",
                   "The error of " + c.label + " at the samples (" + chosen_text + ")");
     }
 
@@ -424,7 +443,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
           const double e = std::abs(evaluate_scalar(ce, in) - out[static_cast<std::size_t>(t)]);
           map.values.push_back(std::isfinite(e) ? e : 0.0);  // blank where undefined
         }
-      figures.add(map, "error-map",
+      answer_figures.add(map, "error-map",
                   "|error| of " + c.label + " over the domain, at the centres of 96 x 96 cells (" +
                       chosen_text + ")");
     }
@@ -466,25 +485,20 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
         }
         add(c.label, evaluate_on(parse_formula_on(chosen.formula, sweep), sweep), false);
         caption += "; " + c.label + " = " + chosen_text;
-        figures.add(ch, std::string("curves-") + mat.label, caption);
+        answer_figures.add(ch, std::string("curves-") + mat.label, caption);
       }
     }
     if (a.problem != nullptr && a.problem->scene) {
       std::vector<SceneFormula> shown;
       for (const Scored& b : baselines) shown.push_back({b.label, b.e});
       shown.push_back({c.label, c.e});
-      add_scene_section(r, *a.problem, shown, precision == Precision::Half, a.figure_directory,
+      add_scene_section(answer, *a.problem, shown, precision == Precision::Half, a.figure_directory,
                         display);
     }
   }
-  r.heading("Code");
-  for (Language l : {Language::Glsl, Language::Hlsl, Language::Cuda}) {
-    CodegenOptions co;
-    co.language = l;
-    co.comment = {chosen_text, cost_comment(ce, uniform)};
-    co.uniform = uniform;
-    r.code(std::string(language_name(l)), generate_function(ce, co));
-  }
+  r.append(answer);
+  r.append(front);
+  r.folded("Data, settings and run", provenance);
   return chosen;
 }
 

@@ -49,6 +49,7 @@ class HtmlReport {
   // checked).
   void heading(const std::string& text, int level, const std::string& id);
   void paragraph(const std::string& text);  // plain text, escaped
+  void answer(const std::string& text);     // the page's answer (a formula), set apart
   // A table; cells are plain text (escaped). `numeric` columns are right-aligned.
   void table(const std::vector<std::string>& header,
              const std::vector<std::vector<std::string>>& rows,
@@ -59,6 +60,11 @@ class HtmlReport {
   // Embeds a PNG file. Throws shaderfit::Error if it cannot be read or is not a PNG.
   void image(const std::string& png_path, const std::string& caption);
   void code(const std::string& language, const std::string& source);
+  // The same code in several languages as tabs (the first shown; no script needed): pairs of
+  // language and source, at most 6.
+  void code_tabs(const std::vector<std::pair<std::string, std::string>>& sources);
+  // Everything `content` holds, folded under a line that says what it is (closed at first).
+  void folded(const std::string& summary, const HtmlReport& content);
   // Everything `other` holds, after what this holds (sections made apart, on other threads).
   void append(const HtmlReport& other);
 
