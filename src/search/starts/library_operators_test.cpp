@@ -5,7 +5,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <functional>
 #include <memory>
@@ -132,18 +131,14 @@ TEST(LibraryOperators, ReferencesThatCallThem) {
   EXPECT_EQ(names(suggested_library_operators(one)), "");
 }
 
-TEST(LibraryOperators, TheProbeIsCheap) {
-  // Ten inputs and a hundred thousand rows: the probe reads 2000 of them.
+// Ten inputs and a hundred thousand rows: the probe reads 2000 of them and still finds tanh. (Its
+// time is part of every search's; the benchmarks in bench/ measure it, not this test: the machines
+// are shared.)
+TEST(LibraryOperators, TheProbeFindsItOnASampleOfManyRows) {
   std::vector<std::pair<double, double>> box(10, {0.5, 2.0});
   const SearchProblem p = sampled(
       box, [](const std::vector<double>& x) { return std::tanh(x[0] * x[3] / x[7]); }, 100000);
-  const auto t0 = std::chrono::steady_clock::now();
-  const std::vector<Op> ops = suggested_library_operators(p);
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  EXPECT_EQ(names(ops), "tanh");
-  EXPECT_LT(ms, 100.0);
-  std::printf("library operator probe: %.2f ms for 10 inputs, 100000 rows\n", ms);
+  EXPECT_EQ(names(suggested_library_operators(p)), "tanh");
 }
 
 }  // namespace
