@@ -3,6 +3,7 @@
 // significant digits (as a CSV written so would hold it).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "shaderfit/core/random.hpp"
+#include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit::test {
@@ -39,6 +41,21 @@ inline SearchProblem drawn_problem(std::vector<std::string> names,
     p.target.push_back(y);
   }
   return p;
+}
+
+// The RMS difference between e (over the problem's inputs) and the problem's target, over the
+// target's standard deviation.
+inline double relative_rms(const Expression& e, const SearchProblem& p) {
+  double mean = 0, err = 0, var = 0;
+  for (double t : p.target) mean += t / static_cast<double>(p.target.size());
+  for (std::size_t r = 0; r < p.target.size(); ++r) {
+    std::vector<double> row;
+    for (const std::vector<double>& c : p.inputs) row.push_back(c[r]);
+    const double d = evaluate_scalar(e, row) - p.target[r];
+    err += d * d;
+    var += (p.target[r] - mean) * (p.target[r] - mean);
+  }
+  return std::sqrt(err / var);
 }
 
 }  // namespace shaderfit::test

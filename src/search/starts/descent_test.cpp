@@ -31,19 +31,7 @@ SearchProblem problem_of(const std::string& text, const std::vector<std::string>
       names, ranges, [&](const V& row) { return evaluate_scalar(e, row); }, 5, rows);
 }
 
-// The RMS difference between e and the problem's target over the target's standard deviation.
-double relative_rms(const Expression& e, const SearchProblem& p) {
-  double mean = 0, err = 0, var = 0;
-  for (double t : p.target) mean += t / static_cast<double>(p.target.size());
-  for (std::size_t r = 0; r < p.target.size(); ++r) {
-    V row;
-    for (const V& c : p.inputs) row.push_back(c[r]);
-    const double d = evaluate_scalar(e, row) - p.target[r];
-    err += d * d;
-    var += (p.target[r] - mean) * (p.target[r] - mean);
-  }
-  return std::sqrt(err / var);
-}
+using test::relative_rms;
 
 TEST(Descent, RewritesAreCheaperAndFinite) {
   const std::vector<std::string> names = {"x", "y"};

@@ -146,39 +146,42 @@ std::vector<Shape> one_input_shapes(const Column& x, const Column& t) {
         least_squares({one, mapped(from_c, [](double v, double) { return std::pow(v, 5); }, 0)}, t);
     out.back().values = {ab[0], ab[1], c};
   }
-  {
+  // a + b g_k(x) by least squares for each k of a grid, the best by its relative error.
+  const auto best_on_grid = [&](std::initializer_list<double> grid,
+                                const std::function<Column(double)>& g) {
     double best = HUGE_VAL;
-    std::vector<double> values;
-    for (double k : {0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0}) {
-      const Column pk = mapped(from_c, [](double v, double q) { return std::pow(v, q); }, k);
-      const std::vector<double> ab = least_squares({one, pk}, t);
+    std::vector<double> values;  // a, b, k
+    for (double k : grid) {
+      const Column gk = g(k);
+      const std::vector<double> ab = least_squares({one, gk}, t);
       Column f(n);
-      for (std::size_t i = 0; i < n; ++i) f[i] = ab[0] + ab[1] * pk[i];
+      for (std::size_t i = 0; i < n; ++i) f[i] = ab[0] + ab[1] * gk[i];
       const double e = relative_rms(f, t);
       if (e < best) {
         best = e;
-        values = {ab[0], ab[1], k, c};
+        values = {ab[0], ab[1], k};
       }
     }
-    out.push_back({"# + # * exp2(# * log2(# - X))", values, 2});
+    return values;
+  };
+  std::vector<double> schlick =
+      best_on_grid({0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0}, [&](double k) {
+        return mapped(from_c, [](double v, double q) { return std::pow(v, q); }, k);
+      });
+  if (!schlick.empty()) {
+    schlick.push_back(c);
+    out.push_back({"# + # * exp2(# * log2(# - X))", schlick, 2});
   }
-  {
-    double best = HUGE_VAL;
-    std::vector<double> values;
-    const double span = hi > lo ? hi - lo : 1.0;
-    for (double k : {-16.0, -8.0, -4.0, -2.0, -1.0, -0.5, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0}) {
-      const Column ek = mapped(x, [](double v, double q) { return std::exp2(q * v); }, k / span);
-      const std::vector<double> ab = least_squares({one, ek}, t);
-      Column f(n);
-      for (std::size_t i = 0; i < n; ++i) f[i] = ab[0] + ab[1] * ek[i];
-      const double e = relative_rms(f, t);
-      if (e < best) {
-        best = e;
-        values = {ab[0], ab[1], k / span};
-      }
-    }
-    out.push_back({"# + # * exp2(# * X)", values, 2});
-  }
+  const double span = hi > lo ? hi - lo : 1.0;
+  const std::vector<double> exponential =
+      best_on_grid({-16.0, -8.0, -4.0, -2.0, -1.0, -0.5, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0},
+                   [&](double k) {
+                     return mapped(x, [](double v, double q) { return std::exp2(q * v); },
+                                   k / span);
+                   });
+  if (!exponential.empty())
+    out.push_back({"# + # * exp2(# * X)",
+                   {exponential[0], exponential[1], exponential[2] / span}, 2});
   // (a + b x) / (1 + d x), linearised: t = a + b x - d x t.
   {
     Column xt(n);
