@@ -90,7 +90,7 @@ class Member:
         self.time_s = _number(document.get("time_s"))
         self.origin: str = document.get("origin", "")
         # Lowers the loss of the cheaper member shown before it by less than the minimum step
-        # (the min_step option): in the front, but not printed nor chosen.
+        # (the min_step option): in the front, but not printed nor taken as the knee.
         self.minor_step: bool = bool(document.get("minor_step", False))
         self.float32_stable = bool(document.get("float32_stable", True))
         self.float32_max_abs_diff = _number(document.get("float32_max_abs_diff"))
@@ -197,7 +197,11 @@ class Front(Sequence):
             rule = f"cost={float(max_cost)!r}"
         else:
             rule = "knee"
-        members = [m for m in self.members if not m.minor_step]
+        # The knee passes over the minor steps the front does not show; a limit takes the best
+        # of every member.
+        members = self.members
+        if rule == "knee":
+            members = [m for m in members if not m.minor_step]
         if max_cost is not None and max_error is not None:
             members = [m for m in members if float(m.cost) <= max_cost]
             if not members:

@@ -201,9 +201,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   const std::string loss =
       j.contains("options") ? j["options"].value("loss", std::string("loss")) : "loss";
   std::vector<FrontMember> members;
-  // The front as shown: the members that are minor steps stay in the JSON only.
-  for (const ReadFrontMember& read : file.front)
-    if (!read.member.minor_step) members.push_back(read.member);
+  for (const ReadFrontMember& read : file.front) members.push_back(read.member);
   const Precision run_precision =
       j.contains("options") && j["options"].contains("precision") &&
               j["options"]["precision"].is_string()
@@ -239,6 +237,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   std::vector<std::vector<std::string>> rows;
   for (std::size_t i = 0; i < members.size(); ++i) {
     const FrontMember& m = members[i];
+    // The front as shown: a minor step only where it is the chosen member.
+    if (m.minor_step && !(pick && pick->index == i)) continue;
     std::vector<std::string> row = {number_text(m.cost)};
     if (!uniform.empty())
       row.push_back(std::to_string(
@@ -312,7 +312,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   pareto.log_y = true;
   Series fs{"Pareto front", {}, {}, Series::Style::LinesPoints, true};
   for (const FrontMember& m : members) {
-    if (std::isnan(m.metrics.mse)) continue;
+    if (std::isnan(m.metrics.mse) || m.minor_step) continue;
     fs.x.push_back(m.cost);
     fs.y.push_back(m.metrics.mse);
   }

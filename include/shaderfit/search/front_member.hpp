@@ -85,7 +85,7 @@ struct FrontMember {
   double certify_time_s = 0;
   std::string certify_note;  // why not converged or no finite bound (verify/certify.hpp)
   // Lowers the loss of the cheaper member shown before it by less than SearchOptions::min_step:
-  // kept, but not shown in tables and reports, nor chosen.
+  // kept, but not shown in tables and reports, nor taken as the knee.
   bool minor_step = false;
 };
 

@@ -73,7 +73,7 @@ Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
   if (front.empty()) throw Error("no front to choose from: it is empty");
   std::vector<std::size_t> members;  // scored, cheapest first
   for (std::size_t i = 0; i < front.size(); ++i)
-    if (scored(front[i]) && !front[i].minor_step) members.push_back(i);
+    if (scored(front[i])) members.push_back(i);
   if (members.empty())
     return {front.size() - 1, "the front has no costs or errors; its last member"};
   std::stable_sort(members.begin(), members.end(),
@@ -109,10 +109,11 @@ Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
     case ChoiceRule::Kind::Knee: break;
   }
   // The knee is a formula to use instead of the reference: the reference's own member (the
-  // function as written) takes no part while there is another.
+  // function as written) takes no part while there is another, nor do the minor steps the front
+  // does not show (a cost or error limit above takes the best of every member).
   std::vector<std::size_t> others;
   for (std::size_t i : members)
-    if (front[i].origin != SearchPhase::Reference) others.push_back(i);
+    if (front[i].origin != SearchPhase::Reference && !front[i].minor_step) others.push_back(i);
   if (!others.empty() && others.size() < members.size()) {
     members = std::move(others);
     cheapest = best = members.front();

@@ -55,12 +55,15 @@ TEST(Choice, TheKneePassesOverTheReferenceItself) {
   EXPECT_EQ(choose_member(alone, ChoiceRule{}).index, 0u);
 }
 
-// A minor step (less than the minimum step below the member shown before it) is never chosen.
-TEST(Choice, MinorStepsAreNotChosen) {
-  auto f = front({{0, 1e-1}, {4, 1e-3}, {8, 0.999e-3}});
-  f.back().minor_step = true;
-  EXPECT_EQ(choose_member(f, parse_choice_rule("cost=9", {})).index, 1u);
-  EXPECT_EQ(choose_member(f, ChoiceRule{}).index, 1u);
+// A minor step (less than the minimum step below the member shown before it) is never the knee;
+// a cost limit still takes the most accurate member within it, minor or not.
+TEST(Choice, MinorStepsAreNotTheKnee) {
+  auto f = front({{0, 1e-1}, {4, 1e-3}, {8, 0.999e-3}, {12, 1e-9}});
+  f[2].minor_step = true;
+  EXPECT_EQ(choose_member(f, parse_choice_rule("cost=9", {})).index, 2u);
+  auto knee = front({{0, 1e-1}, {2, 1e-2}, {4, 1e-5}, {6, 0.9999e-5}, {10, 0.99e-5}});
+  knee[3].minor_step = true;
+  EXPECT_NE(choose_member(knee, ChoiceRule{}).index, 3u);
 }
 
 TEST(Choice, CostAndErrorLimits) {
