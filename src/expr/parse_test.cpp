@@ -74,7 +74,7 @@ TEST(Parse, PrecedenceAndUnaryMinus) {
   EXPECT_EQ(p("x / (y * 2)"), "x / (y * 2)");
   EXPECT_EQ(p("x^2^3"), "(x^2)^3");
   EXPECT_EQ(p("2.5e-3 * x"), "0.0025 * x");
-  EXPECT_EQ(p("x * -2"), "x * -2");
+  EXPECT_EQ(p("x * -2"), "-2 * x");
   EXPECT_EQ(p("-(2)"), "-(2)");
   EXPECT_EQ(p("fma(x, y, 1)"), "fma(x, y, 1)");
   EXPECT_EQ(p("inversesqrt(x)"), "rsqrt(x)");

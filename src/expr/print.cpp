@@ -72,6 +72,26 @@ class InfixPrinter {
 
   std::string wrap(std::size_t i, bool paren) { return paren ? "(" + text(i) + ")" : text(i); }
 
+  bool is_literal(std::size_t k) const {
+    const Node& n = e_.nodes[k];
+    return n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters);
+  }
+  bool negative_literal(std::size_t k) const {
+    if (!is_literal(k)) return false;
+    const Node& n = e_.nodes[k];
+    const double v = n.op == Op::Const ? n.value : param_value(n);
+    return !std::isnan(v) && std::signbit(v);
+  }
+
+  // A product of something by a negative literal is written literal first, so that no text
+  // shows `x * -c` and in a sum its sign joins the sum's (`a - c * x`): the same value bit for
+  // bit (multiplication commutes), and it reads back as written. A product of two literals
+  // keeps its order.
+  void order_factors(std::size_t i, std::size_t* c) const {
+    if (e_.nodes[i].op == Op::Mul && negative_literal(c[1]) && !is_literal(c[0]))
+      std::swap(c[0], c[1]);
+  }
+
   std::string number(double v) const { return format_number(v, o_); }
 
   // A term as a sign and a text that does not start with '-': a negative literal, a Neg node, or
@@ -85,6 +105,7 @@ class InfixPrinter {
     const Node& n = e_.nodes[i];
     std::size_t c[2] = {0, 0};
     if (n.arity == 1 || n.arity == 2) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
+    if (n.arity == 2) order_factors(i, c);
     const bool literal = n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters);
     if (literal) {
       const double v = n.op == Op::Const ? n.value : param_value(n);
@@ -124,6 +145,7 @@ class InfixPrinter {
     const Node& n = e_.nodes[i];
     std::size_t c[3];
     if (n.arity > 0) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
+    if (n.arity == 2) order_factors(i, c);
     switch (n.op) {
       case Op::Const: return number(n.value);
       case Op::Var: return e_.variables.at(static_cast<std::size_t>(n.index));

@@ -91,8 +91,10 @@ TEST(Print, ASumNeverShowsTwoSigns) {
   EXPECT_EQ(infix("a - -(-(2))"), "a - 2");
   EXPECT_EQ(infix("a + -2^2"), "a - 2^2");
   EXPECT_EQ(infix("a - (-2)^2"), "a - (-2)^2");
-  // A product keeps a negative factor bare: the parser reads "-2" as one literal.
-  EXPECT_EQ(infix("a * -2"), "a * -2");
+  // A negative literal factor is written first (no "* -"), its sign joining a sum's.
+  EXPECT_EQ(infix("a * -2"), "-2 * a");
+  EXPECT_EQ(infix("y + a * -2"), "y - 2 * a");
+  EXPECT_EQ(infix("log2(3 + x * -1.75)"), "log2(3 - 1.75 * x)");
   EXPECT_EQ(infix("x * -y"), "x * -y");
   EXPECT_EQ(infix("-2 * x + a"), "-2 * x + a");
   // With the constants for people too.
