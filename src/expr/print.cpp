@@ -76,10 +76,13 @@ class InfixPrinter {
     const Node& n = e_.nodes[k];
     return n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters);
   }
+  double literal_value(std::size_t k) const {
+    const Node& n = e_.nodes[k];
+    return n.op == Op::Const ? n.value : param_value(n);
+  }
   bool negative_literal(std::size_t k) const {
     if (!is_literal(k)) return false;
-    const Node& n = e_.nodes[k];
-    const double v = n.op == Op::Const ? n.value : param_value(n);
+    const double v = literal_value(k);
     return !std::isnan(v) && std::signbit(v);
   }
 
@@ -153,6 +156,11 @@ class InfixPrinter {
         return o_.substitute_parameters ? number(param_value(n))
                                         : e_.parameters.at(static_cast<std::size_t>(n.index));
       case Op::Add:
+        // A negative constant first in a sum is written last, `x - c` for `-c + x`: the same
+        // value bit for bit (a + b = b + a, and b + -c = b - c), read back as written.
+        if (negative_literal(c[0]) && !is_literal(c[1]))
+          return wrap(c[1], prec(c[1]) < kSum) + " - " + number(std::fabs(literal_value(c[0])));
+        return binary(i, c, wrap(c[0], prec(c[0]) < prec(i)));
       case Op::Sub:
       case Op::Mul:
       case Op::Div: return binary(i, c, wrap(c[0], prec(c[0]) < prec(i)));

@@ -95,6 +95,10 @@ TEST(Print, ASumNeverShowsTwoSigns) {
   EXPECT_EQ(infix("a * -2"), "-2 * a");
   EXPECT_EQ(infix("y + a * -2"), "y - 2 * a");
   EXPECT_EQ(infix("log2(3 + x * -1.75)"), "log2(3 - 1.75 * x)");
+  // A negative constant first in a sum is written last.
+  EXPECT_EQ(infix("-0.5 + x * y"), "x * y - 0.5");
+  EXPECT_EQ(infix("a * (-0.25 + x)"), "a * (x - 0.25)");
+  EXPECT_EQ(infix("-0.25 + (x - y)"), "x - y - 0.25");
   EXPECT_EQ(infix("x * -y"), "x * -y");
   EXPECT_EQ(infix("-2 * x + a"), "-2 * x + a");
   // With the constants for people too.
