@@ -37,7 +37,9 @@ struct PrintOptions {
 // no text shows `x * 1`, `x / 1`, `x + 0`, `x - 0`, `0 + x`, `1 * x` or `x^1`; the text then
 // means what it did, up to the sign of a zero sum. A sum never shows a sign twice:
 // `a - -c` is written `a + c` and `a + -c * x` is written `a - c * x` (the same value bit for
-// bit: negation commutes with rounding). With NumberText::Exact, parse_formula(to_infix(e),
+// bit: negation commutes with rounding); a product by a negative literal is written literal
+// first (`-c * x`, in a sum `a - c * x`: no `x * -c`), and a negative literal first in a sum
+// last (`x - c` for `-c + x`). With NumberText::Exact, parse_formula(to_infix(e),
 // {variables, parameters}) evaluates equal to e on every input, and printing what it reads
 // gives the same text again; with NumberText::Float32 it evaluates equal in float32.
 std::string to_infix(const Expression& e, const PrintOptions& options = {});
