@@ -395,7 +395,8 @@ Error in_manifest(const Error& e, const Settings& s, const SourceLocation& fallb
       {"ProblemSource::samples", "samples"}, {"ProblemSource::inputs", "inputs"},
       {"ProblemSource::target", "target"},   {"ProblemSource::scene", "scene"},
       {"SceneSpec::kind", "scene"},          {"SceneSpec::term", "term"},
-      {"ManifestEntry::weights", "weights"}};
+      {"ManifestEntry::weights", "weights"},
+      {"ProblemSource::drop_missing_rows", "drop_missing"}};
   for (const auto& [field, key] : kFields)
     if (source == field) return at_key(key, e.message());
   if (source == "ProblemSource::domain") {
@@ -414,8 +415,12 @@ Error in_manifest(const Error& e, const Settings& s, const SourceLocation& fallb
       return Error(e.what(), s.define_at[static_cast<std::size_t>(i)]);
     return at_key("define", e.what());
   }
-  // A file the entry names: its line and column where known (the message names the file).
-  const std::string in_file = e.where().line > 0 ? e.what() : e.message();
+  // A file the entry names: its line and column where known (the message names the file, and
+  // the CSV reader's option by its key).
+  std::string in_file = e.where().line > 0 ? e.what() : e.message();
+  constexpr std::string_view kDropOption = "CsvOptions::drop_missing_rows";
+  if (const std::size_t at = in_file.find(kDropOption); at != std::string::npos)
+    in_file.replace(at, kDropOption.size(), "drop_missing = true");
   if (!s.problem.csv_path.empty() && source == s.problem.csv_path) return at_key("data", in_file);
   if (!s.problem.reference.shader_path.empty() && source == s.problem.reference.shader_path)
     return at_key("reference_file", in_file);

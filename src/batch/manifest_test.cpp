@@ -349,7 +349,8 @@ data = "g.csv"
   EXPECT_TRUE(m.entries[0].problem.drop_missing_rows);
   EXPECT_EQ(m.entries[0].loaded->data.rows(), 3u);
   ASSERT_EQ(m.bad.size(), 1u);
-  EXPECT_NE(m.bad[0].message.find("column 'y' is numbers but for 1 cell: this one is empty"),
+  EXPECT_NE(m.bad[0].message.find("column 'y' is numbers but for 1 cell: this one is empty (fix "
+                                  "them, or drop their rows: drop_missing = true)"),
             std::string::npos)
       << m.bad[0].message;
 }
@@ -409,6 +410,13 @@ TEST(Manifest, BadEntriesSayWhichAndWhere) {
              "m.toml:3:8: entry 'f': cannot open '");
   expect_bad("[[function]]\nname = \"f\"\ndata = \"fresnel.csv\"\nmax_nodes = \"many\"\n", "f", 1,
              "m.toml:4:13: entry 'f': max_nodes: not an integer in range: 'many'");
+  expect_bad("[[function]]\nname = \"f\"\ndata = \"fresnel.csv\"\ndrop_missing = \"yes\"\n", "f", 1,
+             "m.toml:4:16: entry 'f': drop_missing: expected true or false, got a string");
+  expect_bad("[[function]]\nname = \"f\"\nreference = \"x\"\ndomain = { x = [0, 1] }\n"
+             "drop_missing = true\n",
+             "f", 1,
+             "m.toml:5:16: entry 'f': dropping rows with gaps is for a CSV file, not for a "
+             "reference");
   expect_bad("[[function]]\nname = \"f\"\ndata = \"fresnel.csv\"\nmax_power = 100\n", "f", 1,
              "m.toml:4:13: entry 'f': max_power: must be in");
   expect_bad("[[function]]\nname = \"f\"\ndata = \"fresnel.csv\"\noperators = \"+,foo\"\n", "f", 1,

@@ -38,8 +38,8 @@ std::string filled(std::string_view shape, std::string_view x, const std::vector
 
 // text parsed over `names` with its literals free; nullopt when it does not parse into exactly
 // `count` parameters.
-std::optional<Expression> parsed_free(const std::string& text, const std::vector<std::string>& names,
-                                      std::size_t count) {
+std::optional<Expression> parsed_free(const std::string& text,
+                                      const std::vector<std::string>& names, std::size_t count) {
   ParseOptions po;
   po.variables = names;
   po.literals_as_parameters = true;
@@ -110,7 +110,8 @@ std::vector<Shape> one_input_shapes(const Column& x, const Column& t) {
   const Column one(n, 1.0);
   const double lo = *std::min_element(x.begin(), x.end());
   const double hi = *std::max_element(x.begin(), x.end());
-  const Column x2 = mapped(x, [](double v, double) { return v * v; }, 0);
+  const Column x2 = mapped(
+      x, [](double v, double) { return v * v; }, 0);
   Column lt(n);
   for (std::size_t i = 0; i < n; ++i) lt[i] = std::log2(t[i]);
   std::vector<Shape> out;
@@ -124,7 +125,8 @@ std::vector<Shape> one_input_shapes(const Column& x, const Column& t) {
     double best = HUGE_VAL;
     std::vector<double> values;
     for (double p : kPowers) {
-      const Column root = mapped(t, [](double v, double q) { return std::pow(v, 1 / q); }, p);
+      const Column root = mapped(
+          t, [](double v, double q) { return std::pow(v, 1 / q); }, p);
       const std::vector<double> c = least_squares({one, *u}, root);
       Column f(n);
       for (std::size_t i = 0; i < n; ++i) f[i] = std::pow(c[0] + c[1] * (*u)[i], p);
@@ -139,11 +141,14 @@ std::vector<Shape> one_input_shapes(const Column& x, const Column& t) {
   // Schlick-like: a + b (c - x)^5 and a + b (c - x)^k with c just above the largest x, so that
   // the power's derivatives stay finite; and the exp2 form a + b exp2(k x).
   const double c = std::max(1.0, hi + 1e-3 * (hi - lo));
-  const Column from_c = mapped(x, [](double v, double cc) { return cc - v; }, c);
+  const Column from_c = mapped(
+      x, [](double v, double cc) { return cc - v; }, c);
   out.push_back({"# + # * (# - X)^5", {}, 2});
   {
     const std::vector<double> ab =
-        least_squares({one, mapped(from_c, [](double v, double) { return std::pow(v, 5); }, 0)}, t);
+        least_squares({one, mapped(
+                                from_c, [](double v, double) { return std::pow(v, 5); }, 0)},
+                      t);
     out.back().values = {ab[0], ab[1], c};
   }
   // a + b g_k(x) by least squares for each k of a grid, the best by its relative error.
@@ -166,22 +171,22 @@ std::vector<Shape> one_input_shapes(const Column& x, const Column& t) {
   };
   std::vector<double> schlick =
       best_on_grid({0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0}, [&](double k) {
-        return mapped(from_c, [](double v, double q) { return std::pow(v, q); }, k);
+        return mapped(
+            from_c, [](double v, double q) { return std::pow(v, q); }, k);
       });
   if (!schlick.empty()) {
     schlick.push_back(c);
     out.push_back({"# + # * exp2(# * log2(# - X))", schlick, 2});
   }
   const double span = hi > lo ? hi - lo : 1.0;
-  const std::vector<double> exponential =
-      best_on_grid({-16.0, -8.0, -4.0, -2.0, -1.0, -0.5, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0},
-                   [&](double k) {
-                     return mapped(x, [](double v, double q) { return std::exp2(q * v); },
-                                   k / span);
-                   });
+  const std::vector<double> exponential = best_on_grid(
+      {-16.0, -8.0, -4.0, -2.0, -1.0, -0.5, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0}, [&](double k) {
+        return mapped(
+            x, [](double v, double q) { return std::exp2(q * v); }, k / span);
+      });
   if (!exponential.empty())
-    out.push_back({"# + # * exp2(# * X)",
-                   {exponential[0], exponential[1], exponential[2] / span}, 2});
+    out.push_back(
+        {"# + # * exp2(# * X)", {exponential[0], exponential[1], exponential[2] / span}, 2});
   // (a + b x) / (1 + d x), linearised: t = a + b x - d x t.
   {
     Column xt(n);
@@ -269,7 +274,8 @@ std::vector<StartFormula> shape_starts(SearchContext& ctx, double until_s) {
   }
   std::vector<Column> design{one};
   for (int v : varying)
-    for (std::size_t p = 1; p <= kSplitDegree; ++p) design.push_back(power_of(rows.inputs[v], static_cast<int>(p)));
+    for (std::size_t p = 1; p <= kSplitDegree; ++p)
+      design.push_back(power_of(rows.inputs[v], static_cast<int>(p)));
   for (int u : uniform)
     for (int p = 1; p <= 2; ++p) design.push_back(power_of(rows.inputs[u], p));
   const std::vector<double> split = least_squares(design, ly, w);
@@ -300,7 +306,8 @@ std::vector<StartFormula> shape_starts(SearchContext& ctx, double until_s) {
       mean_h += h[i] / kShapeFactorSamples;
     }
     for (double v : h) samples.target.push_back(std::exp2(v - mean_h));
-    const double spread = *std::max_element(h.begin(), h.end()) - *std::min_element(h.begin(), h.end());
+    const double spread =
+        *std::max_element(h.begin(), h.end()) - *std::min_element(h.begin(), h.end());
     if (spread < 1e-3) continue;  // a factor of about 1: the input is left out
     std::vector<Factor> fitted;
     for (const Shape& s : one_input_shapes(samples.inputs[0], samples.target)) {
@@ -403,9 +410,8 @@ std::vector<StartFormula> shape_starts(SearchContext& ctx, double until_s) {
       best_text = fmt::format("exp2(({:.17g}) * log2({}))", p, base);
     }
     if (!best_text.empty())
-      texts.push_back([best_text](double scale) {
-        return fmt::format("({:.17g}) * {}", scale, best_text);
-      });
+      texts.push_back(
+          [best_text](double scale) { return fmt::format("({:.17g}) * {}", scale, best_text); });
   }
 
   // Each candidate with its best scale, screened on the rows; the best few at each cost refitted

@@ -71,8 +71,7 @@ TEST(ShapeStarts, NoneForATargetThatIsNotPositive) {
 }
 
 TEST(ShapeStarts, TheSameShapesForTheSameRows) {
-  const SearchProblem p =
-      problem_of("1 / (1 + 2 * x * y) + 0.25", {"x", "y"}, {{0, 1}, {0, 1}});
+  const SearchProblem p = problem_of("1 / (1 + 2 * x * y) + 0.25", {"x", "y"}, {{0, 1}, {0, 1}});
   SearchOptions o;
   SearchContext a(o, p), b(o, p);
   const std::vector<StartFormula> first = shape_starts(a, 1e9), second = shape_starts(b, 1e9);
