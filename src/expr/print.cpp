@@ -1,10 +1,13 @@
 #include "shaderfit/expr/print.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "shaderfit/core/error.hpp"
 
@@ -16,7 +19,8 @@ PrintOptions PrintOptions::for_people(int digits) {
                 SourceLocation{"PrintOptions::digits"});
   return {.substitute_parameters = true,
           .numbers = digits > 0 ? NumberText::Digits : NumberText::Float32,
-          .digits = digits};
+          .digits = digits,
+          .natural = true};
 }
 
 std::string format_number(double v) { return format_number(v, PrintOptions{}); }
@@ -42,158 +46,162 @@ namespace {
 // Precedence levels for infix printing; higher binds tighter.
 enum Prec { kSum = 1, kProduct = 2, kUnary = 3, kPower = 4, kAtom = 5 };
 
+// A formula's text in two parts: a sign and the text of the magnitude. Signs travel outward
+// through products, quotients, odd functions and sums until a place that must show them (the
+// whole formula, a function's argument), so that no text shows `x * -c`, `a - -b`, `a + -b` or
+// a negated group `-(...)` after an operator; a negated sum is written with its terms' signs
+// flipped (`b - a`, `-a - b`). Each move is exact: negation commutes with rounding, so
+// -(a * b) = (-a) * b, -(a + b) = -a - b and -(a - b) = b - a bit for bit, up to the sign of a
+// zero; an even function drops its operand's sign and an odd one passes it out, exactly for
+// the arithmetic ones (abs, ipow, rcp, sign, copysign) and to the library's rounding for the
+// others, which only the text for people moves.
 class InfixPrinter {
  public:
   InfixPrinter(const Expression& e, const PrintOptions& o) : e_(e), o_(o) {}
 
-  std::string print(std::size_t i) { return text(i); }
+  std::string print(std::size_t i) { return shown(term(i)); }
 
  private:
-  Prec prec(std::size_t i) const {
-    const Node& n = e_.nodes[i];
-    switch (n.op) {
-      case Op::Add:
-      case Op::Sub: return kSum;
-      case Op::Mul:
-      case Op::Div: return kProduct;
-      case Op::Neg: return kUnary;
-      case Op::IPow: return kPower;
-      case Op::Const: return std::signbit(n.value) ? kUnary : kAtom;  // "-2" reads as unary
-      case Op::Param:
-        return (o_.substitute_parameters && std::signbit(param_value(n))) ? kUnary : kAtom;
-      default: return kAtom;
-    }
+  struct Term {
+    bool negative = false;  // the value is -(what `text` reads)
+    std::string text;       // never starts with '-'
+    Prec prec = kAtom;      // of `text`
+    std::string minus;      // the text of -(text), never starting with "-(" where avoidable
+    bool literal = false;
+    bool abs = false;  // abs(...): the instruction model counts b - |a| apart from |a| - b
+  };
+
+  static std::string paren(const std::string& s, bool p) { return p ? "(" + s + ")" : s; }
+  // The text a place that shows signs writes: the whole formula, a function's argument.
+  static std::string shown(const Term& t) { return t.negative ? t.minus : t.text; }
+
+  Term leaf(std::string text, bool negative = false, bool literal = false) {
+    Term t{negative, std::move(text), kAtom, "", literal};
+    t.minus = "-" + t.text;
+    return t;
   }
 
   double param_value(const Node& n) const {
     const auto k = static_cast<std::size_t>(n.index);
     return k < e_.parameter_values.size() ? e_.parameter_values[k] : 0.0;
   }
-
-  std::string wrap(std::size_t i, bool paren) { return paren ? "(" + text(i) + ")" : text(i); }
-
-  bool is_literal(std::size_t k) const {
-    const Node& n = e_.nodes[k];
-    return n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters);
-  }
-  double literal_value(std::size_t k) const {
-    const Node& n = e_.nodes[k];
-    return n.op == Op::Const ? n.value : param_value(n);
-  }
-  bool negative_literal(std::size_t k) const {
-    if (!is_literal(k)) return false;
-    const double v = literal_value(k);
-    return !std::isnan(v) && std::signbit(v);
-  }
-
-  // A product of something by a negative literal is written literal first, so that no text
-  // shows `x * -c` and in a sum its sign joins the sum's (`a - c * x`): the same value bit for
-  // bit (multiplication commutes), and it reads back as written. A product of two literals
-  // keeps its order.
-  void order_factors(std::size_t i, std::size_t* c) const {
-    if (e_.nodes[i].op == Op::Mul && negative_literal(c[1]) && !is_literal(c[0]))
-      std::swap(c[0], c[1]);
-  }
-
   std::string number(double v) const { return format_number(v, o_); }
 
-  // A term as a sign and a text that does not start with '-': a negative literal, a Neg node, or
-  // a product or quotient whose left operand is one of these gives its sign to the sum around it
-  // (a - -c * x is printed a + c * x: -(c * x) == (-c) * x bit for bit).
-  struct Signed {
-    bool negative = false;
-    std::string body;
-  };
-  Signed signed_text(std::size_t i) {
-    const Node& n = e_.nodes[i];
-    std::size_t c[2] = {0, 0};
-    if (n.arity == 1 || n.arity == 2) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
-    if (n.arity == 2) order_factors(i, c);
-    const bool literal = n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters);
-    if (literal) {
-      const double v = n.op == Op::Const ? n.value : param_value(n);
-      if (!std::isnan(v)) return {std::signbit(v), number(std::fabs(v))};
-    }
-    if (n.op == Op::Neg) {
-      if (prec(c[0]) < kProduct) return {true, "(" + text(c[0]) + ")"};
-      Signed s = signed_text(c[0]);
-      s.negative = !s.negative;
-      return s;
-    }
-    if ((n.op == Op::Mul || n.op == Op::Div) && prec(c[0]) >= kProduct) {
-      Signed s = signed_text(c[0]);
-      s.body = binary(i, c, std::move(s.body));
-      return s;
-    }
-    return {false, text(i)};
+  // Whether a unary operator's sign rule may be used: exact ones always, the library's (sin,
+  // erf, ...) only in text for people, whose values are equal up to float rounding.
+  bool parity_applies(Op op) const {
+    return !op_info(op).library || o_.numbers != NumberText::Exact;
   }
 
-  // A binary operator's text with its left operand's text given. The left operand keeps equal
-  // precedence bare (left-associative); the right one does not. A negative literal or a Neg
-  // node on the right of a product is fine bare ("a * -2"): the parser reads "-2" as one literal.
-  std::string binary(std::size_t i, const std::size_t* c, std::string left) {
-    const Node& n = e_.nodes[i];
-    const Prec p = prec(i);
-    const Prec rp = prec(c[1]);
-    if (p == kSum && rp > kSum) {  // a - -c is printed a + c
-      const Signed s = signed_text(c[1]);
-      const bool minus = (n.op == Op::Sub) != s.negative;
-      return left + (minus ? " - " : " + ") + s.body;
+  // a + b (minus_right false) or a - b of two terms, the sum's sign outside.
+  Term sum(Term a, Term b, bool minus_right) {
+    if (minus_right) b.negative = !b.negative;
+    Term t;
+    t.prec = kSum;
+    // -|a| + b stays so: GPUs take it in one instruction, and b - |a| in two.
+    if (a.negative && a.abs && !b.negative) {
+      const std::string right = paren(b.text, b.prec <= kSum);
+      t.text = a.minus + " + " + right;
+      t.minus = a.text + " - " + right;
+      return t;
     }
-    const bool right_paren = rp <= p && rp != kUnary;
-    return left + " " + std::string(op_info(n.op).name) + " " + wrap(c[1], right_paren);
+    // A positive term first, and in a negated sum a literal last (-c - x is -(x + c)):
+    // a + b = b + a exactly.
+    if ((a.negative && !b.negative) || (a.negative && b.negative && a.literal && !b.literal))
+      std::swap(a, b);
+    t.negative = a.negative && b.negative;  // -a - b = -(a + b)
+    const bool subtract = a.negative != b.negative;
+    const std::string op = subtract ? " - " : " + ";
+    const std::string right = paren(b.text, b.prec <= kSum);
+    t.text = a.text + op + right;
+    // -(a - b) is b - a; -(a + b) is -a - b, a literal last (-(c + x) is -x - c, as the negated
+    // sum -c - x is written). But -(|a| - b) stays so: GPUs take |a| - b in one instruction, and
+    // b - |a| or -|a| + b in two.
+    if (subtract && a.abs)
+      t.minus = "-(" + t.text + ")";
+    else if (subtract && a.prec > kSum)
+      t.minus = b.text + " - " + a.text;
+    else if (!subtract && a.literal && !b.literal)
+      t.minus = b.minus + " - " + a.text;
+    else
+      t.minus = a.minus + (subtract ? " + " : " - ") + right;
+    return t;
   }
 
-  std::string text(std::size_t i) {
+  Term product(Term a, Term b, Op op) {
+    // c * x: a literal factor first, where that adds no parentheses (exact: a * b = b * a).
+    if (op == Op::Mul && b.literal && !a.literal && a.prec != kProduct) std::swap(a, b);
+    Term t;
+    t.prec = kProduct;
+    t.negative = a.negative != b.negative;
+    const std::string name = op == Op::Mul ? " * " : " / ";
+    const std::string right = paren(b.text, b.prec <= kProduct);
+    t.text = paren(a.text, a.prec < kProduct) + name + right;
+    t.minus = paren(a.minus, a.prec < kProduct) + name + right;
+    return t;
+  }
+
+  Term call(const Node& n, const std::size_t* c) {
+    const OpInfo& info = op_info(n.op);
+    if (n.arity == 1 && info.parity != OpParity::None && parity_applies(n.op)) {
+      Term a = term(c[0]);
+      Term t = leaf(std::string(info.name) + "(" + a.text + ")");
+      t.negative = info.parity == OpParity::Odd && a.negative;
+      t.abs = n.op == Op::Abs;
+      return t;
+    }
+    if (n.op == Op::CopySign)  // copysign(-a, b) = copysign(a, b)
+      return leaf("copysign(" + term(c[0]).text + ", " + shown(term(c[1])) + ")");
+    std::string s = std::string(info.name) + "(";
+    for (int k = 0; k < n.arity; ++k) s += (k ? ", " : "") + shown(term(c[k]));
+    return leaf(s + ")");
+  }
+
+  Term term(std::size_t i) {
     const Node& n = e_.nodes[i];
-    std::size_t c[3];
+    std::size_t c[3] = {0, 0, 0};
     if (n.arity > 0) e_.child_indices(i, std::span<std::size_t>(c, n.arity));
-    if (n.arity == 2) order_factors(i, c);
     switch (n.op) {
-      case Op::Const: return number(n.value);
-      case Op::Var: return e_.variables.at(static_cast<std::size_t>(n.index));
-      case Op::Param:
-        return o_.substitute_parameters ? number(param_value(n))
-                                        : e_.parameters.at(static_cast<std::size_t>(n.index));
-      case Op::Add:
-        // A negative constant first in a sum is written last, `x - c` for `-c + x`: the same
-        // value bit for bit (a + b = b + a, and b + -c = b - c), read back as written.
-        if (negative_literal(c[0]) && !is_literal(c[1]))
-          return wrap(c[1], prec(c[1]) < kSum) + " - " + number(std::fabs(literal_value(c[0])));
-        return binary(i, c, wrap(c[0], prec(c[0]) < prec(i)));
-      case Op::Sub:
-      case Op::Mul:
-      case Op::Div: return binary(i, c, wrap(c[0], prec(c[0]) < prec(i)));
-      case Op::Neg: {
-        const Node& k = e_.nodes[c[0]];
-        // "-(2)" keeps Neg(Const) apart from the literal -2; "-x^2" already means -(x^2).
-        const bool literal = k.op == Op::Const || (k.op == Op::Param && o_.substitute_parameters);
-        return "-" + wrap(c[0], literal || prec(c[0]) < kUnary);
+      case Op::Const:
+      case Op::Param: {
+        if (n.op == Op::Param && !o_.substitute_parameters)
+          return leaf(e_.parameters.at(static_cast<std::size_t>(n.index)));
+        const double v = n.op == Op::Const ? n.value : param_value(n);
+        if (std::isnan(v)) return leaf(number(v), false, true);
+        return leaf(number(std::fabs(v)), std::signbit(v), true);
       }
+      case Op::Var: return leaf(e_.variables.at(static_cast<std::size_t>(n.index)));
+      case Op::Neg: {
+        Term t = term(c[0]);
+        t.negative = !t.negative;
+        return t;
+      }
+      case Op::Add: return sum(term(c[0]), term(c[1]), false);
+      case Op::Sub: return sum(term(c[0]), term(c[1]), true);
+      case Op::Mul:
+      case Op::Div: return product(term(c[0]), term(c[1]), n.op);
       case Op::IPow: {
-        const Node& k = e_.nodes[c[0]];
-        // A non-negative literal base stays bare ("2^3"); everything below atom level is wrapped.
-        const bool paren = prec(c[0]) < kAtom || (k.op == Op::Const && std::signbit(k.value));
-        return wrap(c[0], paren) + "^" + std::to_string(n.index);
+        // (-a)^k = a^k for even k and -(a^k) for odd k, bit for bit (products of the operand).
+        const Term a = term(c[0]);
+        const bool bare = a.prec == kAtom;
+        const std::string k = "^" + std::to_string(n.index);
+        Term t{n.index % 2 != 0 && a.negative, paren(a.text, !bare) + k, kPower, "", false};
+        t.minus = bare || n.index % 2 == 0 ? "-" + t.text : "(" + a.minus + ")" + k;
+        return t;
       }
       case Op::Pow: {
-        std::string exponent = text(c[1]);
+        const Term k = term(c[1]);
+        std::string exponent = shown(k);
         // An integer literal exponent would read back as the integer power; mark it real.
-        const Node& k = e_.nodes[c[1]];
-        if (k.op == Op::Const && std::isfinite(k.value) &&
-            exponent.find_first_of(".en") == std::string::npos)
-          exponent += ".0";
-        return "pow(" + text(c[0]) + ", " + exponent + ")";
+        if (k.literal && exponent.find_first_of(".en") == std::string::npos) exponent += ".0";
+        return leaf("pow(" + shown(term(c[0])) + ", " + exponent + ")");
       }
       // The condition as the parser reads it back into the same operand (a literal 0 on the
       // right of >= adds no node).
       case Op::Select:
-        return "select(" + text(c[0]) + " >= 0, " + text(c[1]) + ", " + text(c[2]) + ")";
-      default: {
-        std::string s = std::string(op_info(n.op).name) + "(";
-        for (int k = 0; k < n.arity; ++k) s += (k ? ", " : "") + text(c[k]);
-        return s + ")";
-      }
+        return leaf("select(" + shown(term(c[0])) + " >= 0, " + shown(term(c[1])) + ", " +
+                    shown(term(c[2])) + ")");
+      default: return call(n, c);
     }
   }
 
@@ -322,6 +330,7 @@ Expression without_neutral_text(const Expression& e, const PrintOptions& o) {
   using Frag = std::vector<Node>;
   // The value of a literal: a constant, or a parameter printed as its value.
   const auto literal = [&](const Frag& f) -> std::optional<double> {
+    if (f.size() == 2 && f[1].op == Op::Neg && f[0].op == Op::Const) return -f[0].value;
     if (f.size() != 1) return std::nullopt;
     if (f[0].op == Op::Const) return f[0].value;
     const auto k = static_cast<std::size_t>(f[0].index);
@@ -381,17 +390,197 @@ Expression without_neutral_text(const Expression& e, const PrintOptions& o) {
   return out;
 }
 
+// e as a person writes it (PrintOptions::natural): in each product (a tree of `*`), repeated
+// factors as one power (`x * (x * y)` is `x^2 * y`, `x^2 * x` is `x^3`) and literal factors
+// first (`c * x * y`); `exp2(c * x)` with c = log2(e) in float32 is `exp(x)` and `log2(x) * c`
+// with c = ln(2) is `log(x)`. The instruction model counts the same for each (a power is its
+// squaring chain of products; exp and log are exp2 and log2 with that product), and the value
+// is equal up to float rounding (the products' order).
+class Natural {
+ public:
+  Natural(const Expression& e, const PrintOptions& o) : e_(e), o_(o) {}
+
+  Expression run() {
+    Expression out = e_;
+    out.nodes.clear();
+    emit(e_.nodes.size() - 1, out.nodes);
+    out.update_lengths();
+    return out;
+  }
+
+ private:
+  static constexpr float kLog2E = 1.44269504088896340736f, kLn2 = 0.693147180559945309417f;
+
+  std::vector<std::size_t> children(std::size_t i) const {
+    std::vector<std::size_t> c(e_.nodes[i].arity);
+    if (!c.empty()) e_.child_indices(i, c);
+    return c;
+  }
+  std::span<const Node> nodes_of(std::size_t i) const {
+    return {e_.nodes.data() + e_.subtree_begin(i), e_.nodes[i].length + 1};
+  }
+  bool same(std::size_t a, std::size_t b) const {
+    const auto x = nodes_of(a), y = nodes_of(b);
+    return std::equal(x.begin(), x.end(), y.begin(), y.end());
+  }
+  // A constant, or a parameter printed as its value.
+  bool is_literal(std::size_t i) const {
+    const Node& n = e_.nodes[i];
+    return n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters &&
+                                 static_cast<std::size_t>(n.index) < e_.parameter_values.size());
+  }
+  double literal_value(std::size_t i) const {
+    const Node& n = e_.nodes[i];
+    return n.op == Op::Const ? n.value : e_.parameter_values[static_cast<std::size_t>(n.index)];
+  }
+  // Within two float32 steps of v: a fitted or hand-written constant that means v.
+  bool literal_reads(std::size_t i, float v) const {
+    if (!is_literal(i)) return false;
+    const float a = std::fabs(static_cast<float>(literal_value(i)));
+    return std::fabs(a - v) <= 2 * (std::nextafter(v, 2 * v) - v);
+  }
+
+  // The factors of the product at i, in order, each once with its power.
+  struct Factor {
+    std::size_t node;
+    int power;
+  };
+  // The products x^k takes (k > 0), its squaring chain: merged only where it is one fewer than
+  // the two powers' and their product, so that the count stays (x * x^3 is not x^4).
+  static int products(int k) {
+    return std::bit_width(static_cast<unsigned>(k)) + std::popcount(static_cast<unsigned>(k)) - 2;
+  }
+
+  // Whether the subtree at i occurs elsewhere in the formula (the instruction model computes
+  // it once).
+  bool shared(std::size_t i) const {
+    int n = 0;
+    for (std::size_t j = 0; j < e_.nodes.size() && n < 2; ++j)
+      n += e_.nodes[j].length == e_.nodes[i].length && same(i, j);
+    return n > 1;
+  }
+
+  // A negated factor counts as its operand, the sign kept in `negative`; a product that occurs
+  // elsewhere stays one factor, so that its value is still computed once.
+  void factors(std::size_t i, std::vector<Factor>& out, bool& negative, bool root = true) const {
+    const Node& n = e_.nodes[i];
+    if (n.op == Op::Mul && (root || !shared(i))) {
+      for (std::size_t k : children(i)) factors(k, out, negative, false);
+      return;
+    }
+    if (n.op == Op::Neg) {
+      negative = !negative;
+      factors(children(i)[0], out, negative, false);
+      return;
+    }
+    std::size_t base = i;
+    int power = 1;
+    if (n.op == Op::IPow && n.index > 0) {
+      base = children(i)[0];
+      power = n.index;
+    }
+    for (Factor& f : out)
+      if (f.power > 0 && same(f.node, base) && f.power + power <= kMaxIntegerPower &&
+          !is_literal(base) &&
+          products(f.power + power) == products(f.power) + products(power) + 1) {
+        f.power += power;
+        return;
+      }
+    out.push_back({base, power});
+  }
+
+  // The product at i (a Mul node) rebuilt: literals first, then the other factors in the order
+  // they first appear, each with its power; one literal reading `drop` (if any) left out, and
+  // the factor at node `log` (a log2) written as log.
+  void product(std::size_t i, std::vector<Node>& out, float drop = 0,
+               std::size_t log = static_cast<std::size_t>(-1)) {
+    std::vector<Factor> fs;
+    bool negative = false;
+    factors(i, fs, negative);
+    std::stable_partition(fs.begin(), fs.end(),
+                          [&](const Factor& f) { return is_literal(f.node); });
+    bool dropped = false, first = true;
+    for (const Factor& f : fs) {
+      if (!dropped && drop != 0 && f.power == 1 && literal_reads(f.node, drop)) {
+        dropped = true;
+        if (std::signbit(literal_value(f.node))) {
+          out.push_back(Node::constant(-1.0));  // shown as a sign: -1 * x is written -x
+          if (!first) out.push_back(Node::op_node(Op::Mul));
+          first = false;
+        }
+        continue;
+      }
+      if (f.node == log) {
+        emit(children(log)[0], out);
+        out.push_back(Node::op_node(Op::Log));
+      } else {
+        emit(f.node, out);
+        if (f.power != 1) out.push_back(Node::ipow(f.power));
+      }
+      if (!first) out.push_back(Node::op_node(Op::Mul));
+      first = false;
+    }
+    if (first) out.push_back(Node::constant(1.0));
+    if (negative) out.push_back(Node::op_node(Op::Neg));
+  }
+
+  // Whether the product at i has a literal factor reading `v` (either sign).
+  bool has_literal(std::size_t i, float v) const {
+    if (e_.nodes[i].op != Op::Mul) return false;
+    std::vector<Factor> fs;
+    bool negative = false;
+    factors(i, fs, negative);
+    return std::any_of(fs.begin(), fs.end(),
+                       [&](const Factor& f) { return f.power == 1 && literal_reads(f.node, v); });
+  }
+
+  void emit(std::size_t i, std::vector<Node>& out) {
+    const Node& n = e_.nodes[i];
+    const std::vector<std::size_t> c = children(i);
+    if (n.op == Op::Exp2) {  // exp2(log2(e) * x) = exp(x), and exp2(-(log2(e) * x)) = exp(-x)
+      const bool negated = e_.nodes[c[0]].op == Op::Neg;
+      const std::size_t arg = negated ? children(c[0])[0] : c[0];
+      if (has_literal(arg, kLog2E)) {
+        product(arg, out, kLog2E);
+        if (negated) out.push_back(Node::op_node(Op::Neg));
+        out.push_back(Node::op_node(Op::Exp));
+        return;
+      }
+    }
+    if (n.op == Op::Mul) {
+      // log2(x) * ln(2) = log(x), the rest of the product kept.
+      std::vector<Factor> fs;
+      bool negative = false;
+      factors(i, fs, negative);
+      for (const Factor& f : fs)
+        if (f.power == 1 && e_.nodes[f.node].op == Op::Log2 && has_literal(i, kLn2)) {
+          product(i, out, kLn2, f.node);
+          return;
+        }
+      product(i, out);
+      return;
+    }
+    for (std::size_t k : c) emit(k, out);
+    out.push_back(n);
+  }
+
+  const Expression& e_;
+  const PrintOptions& o_;
+};
+
 }  // namespace
 
 std::string to_infix(const Expression& e, const PrintOptions& options) {
   if (e.nodes.empty()) return "";
-  const Expression shown = without_neutral_text(e, options);
+  Expression shown = without_neutral_text(e, options);
+  if (options.natural) shown = without_neutral_text(Natural(shown, options).run(), options);
   return InfixPrinter(shown, options).print(shown.nodes.size() - 1);
 }
 
 std::string to_latex(const Expression& e, const PrintOptions& options) {
   if (e.nodes.empty()) return "";
-  const Expression shown = without_neutral_text(e, options);
+  Expression shown = without_neutral_text(e, options);
+  if (options.natural) shown = without_neutral_text(Natural(shown, options).run(), options);
   return LatexPrinter(shown, options).text(shown.nodes.size() - 1);
 }
 

@@ -27,8 +27,8 @@ FrontMember fitted_member() {
 TEST(FrontMemberJson, KeepsTheExactFormulaAndAddsTheTextForPeople) {
   const FrontMember m = fitted_member();
   const nlohmann::json j = front_member_json(m, FrontJson::Result);
-  EXPECT_EQ(j["formula"], "x * 0.5829255932120166 + 0.054242242592447185");
-  EXPECT_EQ(j["formula_display"], "x * 0.5829256 + 0.054242242");
+  EXPECT_EQ(j["formula"], "0.5829255932120166 * x + 0.054242242592447185");
+  EXPECT_EQ(j["formula_display"], "0.5829256 * x + 0.054242242");
   EXPECT_EQ(j["formula_parametric"], "x * p0 - p1");
   EXPECT_EQ(j["fitted_parameters"]["p0"], 0.5829255932120166);
   EXPECT_FALSE(front_member_json(m, FrontJson::Exact).contains("formula_display"));
@@ -43,7 +43,7 @@ TEST(FrontMemberJson, ReadersTakeFilesWithAndWithoutTheTextForPeople) {
     const FrontFile f = front_file_from_json(doc, "run.json");
     ASSERT_EQ(f.front.size(), 1u);
     // The exact formula is what is read: the constants to the last bit.
-    EXPECT_EQ(f.front[0].member.formula, "x * 0.5829255932120166 + 0.054242242592447185");
+    EXPECT_EQ(f.front[0].member.formula, "0.5829255932120166 * x + 0.054242242592447185");
     EXPECT_EQ(to_infix(f.front[0].member.expression), f.front[0].member.formula);
   }
 }

@@ -183,7 +183,7 @@ TEST(Symmetry, ReflectExpression) {
   EXPECT_EQ(to_infix(unreflected_expression(g, {1, "x", SymmetryKind::Point, 0.5, -1})),
             "r * x + x^2");
   EXPECT_EQ(to_infix(unreflected_expression(g, {1, "x", SymmetryKind::Odd, 0, -1})),
-            "-(r * x + x^2)");
+            "-r * x - x^2");
   // A formula without x still gets its sign from x.
   const Expression c = parse_formula("2 * r", {.variables = {"r"}});
   EXPECT_EQ(to_infix(reflect_expression(c, {1, "x", SymmetryKind::Odd, 0}, names)),
@@ -205,7 +205,7 @@ TEST(Symmetry, FactoredExpression) {
   EXPECT_EQ(text("(r + x) * x", odd), "(r + abs(x)) * x");
   EXPECT_EQ(text("x / (r + x*x)", odd), "x / (r + abs(x) * abs(x))");
   EXPECT_EQ(text("x * (r + x)", {1, "x", SymmetryKind::Point, 0.5, -1}), "none");
-  EXPECT_EQ(text("x * (r + x)", {1, "x", SymmetryKind::Odd, 0, -1}), "-(x * (r + abs(x)))");
+  EXPECT_EQ(text("x * (r + x)", {1, "x", SymmetryKind::Odd, 0, -1}), "-x * (r + abs(x))");
   // Not a product with x, or even data: none.
   EXPECT_EQ(text("r * (r + x)", odd), "none");
   EXPECT_EQ(text("(r + x) / x", odd), "none");

@@ -24,6 +24,10 @@ struct PrintOptions {
   bool substitute_parameters = false;
   NumberText numbers = NumberText::Exact;
   int digits = 0;  // for NumberText::Digits: 1 to 17
+  // As a person writes it: repeated factors as powers, literal factors first, exp and log
+  // where the constants log2(e) and ln(2) appear. The text reads back to a formula of the same
+  // instruction count whose value is equal up to float rounding (the order of products).
+  bool natural = false;
 
   // What people read (tables, progress lines, reports, code comments, plot labels): parameters
   // as their values, constants as NumberText::Float32, or with `digits` significant digits when
@@ -34,14 +38,16 @@ struct PrintOptions {
 // Infix with the fewest parentheses that keep the structure. Parts whose text would read as
 // neutral are left out: a literal factor or divisor written `1`, a literal addend or subtrahend
 // written `0`, and `^1` (e.g. `x * 1.0000000001` with NumberText::Float32 is written `x`), so
-// no text shows `x * 1`, `x / 1`, `x + 0`, `x - 0`, `0 + x`, `1 * x` or `x^1`; the text then
-// means what it did, up to the sign of a zero sum. A sum never shows a sign twice:
-// `a - -c` is written `a + c` and `a + -c * x` is written `a - c * x` (the same value bit for
-// bit: negation commutes with rounding); a product by a negative literal is written literal
-// first (`-c * x`, in a sum `a - c * x`: no `x * -c`), and a negative literal first in a sum
-// last (`x - c` for `-c + x`). With NumberText::Exact, parse_formula(to_infix(e),
-// {variables, parameters}) evaluates equal to e on every input, and printing what it reads
-// gives the same text again; with NumberText::Float32 it evaluates equal in float32.
+// no text shows `x * 1`, `x / 1`, `x + 0`, `x - 0`, `0 + x`, `1 * x` or `x^1`. Signs move
+// outward through products, quotients, sums and odd functions, and drop at even ones, until
+// the whole formula or a function's argument shows them: no text shows `* -`, `/ -`, `- -`,
+// `+ -`, and a negated sum is written with its terms' signs flipped (`-(a + b)` is `-a - b`,
+// `-(a - b)` is `b - a`); a sum shows a positive term first and a literal term last, a product
+// a literal factor first (`c * x`). Each of these is exact up to the sign of a zero or a NaN.
+// With NumberText::Exact, parse_formula(to_infix(e), {variables, parameters}) evaluates equal
+// to e on every input, and printing what it reads gives the same text again; with
+// NumberText::Float32 it evaluates equal in float32, and with PrintOptions::natural up to
+// float rounding.
 std::string to_infix(const Expression& e, const PrintOptions& options = {});
 
 // LaTeX for reports: x^{4}, \sqrt{x}, \frac{a}{b}, identifiers with a trailing digit subscripted.

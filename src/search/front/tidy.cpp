@@ -12,6 +12,7 @@
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/loss.hpp"
 #include "shaderfit/eval/metrics.hpp"
+#include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
 #include "shaderfit/expr/simplify.hpp"
 
@@ -126,6 +127,9 @@ class Tidier {
       noise_ = true;
       snap_constants();
     }
+    if (Expression back = read_back(current_);
+        formula_cost(lifted(back, *original_), options_) < cost_)
+      keep(std::move(back));
     if (!changed_) return std::nullopt;
     FrontMember t = m;
     t.expression = lifted(current_, m.expression);
@@ -140,6 +144,19 @@ class Tidier {
   std::uint64_t node_evaluations() const { return ctx_.node_evaluations.load(); }
 
  private:
+  // What the formula's exact text reads back to: kept where it costs less, so that what the
+  // JSON and the tables show is what was counted (the printer moves signs into products and
+  // sums, which the instruction model may count one fewer).
+  static Expression read_back(const Expression& e) {
+    ParseOptions o;
+    o.variables = e.variables;
+    o.parameters = e.parameters;
+    o.parameter_values = e.parameter_values;
+    Expression back = parse_formula(to_infix(e), o);
+    back.variables = e.variables;
+    return back;
+  }
+
   // Keeps `candidate` as the current form when it differs, costs no more, is finite everywhere
   // and its error is acceptable: at noise level for a member at noise level, else its loss
   // within the limit.

@@ -223,12 +223,12 @@ TEST(Tidy, NoiseFormsOfExactFitsPrintExactly) {
       {coulomb_problem(),
        "q1 / ((r^2 + 5.110122e-10) * (epsilon * 12.566370614359172 + 4.879618e-09) - "
        "1.1723843e-08) - 2.4031165e-13",
-       "q1 / (r^2 * (epsilon * 12.566370614359172))", "q1 / (r^2 * (epsilon * 12.566371))"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))", "q1 / (12.566371 * r^2 * epsilon)"},
       // As displayed (float32 constants): not at noise level until 12.566371 snaps to 4 pi.
       {coulomb_problem(),
        "q1 / ((r^2 + 5.110122e-10) * (epsilon * 12.566371 + 4.879618e-09) - 1.1723843e-08) - "
        "2.4031165e-13",
-       "q1 / (r^2 * (epsilon * 12.566370614359172))", "q1 / (r^2 * (epsilon * 12.566371))"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))", "q1 / (12.566371 * r^2 * epsilon)"},
       {distance_problem(), "sqrt((x1 * 1.0000000000000004 - x2)^2 + ((y1 - y2)^2 - 7.7e-12))",
        "sqrt((x1 - x2)^2 + (y1 - y2)^2)", "sqrt((x1 - x2)^2 + (y1 - y2)^2)"},
       {distance_problem(), "(y2 * 1.6e-11 + 1) * sqrt((x1 - x2)^2 + (y1 - y2)^2) - 1.2e-11",
@@ -348,7 +348,7 @@ TEST(Tidy, FrontEndsAtItsFirstNoiseLevelMember) {
   const double c = least_squares(column, p.target)[0];
   const std::string costly = exact(c) + " * (q1 / -(epsilon * (r^2 * " + exact(k) + ")))";
   const std::vector<FrontMember> front = {
-      member(o, p, "0.02"), member(o, p, "q1 / (r^2 * (epsilon * 12.566370614359172))"),
+      member(o, p, "0.02"), member(o, p, "q1 / (r^2 * (12.566370614359172 * epsilon))"),
       member(o, p, costly.c_str())};
   ASSERT_LT(front[1].cost, front[2].cost);
   ASSERT_LT(front[2].loss, front[1].loss);
@@ -356,7 +356,7 @@ TEST(Tidy, FrontEndsAtItsFirstNoiseLevelMember) {
   const std::vector<FrontMember> t = tidied(p, front);
   ASSERT_EQ(t.size(), 2u);
   EXPECT_EQ(t[0].formula, "0.02");
-  EXPECT_EQ(t[1].formula, "q1 / (r^2 * (epsilon * 12.566370614359172))");
+  EXPECT_EQ(t[1].formula, "q1 / (r^2 * (12.566370614359172 * epsilon))");
 }
 
 // A constant of the formula (a literal or a fitted parameter) that rounding noise would leave:
@@ -441,13 +441,13 @@ TEST(Tidy, ClampsThatNeverActAreDropped) {
     const char* tidy;
   } cases[] = {
       {"saturate(q1 / (r^2 * (epsilon * 12.566370614359172)))",
-       "q1 / (r^2 * (epsilon * 12.566370614359172))"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))"},
       {"min(q1 / (r^2 * (epsilon * 12.566370614359172)), 1e6)",
-       "q1 / (r^2 * (epsilon * 12.566370614359172))"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))"},
       {"abs(q1) / (r^2 * (epsilon * 12.566370614359172))",
-       "q1 / (r^2 * (epsilon * 12.566370614359172))"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))"},
       {"abs(-q1) / (r^2 * (epsilon * 12.566370614359172))",
-       "q1 / (r^2 * (epsilon * 12.566370614359172))"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))"},
   };
   for (const auto& c : cases) {
     const std::vector<FrontMember> t = tidied(p, {member(o, p, c.given)});
