@@ -67,7 +67,7 @@ struct CommonArgs {
 };
 
 void add_common(CLI::App* cmd, CommonArgs& c) {
-  add_data_options(cmd, c.data, DataFiles);
+  add_data_options(cmd, c.data, DataFiles | References | InputsTarget);
   cmd->add_option(
          "--material", c.materials,
          "sweep these materials over 0..90 degrees instead of --data: 1.5, 0.3+3i, aluminium, "
@@ -80,11 +80,11 @@ void add_common(CLI::App* cmd, CommonArgs& c) {
 }
 
 // The data, as every command states it (problem/problem.hpp); --material is its material sweep.
-Dataset load(const CommonArgs& c) {
+Problem load(const CommonArgs& c) {
   DataSource data = c.data;
   data.problem.materials = c.materials;
   data.problem.angles = c.angles;
-  return load_problem(data).data;
+  return load_problem(data);
 }
 
 // --- curves ---------------------------------------------------------------------------------
@@ -92,7 +92,7 @@ Dataset load(const CommonArgs& c) {
 struct CurveArgs {
   CommonArgs common;
   std::vector<std::string> fit;  // parameters fitted per group before drawing
-  std::string x = "theta_deg", target = "R", group;
+  std::string x = "theta_deg", group;
   std::vector<std::string> formulas;
   bool errors = false;
   bool points = false;
@@ -109,10 +109,11 @@ std::string axis_label(const std::string& column) {
 }
 
 void run_curves(CurveArgs& a, Context& ctx) {
-  Dataset d = load(a.common);
+  const Problem p = load(a.common);
+  const Dataset& d = p.data;
   if (a.group.empty() && d.find("material")) a.group = "material";
   const std::vector<double>& xs = d.numeric(a.x).values;
-  const std::vector<double>& target = d.numeric(a.target).values;
+  const std::vector<double>& target = d.numeric(p.target).values;
   std::map<std::string, std::vector<std::size_t>> groups;
   if (a.group.empty()) {
     groups[""].resize(d.rows());
@@ -174,7 +175,7 @@ void run_curves(CurveArgs& a, Context& ctx) {
   Chart chart;
   chart.title = a.common.title;
   chart.x_label = axis_label(a.x);
-  chart.y_label = a.errors ? "formula - " + a.target : axis_label(a.target);
+  chart.y_label = a.errors ? "formula - " + p.target : axis_label(p.target);
   chart.x_range = parse_range(a.x_range, "--x-range");
   chart.y_range = parse_range(a.y_range, "--y-range");
   chart.log_y = a.log_y;
@@ -193,7 +194,7 @@ void run_curves(CurveArgs& a, Context& ctx) {
       return s;
     };
     if (!a.errors) {
-      Series ref = series(values.empty() && many ? "" : a.target + " (reference)", target, false);
+      Series ref = series(values.empty() && many ? "" : p.target + " (reference)", target, false);
       ref.emphasis = !many || values.empty();
       chart.series.push_back(ref);
     }
@@ -213,7 +214,7 @@ void run_curves(CurveArgs& a, Context& ctx) {
 
 struct FrontArgs {
   CommonArgs common;
-  std::string front_path, metric = "mse", target = "R", cost = "instructions";
+  std::string front_path, metric = "mse", cost = "instructions";
   std::vector<std::string> marks;
 };
 
@@ -252,10 +253,11 @@ void run_front(FrontArgs& a, Context& ctx) {
   chart.step_series = false;
   chart.series.push_back(s);
   if (!a.marks.empty()) {
-    Dataset d = load(a.common);
+    const Problem problem = load(a.common);
+    const Dataset& d = problem.data;
     const auto target = cost_target_from_name(a.cost);
     if (!target) throw Error("unknown cost target '" + a.cost + "'", SourceLocation{"--cost"});
-    const std::vector<double>& y = d.numeric(a.target).values;
+    const std::vector<double>& y = d.numeric(problem.target).values;
     for (std::size_t i = 0; i < a.marks.size(); ++i) {
       LabelledFormula lf = split_label(a.marks[i]);
       Expression e = parse_formula_on(lf.text, d, "--mark " + std::to_string(i + 1));
@@ -275,7 +277,7 @@ void run_front(FrontArgs& a, Context& ctx) {
 
 struct MapArgs {
   CommonArgs common;
-  std::string x, y, target = "R", formula, stat = "max";
+  std::string x, y, formula, stat = "max";
   int bins = 48;
   bool log = true;
 };
@@ -286,10 +288,11 @@ void run_map(MapArgs& a, Context& ctx) {
                 SourceLocation{"--bins"});
   if (a.stat != "max" && a.stat != "mean")
     throw Error("--stat must be max or mean", SourceLocation{"--stat"});
-  Dataset d = load(a.common);
+  const Problem problem = load(a.common);
+  const Dataset& d = problem.data;
   const auto& xs = d.numeric(a.x).values;
   const auto& ys = d.numeric(a.y).values;
-  const auto& t = d.numeric(a.target).values;
+  const auto& t = d.numeric(problem.target).values;
   LabelledFormula lf = split_label(a.formula);
   const std::vector<double> p = evaluate_on(parse_formula_on(lf.text, d, "formula"), d);
   auto [x0, x1] = std::minmax_element(xs.begin(), xs.end());
@@ -314,7 +317,7 @@ void run_map(MapArgs& a, Context& ctx) {
   m.title = a.common.title.empty() ? lf.label : a.common.title;
   m.x_label = axis_label(a.x);
   m.y_label = axis_label(a.y);
-  m.value_label = a.stat + " |formula - " + a.target + "|";
+  m.value_label = a.stat + " |formula - " + problem.target + "|";
   m.log_values = a.log;
   render(m, a.common.output);
   ctx.out << "wrote " << a.common.output << " (" << a.bins << " x " << a.bins << " cells)\n";
@@ -451,7 +454,6 @@ void register_plot_command(CLI::App& app, Context& ctx) {
       plot->add_subcommand("curves", "A reference against formulas over one input, per group");
   add_common(curves, c->common);
   curves->add_option("--x", c->x, "column on the horizontal axis (default theta_deg)");
-  curves->add_option("--target", c->target, "reference column (default R)");
   curves->add_option("--group", c->group,
                      "one curve per value of this column (default: material, if present)");
   curves->add_flag("--errors", c->errors, "plot formula - reference instead of the values");
@@ -479,7 +481,6 @@ void register_plot_command(CLI::App& app, Context& ctx) {
       ->required();
   front->add_option("--metric", f->metric, "error metric on the vertical axis (default mse)");
   front->add_option("--cost", f->cost, "cost target of the marks (default instructions)");
-  front->add_option("--target", f->target, "target column for scoring the marks (default R)");
   front
       ->add_option("--mark", f->marks,
                    "well-known formulas to mark, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
@@ -491,7 +492,6 @@ void register_plot_command(CLI::App& app, Context& ctx) {
   add_common(map, m->common);
   map->add_option("--x", m->x, "column on the horizontal axis")->required();
   map->add_option("--y", m->y, "column on the vertical axis")->required();
-  map->add_option("--target", m->target, "reference column (default R)");
   map->add_option("--bins", m->bins, "cells per axis (default 48)");
   map->add_option("--stat", m->stat, "max or mean |error| per cell (default max)");
   map->add_flag("!--linear", m->log, "linear colour scale instead of log10");

@@ -115,7 +115,7 @@ void register_report_command(CLI::App& app, Context& ctx) {
   cmd->add_option("--baseline", a->baselines,
                   "formulas to compare with, 'Schlick=r0 + (1 - r0)*x^5' (needs data)")
       ->allow_extra_args(false);
-  add_data_options(cmd, a->data, DataFiles | References);
+  add_data_options(cmd, a->data, DataFiles | References | InputsTarget);
   cmd->footer(
       "Example:\n  shaderfit search --dataset fresnel-seed --inputs r0,x --target R --json "
       "run.json\n"
