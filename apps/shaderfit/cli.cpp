@@ -78,6 +78,8 @@ constexpr FieldFlag kFlags[] = {
     {"FitSetup::weight", "--weight"},
     {"FitSetup::grid", "--grid"},
     {"FitSetup::data", "--data"},
+    {"FitSetup::inputs", "--inputs"},
+    {"FitSetup::drop_nonfinite", "--drop-nonfinite"},
     // shaderfit rational.
     {"RationalProblem::parameter_values", "--param"},
     {"RationalProblem::parameter_names", "--param"},

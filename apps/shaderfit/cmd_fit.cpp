@@ -58,10 +58,16 @@ FitSetup to_setup(const FitArgs& a) {
     fail("no data: give --data FILE.csv, --dataset NAME or --domain", "--data");
   FitSetup s;
   if (has_data) {
-    Problem p = load_problem(a.data);
+    // The rows only: the formula names its columns, and the reference is fit's own.
+    DataSource rows = a.data;
+    rows.inputs.clear();
+    rows.problem.drop_nonfinite = false;
+    Problem p = load_problem(rows);
     s.data = std::move(p.data);
     s.data_name = p.description;
   }
+  s.inputs = input_names(a.data);
+  s.drop_nonfinite = a.data.problem.drop_nonfinite;
   s.domain = a.domain;
   s.samples = a.samples;
   s.random_samples = a.random_samples;
@@ -135,6 +141,9 @@ void print_table(std::ostream& out, const PreparedFit& s, const FixedFormSummary
                      s.grouping.empty() ? "" : "; " + s.grouping);
   if (s.dropped_rows)
     out << fmt::format("  {} rows outside the grid were left out\n", s.dropped_rows);
+  if (s.dropped_nonfinite)
+    out << fmt::format("  {} rows where the reference is NaN or infinite were left out\n",
+                       s.dropped_nonfinite);
   out << fmt::format("  loss: {}\n  ", loss_description(s.options.loss)) << sum.brief_report(print);
   for (std::size_t k = 0; k < a.baselines.size(); ++k)
     out << fmt::format("  baseline [{}]: {}\n", k + 1, a.baselines[k]);
@@ -199,7 +208,7 @@ void register_fit_command(CLI::App& app, Context& ctx) {
   auto a = std::make_shared<FitArgs>();
   CLI::App* cmd = app.add_subcommand(
       "fit", "Fit the free parameters of a formula, globally, per group or per grid cell");
-  add_data_options(cmd, a->data, DataFiles | SeedAlias);
+  add_data_options(cmd, a->data, DataFiles | SeedAlias | Inputs | NonFinite);
   cmd->add_option("formula", a->formula, "the formula, e.g. 'r0 + (1 - r0 - s*cos_theta)*x^4'")
       ->required();
   cmd->add_option("--param", a->params,

@@ -159,8 +159,35 @@ INSTANTIATE_TEST_SUITE_P(
                  "--constraint 1:1:"},
         BadInput{"linear_solver_on_nonlinear",
                  {"--param", "a", "--solver", "linear", "exp(a*x)"},
-                 "not linear"}),
+                 "not linear"},
+        BadInput{"formula_outside_the_inputs",
+                 {"--param", "a", "--inputs", "x", "a*r0"},
+                 "--inputs: the formula reads 'r0', which is not among the inputs (x)"},
+        BadInput{"input_no_column",
+                 {"--param", "a", "--inputs", "x,zz", "a*x"},
+                 "--inputs: input 'zz' is no column"}),
     [](const ::testing::TestParamInfo<BadInput>& p) { return std::string(p.param.name); });
+
+// A reference that is NaN or infinite at some points: an error naming the first, or with
+// --drop-nonfinite those points left out and counted.
+TEST(CliFit, NonFiniteReferenceIsAnErrorOrLeftOut) {
+  const std::vector<std::string> args = {"fit",     "--domain", "x=-1:1:5", "--reference",
+                                         "sqrt(x)", "--param",  "a,b",      "a + b*x"};
+  CliResult r = run(args);
+  EXPECT_EQ(r.status, 2) << r.out << r.err;
+  EXPECT_EQ(line_count(r.err), 1) << r.err;
+  EXPECT_NE(r.err.find("--reference: the reference is NaN or infinite at sampled point 1 (2 "
+                       "such; leave them out: --drop-nonfinite)"),
+            std::string::npos)
+      << r.err;
+  std::vector<std::string> dropping = args;
+  dropping.push_back("--drop-nonfinite");
+  r = run(dropping);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("2 rows where the reference is NaN or infinite were left out"),
+            std::string::npos)
+      << r.out;
+}
 
 // The reference language: a formula of functions a built-in does not cover, on a domain sampled
 // by the default design (no count), with definitions in the same language.

@@ -25,6 +25,8 @@ std::vector<std::string> split_names(const std::string& list) {
 
 }  // namespace
 
+std::vector<std::string> input_names(const DataSource& src) { return split_names(src.inputs); }
+
 bool DataSource::given() const {
   return !problem.csv_path.empty() || !problem.dataset.empty() ||
          !problem.reference.formula.empty() || !reference_file.empty();
@@ -71,9 +73,10 @@ void add_data_options(CLI::App* cmd, DataSource& src, unsigned options) {
                          : std::string();
             },
             "N >= 1"));
+  }
+  if (options & (References | NonFinite))
     cmd->add_flag("--drop-nonfinite", src.problem.drop_nonfinite,
                   "drop the points where the reference is NaN or infinite (default: an error)");
-  }
   if (options & Scenes) {
     cmd->add_option("--scene", src.scene,
                     std::string("with --reference, no domain: the picture whose pixels feed it (") +
@@ -103,7 +106,7 @@ Problem load_problem(const DataSource& src, ProblemSource* used) {
   // Errors in the formulas point at the flags that gave them.
   s.reference.formula_source = "--reference";
   s.reference.definitions_source = "--define";
-  s.inputs = split_names(src.inputs);
+  s.inputs = input_names(src);
   if (!src.reference_file.empty()) {
     s.reference.shader_source = reference::read_shader_file(src.reference_file);
     s.reference.shader_path = src.reference_file;

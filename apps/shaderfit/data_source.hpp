@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "shaderfit/problem/problem.hpp"
 
@@ -21,6 +22,7 @@ enum DataOptions : unsigned {
   Target = 8u,      // --target
   SeedAlias = 16u,  // --seed as another name of --data-seed
   Scenes = 32u,     // --scene, --term, --scene-size, --exposure (with References)
+  NonFinite = 64u,  // --drop-nonfinite (References has it too)
   InputsTarget = Inputs | Target,
 };
 
@@ -39,6 +41,9 @@ struct DataSource {
 };
 
 void add_data_options(CLI::App* cmd, DataSource& src, unsigned options);
+
+// --inputs as a list of names.
+std::vector<std::string> input_names(const DataSource& src);
 
 // The problem (problem/problem.hpp's load_problem) after reading --reference-file; *used, when
 // given, receives the source as loaded (the file's text in it, the inputs and target chosen),

@@ -14,7 +14,8 @@ using namespace testing;
 
 TEST(DataOptions, EveryCommandThatReadsDataTakesTheSame) {
   const std::vector<std::vector<std::string>> commands = {
-      {"search"}, {"eval"}, {"report"}, {"plot", "curves"}, {"plot", "map"}, {"plot", "front"}};
+      {"search"},         {"eval"},        {"fit"},          {"report"},
+      {"plot", "curves"}, {"plot", "map"}, {"plot", "front"}};
   for (const auto& command : commands) {
     std::vector<std::string> args = command;
     args.push_back("--help");

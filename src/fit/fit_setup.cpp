@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <map>
 #include <optional>
 
@@ -224,6 +225,10 @@ PreparedFit prepare_fit(FitSetup a) {
     known = data->names();
   }
   s.reference_description = programs.description;
+  for (const std::string& name : a.inputs)
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      fail("input '" + name + "' is no column" + (generated ? " or sampled variable" : ""),
+           "FitSetup::inputs");
 
   // The formula and its parameters.
   const std::vector<Param> params = parse_params(a.parameters);
@@ -248,7 +253,38 @@ PreparedFit prepare_fit(FitSetup a) {
            "FitSetup::parameters");
   }
   f.drop_unused_variables();
+  if (!a.inputs.empty())
+    for (const std::string& v : f.variables)
+      if (std::find(a.inputs.begin(), a.inputs.end(), v) == a.inputs.end()) {
+        std::string list;
+        for (const std::string& name : a.inputs) list += (list.empty() ? "" : ", ") + name;
+        fail("the formula reads '" + v + "', which is not among the inputs (" + list + ")",
+             "FitSetup::inputs");
+      }
   s.problem.formula = f;
+  // The rows where the reference is NaN or infinite: an error naming the first, or left out.
+  const char* reference_field = !a.target.empty()      ? "FitSetup::target"
+                                : !a.reference.empty() ? "FitSetup::reference"
+                                                       : "FitSetup::function";
+  const auto finite_rows = [&](const std::vector<double>& target, std::vector<std::size_t> rows,
+                               const std::string& where) {
+    if (rows.empty()) {
+      rows.resize(target.size());
+      for (std::size_t i = 0; i < rows.size(); ++i) rows[i] = i;
+    }
+    const auto bad = [&](std::size_t i) { return !std::isfinite(target[i]); };
+    const auto first = std::find_if(rows.begin(), rows.end(), bad);
+    if (first == rows.end()) return rows;
+    if (!a.drop_nonfinite)
+      fail(fmt::format("the reference is NaN or infinite at {} {} ({} such; leave them out: "
+                       "FitSetup::drop_nonfinite)",
+                       where, *first + 1, std::count_if(rows.begin(), rows.end(), bad)),
+           reference_field);
+    const auto kept = std::remove_if(rows.begin(), rows.end(), bad);
+    s.dropped_nonfinite += static_cast<std::size_t>(rows.end() - kept);
+    rows.erase(kept, rows.end());
+    return rows;
+  };
 
   // Scopes.
   s.problem.scopes.assign(f.parameters.size(), ParameterScope::global);
@@ -295,10 +331,21 @@ PreparedFit prepare_fit(FitSetup a) {
     if (!grid.empty()) s.grouping = fmt::format("per cell of a {}-axis grid", grid.size());
     for (GridCell& c : cells) {
       auto d = std::make_unique<Dataset>(std::move(c.data));
-      std::vector<double> target = add_columns(a, programs, *d);
-      BlockSource src{d.get(), std::vector<std::size_t>(d->rows()), std::move(target)};
-      for (std::size_t i = 0; i < src.rows.size(); ++i) src.rows[i] = i;
-      FitBlock b = make_block(*d, f, src.target, weight_values(a, *d), {}, c.label());
+      const std::vector<double> target = add_columns(a, programs, *d);
+      BlockSource src{
+          d.get(),
+          finite_rows(target, {},
+                      c.label() == "all" ? "sampled point" : "cell " + c.label() + ", point"),
+          {}};
+      for (std::size_t i : src.rows) src.target.push_back(target[i]);
+      // make_block reads every row for an empty row list; a cell left empty stays empty.
+      FitBlock b = src.rows.empty()
+                       ? FitBlock{c.label(),
+                                  std::vector<std::vector<double>>(f.variables.size()),
+                                  {},
+                                  {},
+                                  {}}
+                       : make_block(*d, f, target, weight_values(a, *d), src.rows, c.label());
       b.context = c.centre;
       s.problem.blocks.push_back(std::move(b));
       s.sources.push_back(std::move(src));
@@ -352,6 +399,8 @@ PreparedFit prepare_fit(FitSetup a) {
       contexts.emplace_back();
     }
     for (std::size_t g = 0; g < groups.size(); ++g) {
+      if (!groups[g].second.empty())
+        groups[g].second = finite_rows(target, std::move(groups[g].second), "data row");
       BlockSource src{data.get(), groups[g].second, {}};
       for (std::size_t i : src.rows) src.target.push_back(target[i]);
       // make_block reads every row for an empty row list; an empty cell stays empty.

@@ -161,5 +161,55 @@ TEST(FitSetup, ErrorsAreLocatedAtTheFields) {
   EXPECT_EQ(error_of(two).where().source, "FitSetup::target");
 }
 
+TEST(FitSetup, InputsBoundTheColumnsTheFormulaReads) {
+  FitSetup a = line_on("acos(x)", {"x=-1:1"});
+  a.inputs = {"x"};
+  EXPECT_NO_THROW(prepare_fit(a));
+  a.inputs = {"y"};
+  Error e = error_of(a);
+  EXPECT_EQ(e.where().source, "FitSetup::inputs");
+  EXPECT_NE(e.message().find("input 'y' is no column"), std::string::npos) << e.message();
+  Dataset d;
+  d.add_numeric("u", {0, 0.5, 1});
+  d.add_numeric("v", {1, 2, 3});
+  d.add_numeric("y", {0.5, 1.5, 2});
+  FitSetup b;
+  b.data = d;
+  b.target = "y";
+  b.formula = "p * u + q";
+  b.parameters = {"p", "q"};
+  b.inputs = {"v"};
+  e = error_of(b);
+  EXPECT_EQ(e.where().source, "FitSetup::inputs");
+  EXPECT_NE(e.message().find("reads 'u', which is not among the inputs (v)"), std::string::npos)
+      << e.message();
+}
+
+TEST(FitSetup, NonFiniteReferenceIsAnErrorOrLeftOut) {
+  FitSetup a = line_on("sqrt(x)", {"x=-1:1:5"});
+  Error e = error_of(a);
+  EXPECT_EQ(e.where().source, "FitSetup::reference");
+  EXPECT_NE(e.message().find("NaN or infinite at sampled point 1 (2 such"), std::string::npos)
+      << e.message();
+  a.drop_nonfinite = true;
+  const PreparedFit p = prepare_fit(a);
+  EXPECT_EQ(p.dropped_nonfinite, 2u);
+  EXPECT_EQ(p.problem.blocks[0].target.size(), 3u);
+  for (double t : p.problem.blocks[0].target) EXPECT_TRUE(std::isfinite(t));
+  Dataset d;
+  d.add_numeric("u", {0, 0.5, 1});
+  d.add_numeric("y", {0.5, NAN, 2});
+  FitSetup b;
+  b.data = d;
+  b.target = "y";
+  b.formula = "p * u + q";
+  b.parameters = {"p", "q"};
+  e = error_of(b);
+  EXPECT_EQ(e.where().source, "FitSetup::target");
+  EXPECT_NE(e.message().find("at data row 2"), std::string::npos) << e.message();
+  b.drop_nonfinite = true;
+  EXPECT_EQ(prepare_fit(b).dropped_nonfinite, 1u);
+}
+
 }  // namespace
 }  // namespace shaderfit

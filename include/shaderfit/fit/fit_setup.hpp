@@ -61,6 +61,12 @@ struct FitSetup {
   std::string transform;                 // T(y) fitted as T(formula) to T(reference)
   std::vector<std::string> constraints;  // "C = 0", "f(x = 0) = f0", "df/dx(x = 1) = 0"
   std::vector<std::string> baselines;    // formulas compared with the fit on every block
+  // The columns the formula may read (empty: any); a variable of the formula outside them is an
+  // error, as is a name here that is no column.
+  std::vector<std::string> inputs;
+  // Rows (or sampled points) where the reference is NaN or infinite are left out and counted
+  // (PreparedFit::dropped_nonfinite); otherwise the first of them is an error.
+  bool drop_nonfinite = false;
   FixedFormOptions options;
 };
 
@@ -80,7 +86,8 @@ struct PreparedFit {
   std::string reference_description;               // "column R", "fv-exact", "g.glsl: G1"
   std::string grouping;                            // "per material", "per cell of 16 x 16", ""
   std::size_t dropped_rows = 0;                    // data rows outside the grid
-  std::vector<std::string> baselines;              // FitSetup::baselines
+  std::size_t dropped_nonfinite = 0;   // rows where the reference is not finite (drop_nonfinite)
+  std::vector<std::string> baselines;  // FitSetup::baselines
 };
 
 // The fitted formula's and each baseline's error on one block's rows, in the original space,
