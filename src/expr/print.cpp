@@ -69,6 +69,7 @@ class InfixPrinter {
     std::string minus;      // the text of -(text), never starting with "-(" where avoidable
     bool literal = false;
     bool abs = false;  // abs(...): the instruction model counts b - |a| apart from |a| - b
+    bool abs_subtrahend = false;  // b - abs(a): its negation |a| - b costs one instruction less
   };
 
   static std::string paren(const std::string& s, bool p) { return p ? "(" + s + ")" : s; }
@@ -125,6 +126,7 @@ class InfixPrinter {
       t.minus = b.minus + " - " + a.text;
     else
       t.minus = a.minus + (subtract ? " + " : " - ") + right;
+    t.abs_subtrahend = subtract && b.abs && a.prec > kSum;
     return t;
   }
 
@@ -173,6 +175,12 @@ class InfixPrinter {
       case Op::Var: return leaf(e_.variables.at(static_cast<std::size_t>(n.index)));
       case Op::Neg: {
         Term t = term(c[0]);
+        if (t.abs_subtrahend && !t.negative) {  // -(b - |a|) is written |a| - b, as counted
+          t.text = t.minus;
+          t.minus = "-(" + t.text + ")";
+          t.abs_subtrahend = false;
+          return t;
+        }
         t.negative = !t.negative;
         return t;
       }
@@ -460,15 +468,17 @@ class Natural {
     return n > 1;
   }
 
-  // A negated factor counts as its operand, the sign kept in `negative`; a product that occurs
-  // elsewhere stays one factor, so that its value is still computed once.
+  // A negated factor (but a sum) counts as its operand, the sign kept in `negative`; a product that
+  // occurs elsewhere stays one factor, so that its value is still computed once.
   void factors(std::size_t i, std::vector<Factor>& out, bool& negative, bool root = true) const {
     const Node& n = e_.nodes[i];
     if (n.op == Op::Mul && (root || !shared(i))) {
       for (std::size_t k : children(i)) factors(k, out, negative, false);
       return;
     }
-    if (n.op == Op::Neg) {
+    // A negated sum stays a factor: the printer writes -(b - a) as a - b, as counted.
+    if (n.op == Op::Neg && e_.nodes[children(i)[0]].op != Op::Add &&
+        e_.nodes[children(i)[0]].op != Op::Sub) {
       negative = !negative;
       factors(children(i)[0], out, negative, false);
       return;

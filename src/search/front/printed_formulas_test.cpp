@@ -159,14 +159,18 @@ TEST(PrintedFormulas, RealFrontsReadBackToTheSameFunctionAtTheSameCost) {
       // sign the instruction model counts (most of them one fewer: the search's own tree had
       // the sign where it costs an instruction). Counted; the printed text is held to the
       // exact text's function and cost.
-      if (expression_cost(e, CostTarget::Instructions, per_material) != m.at("cost").get<double>())
+      if (const double c = expression_cost(e, CostTarget::Instructions, per_material);
+          c != m.at("cost").get<double>()) {
         ++exact_text_cost_other;
+        std::printf("%s: %s reads back at %g, the member's cost %g\n", where.c_str(),
+                    m.at("formula").get<std::string>().c_str(), c, m.at("cost").get<double>());
+      }
       check_member(where, e, points, per_material, tally);
     }
   }
   EXPECT_GE(fronts, 20);
   EXPECT_GE(tally.members, 200);
-  EXPECT_LE(exact_text_cost_other, 6);
+  EXPECT_LE(exact_text_cost_other, 1);
   std::printf(
       "%d members of %d fronts: %d break a rule, %d read back different, %d cost other "
       "(%d exact texts at another cost than their member's)\n",
