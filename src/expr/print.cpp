@@ -470,10 +470,21 @@ class Natural {
 
   // A negated factor (but a sum) counts as its operand, the sign kept in `negative`; a product that
   // occurs elsewhere stays one factor, so that its value is still computed once.
+  //
+  // The left operands of a chain of products are its factors as written (a * b * c); a product
+  // on the right, a group as written (a * (b * c)), is taken apart only where a factor of it
+  // repeats one before it or it holds the literal being dropped: its grouping may be what makes
+  // part of it once per material, which the instruction model counts.
   void factors(std::size_t i, std::vector<Factor>& out, bool& negative, bool root = true) const {
     const Node& n = e_.nodes[i];
     if (n.op == Op::Mul && (root || !shared(i))) {
-      for (std::size_t k : children(i)) factors(k, out, negative, false);
+      const std::vector<std::size_t> c = children(i);
+      factors(c[0], out, negative, false);
+      if (e_.nodes[c[1]].op == Op::Mul && !opens(c[1], out)) {
+        out.push_back({c[1], 1});
+        return;
+      }
+      factors(c[1], out, negative, false);
       return;
     }
     // A negated sum stays a factor: the printer writes -(b - a) as a - b, as counted.
@@ -499,6 +510,20 @@ class Natural {
     out.push_back({base, power});
   }
 
+  // Whether the product group at i is taken apart in a product whose factors so far are `before`.
+  bool opens(std::size_t i, const std::vector<Factor>& before) const {
+    std::vector<Factor> inner;
+    bool negative = false;
+    factors(i, inner, negative);
+    for (const Factor& f : inner) {
+      if (drop_ != 0 && f.power == 1 && literal_reads(f.node, drop_)) return true;
+      if (is_literal(f.node)) continue;
+      for (const Factor& b : before)
+        if (same(b.node, f.node)) return true;
+    }
+    return false;
+  }
+
   // The product at i (a Mul node) rebuilt: literals first, then the other factors in the order
   // they first appear, each with its power; one literal reading `drop` (if any) left out, and
   // the factor at node `log` (a log2) written as log.
@@ -506,7 +531,9 @@ class Natural {
                std::size_t log = static_cast<std::size_t>(-1)) {
     std::vector<Factor> fs;
     bool negative = false;
+    drop_ = drop;
     factors(i, fs, negative);
+    drop_ = 0;
     std::stable_partition(fs.begin(), fs.end(),
                           [&](const Factor& f) { return is_literal(f.node); });
     bool dropped = false, first = true;
@@ -535,11 +562,13 @@ class Natural {
   }
 
   // Whether the product at i has a literal factor reading `v` (either sign).
-  bool has_literal(std::size_t i, float v) const {
+  bool has_literal(std::size_t i, float v) {
     if (e_.nodes[i].op != Op::Mul) return false;
     std::vector<Factor> fs;
     bool negative = false;
+    drop_ = v;
     factors(i, fs, negative);
+    drop_ = 0;
     return std::any_of(fs.begin(), fs.end(),
                        [&](const Factor& f) { return f.power == 1 && literal_reads(f.node, v); });
   }
@@ -576,6 +605,7 @@ class Natural {
 
   const Expression& e_;
   const PrintOptions& o_;
+  float drop_ = 0;  // the literal product() leaves out, while it gathers the factors
 };
 
 }  // namespace

@@ -228,7 +228,7 @@ TEST(Print, TextForPeopleIsWhatAPersonWrites) {
   EXPECT_EQ(text("x * x"), "x^2");
   EXPECT_EQ(text("x^2 * x + u"), "x^3 + u");
   EXPECT_EQ(text("epsilon * r * r"), "epsilon * r^2");
-  EXPECT_EQ(text("x * (u * 0.5)"), "0.5 * x * u");
+  EXPECT_EQ(text("x * (u * 0.5)"), "x * (0.5 * u)");  // a group may be per material
   EXPECT_EQ(text("(x + 1) * (x + 1)"), "(x + 1)^2");
   // exp and log where log2(e) and ln(2) appear.
   EXPECT_EQ(text("exp2(-(u * 1.4426951 * v))"), "exp(-u * v)");

@@ -97,6 +97,18 @@ Expression lifted(Expression e, const Expression& original) {
   return e;
 }
 
+// What the formula's exact text reads back to (the printer moves signs out of groups and into
+// sums, which the instruction model may count one fewer).
+Expression exact_text_form(const Expression& e) {
+  ParseOptions o;
+  o.variables = e.variables;
+  o.parameters = e.parameters;
+  o.parameter_values = e.parameter_values;
+  Expression back = parse_formula(to_infix(e), o);
+  back.variables = e.variables;
+  return back;
+}
+
 class Tidier {
  public:
   Tidier(const SearchOptions& options, const SearchProblem& problem)
@@ -127,7 +139,7 @@ class Tidier {
       noise_ = true;
       snap_constants();
     }
-    if (Expression back = read_back(current_);
+    if (Expression back = exact_text_form(current_);
         formula_cost(lifted(back, *original_), options_) < cost_)
       keep(std::move(back));
     if (!changed_) return std::nullopt;
@@ -144,19 +156,6 @@ class Tidier {
   std::uint64_t node_evaluations() const { return ctx_.node_evaluations.load(); }
 
  private:
-  // What the formula's exact text reads back to: kept where it costs less, so that what the
-  // JSON and the tables show is what was counted (the printer moves signs into products and
-  // sums, which the instruction model may count one fewer).
-  static Expression read_back(const Expression& e) {
-    ParseOptions o;
-    o.variables = e.variables;
-    o.parameters = e.parameters;
-    o.parameter_values = e.parameter_values;
-    Expression back = parse_formula(to_infix(e), o);
-    back.variables = e.variables;
-    return back;
-  }
-
   // Keeps `candidate` as the current form when it differs, costs no more, is finite everywhere
   // and its error is acceptable: at noise level for a member at noise level, else its loss
   // within the limit.
@@ -340,6 +339,32 @@ std::vector<FrontMember> tidy_front(const SearchOptions& options, const SearchPr
       out.begin(), out.end(), [&](const FrontMember& m) { return m.metrics.rmse <= noise_rmse; });
   if (first != out.end()) out.erase(first + 1, out.end());
   return out;
+}
+
+void count_as_printed(std::vector<FrontMember>& front, const SearchOptions& options) {
+  bool changed = false;
+  for (FrontMember& m : front) {
+    Expression back = exact_text_form(m.expression);
+    if (const double cost = formula_cost(back, options); cost < m.cost) {
+      m.expression = std::move(back);
+      m.formula = to_infix(m.expression, {.substitute_parameters = true});
+      m.cost = cost;
+      m.nodes = m.expression.size();
+      changed = true;
+    }
+    // The text's constants are literals, which the model may count fewer than parameters (a
+    // divisor's reciprocal is folded): what the shader is given is the text.
+    const double shown = formula_cost(
+        parse_formula(m.formula, {.variables = m.expression.variables}), options);
+    if (shown < m.cost) {
+      m.cost = shown;
+      changed = true;
+    }
+  }
+  if (!changed) return;
+  ParetoFront pareto;  // a member now cheaper may dominate another
+  for (FrontMember& m : front) pareto.offer(std::move(m));
+  front = pareto.members();
 }
 
 void mark_minor_steps(std::vector<FrontMember>& front, double min_step) {

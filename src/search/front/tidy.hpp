@@ -56,6 +56,13 @@ std::vector<FrontMember> tidy_front(const SearchOptions& options, const SearchPr
                                     std::vector<FrontMember> front,
                                     std::uint64_t* node_evaluations);
 
+// Each member whose exact text (FrontMember::formula) reads back to a formula of fewer
+// instructions takes that formula and its cost, so that what is shown is what is counted: the
+// printer moves signs out of groups, which the instruction model may count one fewer. The same
+// values (up to the sign of a zero), so no other field changes; a member it makes dominated
+// leaves the front.
+void count_as_printed(std::vector<FrontMember>& front, const SearchOptions& options);
+
 // Marks FrontMember::minor_step, cheapest first: a member is shown when its loss is at most
 // (1 - min_step) times that of the last member shown (the cheapest is shown), so that no two
 // members shown differ by less than the margin; with min_step 0 only equal losses are minor.

@@ -13,8 +13,8 @@
 #include <regex>
 
 #include "search/run/drawn_problem_test_util.hpp"
-#include "search/search_context.hpp"
 #include "search/run/seed_problem_test_util.hpp"
+#include "search/search_context.hpp"
 #include "shaderfit/core/random.hpp"
 #include "shaderfit/cost/cost_model.hpp"
 #include "shaderfit/eval/metrics.hpp"
@@ -223,12 +223,12 @@ TEST(Tidy, NoiseFormsOfExactFitsPrintExactly) {
       {coulomb_problem(),
        "q1 / ((r^2 + 5.110122e-10) * (epsilon * 12.566370614359172 + 4.879618e-09) - "
        "1.1723843e-08) - 2.4031165e-13",
-       "q1 / (r^2 * (12.566370614359172 * epsilon))", "q1 / (12.566371 * r^2 * epsilon)"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))", "q1 / (r^2 * (12.566371 * epsilon))"},
       // As displayed (float32 constants): not at noise level until 12.566371 snaps to 4 pi.
       {coulomb_problem(),
        "q1 / ((r^2 + 5.110122e-10) * (epsilon * 12.566371 + 4.879618e-09) - 1.1723843e-08) - "
        "2.4031165e-13",
-       "q1 / (r^2 * (12.566370614359172 * epsilon))", "q1 / (12.566371 * r^2 * epsilon)"},
+       "q1 / (r^2 * (12.566370614359172 * epsilon))", "q1 / (r^2 * (12.566371 * epsilon))"},
       {distance_problem(), "sqrt((x1 * 1.0000000000000004 - x2)^2 + ((y1 - y2)^2 - 7.7e-12))",
        "sqrt((x1 - x2)^2 + (y1 - y2)^2)", "sqrt((x1 - x2)^2 + (y1 - y2)^2)"},
       {distance_problem(), "(y2 * 1.6e-11 + 1) * sqrt((x1 - x2)^2 + (y1 - y2)^2) - 1.2e-11",
@@ -491,6 +491,40 @@ TEST(MinorSteps, AMemberIsShownWhereItLowersTheLossByTheMargin) {
   const nlohmann::json j = front_member_json(m, FrontJson::Exact);
   EXPECT_EQ(j.at("minor_step"), true);
   EXPECT_FALSE(front_member_json(f.front(), FrontJson::Result).contains("minor_step"));
+}
+
+}  // namespace
+}  // namespace shaderfit::search_detail
+
+namespace shaderfit::search_detail {
+namespace {
+
+// What the JSON's text reads back to is what the front counts: -(1.27 - |x|) is printed
+// |x| - 1.27, one instruction fewer; the member takes that form and cost, and a member it now
+// dominates leaves the front.
+TEST(CountAsPrinted, AMemberWhoseTextReadsBackCheaperTakesThatCost) {
+  const SearchProblem p = exact_problem({"x"}, -1, 1, [](const std::vector<double>& v) {
+    return 1.5 + 1.28 * (std::abs(v[0]) - 1.27);
+  });
+  const SearchOptions o = test::seed_task_options();
+  const auto at = [&](const char* formula) {
+    FrontMember m;
+    m.expression = parse_formula(formula, {.variables = {"x"}});
+    m.metrics = SearchContext(o, p).score(m.expression);
+    m.loss = loss_value(o.loss, m.metrics);
+    m.cost = expression_cost(m.expression, o.cost);
+    m.formula = to_infix(m.expression);
+    return m;
+  };
+  FrontMember worse = at("1.5 + 1.28 * (abs(x) - 1.2)");
+  FrontMember signed_group = at("1.5 + 1.28 * -(1.27 - abs(x))");
+  ASSERT_EQ(signed_group.cost, worse.cost + 1);
+  std::vector<FrontMember> front = {worse, signed_group};
+  count_as_printed(front, o);
+  ASSERT_EQ(front.size(), 1u);
+  EXPECT_EQ(front[0].cost, worse.cost);
+  EXPECT_EQ(front[0].formula, "1.5 + 1.28 * (abs(x) - 1.27)");
+  EXPECT_EQ(front[0].loss, signed_group.loss);
 }
 
 }  // namespace

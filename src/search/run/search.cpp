@@ -8,22 +8,22 @@
 #include <set>
 
 #include "search/checkpoint.hpp"
-#include "search/evolution/constant_fit.hpp"
 #include "search/distributed.hpp"
 #include "search/enumeration/enumerator.hpp"
+#include "search/evolution/constant_fit.hpp"
 #include "search/evolution/evolution.hpp"
 #include "search/exact_json.hpp"
 #include "search/front/float32_check.hpp"
+#include "search/front/symmetry_front.hpp"
+#include "search/front/tidy.hpp"
+#include "search/front/verify_front.hpp"
+#include "search/search_context.hpp"
+#include "search/starts/descent.hpp"
 #include "search/starts/polynomial_starts.hpp"
 #include "search/starts/power_sum.hpp"
 #include "search/starts/shape_starts.hpp"
-#include "search/search_context.hpp"
-#include "search/starts/descent.hpp"
 #include "search/starts/start.hpp"
-#include "search/front/symmetry_front.hpp"
-#include "search/front/tidy.hpp"
 #include "search/starts/uniform_starts.hpp"
-#include "search/front/verify_front.hpp"
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/evaluate_in.hpp"
 
@@ -183,8 +183,7 @@ std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
         start_over_indexed_inputs(text, names, "per-material start", SearchPhase::Material));
     material.back().fitted = true;
   }
-  std::vector<Expression> seeds =
-      search_detail::offer_start_formulas(ctx, material);
+  std::vector<Expression> seeds = search_detail::offer_start_formulas(ctx, material);
   std::vector<search_detail::StartFormula> polynomials;
   for (const std::string& text :
        search_detail::polynomial_starts(problem, symmetry, ctx.options.loss)) {
@@ -192,8 +191,7 @@ std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
         start_over_indexed_inputs(text, names, "polynomial", SearchPhase::Polynomial));
     polynomials.back().fitted = true;
   }
-  for (Expression& e :
-       search_detail::offer_start_formulas(ctx, polynomials))
+  for (Expression& e : search_detail::offer_start_formulas(ctx, polynomials))
     seeds.push_back(std::move(e));
   return seeds;
 }
@@ -419,6 +417,7 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
   // Where the function behind the rows is known, the errors between them too (and bounds).
   summary->front =
       search_detail::verify_front(options, problem, std::move(summary->front), summary);
+  search_detail::count_as_printed(summary->front, options);
   search_detail::mark_minor_steps(summary->front, options.min_step);
   if (!options.uniform.empty()) {
     for (FrontMember& m : summary->front) {
