@@ -7,7 +7,8 @@
 //
 // With SimplifyOptions::regroup_constants, further rules move constants through sums and
 // products (they hold in real arithmetic and round differently): scaled() and shifted() push a
-// factor or an offset into a subtree's own constant, never adding a node.
+// factor or an offset into a subtree's own constant, never adding a node; and a term added and
+// taken away again cancels ((a + b) - b = a).
 #include "shaderfit/expr/simplify.hpp"
 
 #include <cmath>
@@ -331,10 +332,23 @@ std::optional<Frag> Rules::regrouped(Op op, const std::vector<Frag>& kids) const
         return scaled(kids[0], 1 / value(kids[1]));
       return std::nullopt;
     case Op::Add:
+      // (a - b) + b = a, either side.
+      for (int side = 0; side < 2; ++side) {
+        const Frag &x = kids[static_cast<std::size_t>(side)],
+                   &y = kids[static_cast<std::size_t>(1 - side)];
+        if (root(x).op == Op::Sub)
+          if (std::vector<Frag> ab = children(x); same(ab[1], y)) return ab[0];
+      }
       if (is_const(kids[1]) && !is_const(kids[0])) return shifted(kids[0], value(kids[1]));
       if (is_const(kids[0]) && !is_const(kids[1])) return shifted(kids[1], value(kids[0]));
       return std::nullopt;
     case Op::Sub:
+      // (a + b) - b = a and (a + b) - a = b.
+      if (root(kids[0]).op == Op::Add) {
+        std::vector<Frag> ab = children(kids[0]);
+        if (same(ab[1], kids[1])) return ab[0];
+        if (same(ab[0], kids[1])) return ab[1];
+      }
       if (is_const(kids[1]) && !is_const(kids[0])) return shifted(kids[0], -value(kids[1]));
       if (is_const(kids[0]) && !is_const(kids[1])) {
         // c - x = -(x - c); written b - a when x - c is a - b.
