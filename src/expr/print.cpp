@@ -459,13 +459,12 @@ class Natural {
     return std::bit_width(static_cast<unsigned>(k)) + std::popcount(static_cast<unsigned>(k)) - 2;
   }
 
-  // Whether the subtree at i occurs elsewhere in the formula (the instruction model computes
-  // it once).
-  bool shared(std::size_t i) const {
+  // How often the subtree at i occurs in the formula (the instruction model computes it once).
+  int occurrences(std::size_t i) const {
     int n = 0;
-    for (std::size_t j = 0; j < e_.nodes.size() && n < 2; ++j)
+    for (std::size_t j = 0; j < e_.nodes.size(); ++j)
       n += e_.nodes[j].length == e_.nodes[i].length && same(i, j);
-    return n > 1;
+    return n;
   }
 
   // A negated factor (but a sum) counts as its operand, the sign kept in `negative`; a product that
@@ -477,7 +476,17 @@ class Natural {
   // part of it once per material, which the instruction model counts.
   void factors(std::size_t i, std::vector<Factor>& out, bool& negative, bool root = true) const {
     const Node& n = e_.nodes[i];
-    if (n.op == Op::Mul && (root || !shared(i))) {
+    // Shared: found more often than the product being gathered (`root_`), whose own copies
+    // hold it too.
+    if (root) root_ = i;
+    if (n.op == Op::Mul) {  // a * a is a^2, whatever a is (one product either way)
+      const std::vector<std::size_t> c = children(i);
+      if (same(c[0], c[1]) && !is_literal(c[0])) {
+        out.push_back({c[0], 2});
+        return;
+      }
+    }
+    if (n.op == Op::Mul && (root || occurrences(i) <= occurrences(root_))) {
       const std::vector<std::size_t> c = children(i);
       factors(c[0], out, negative, false);
       if (e_.nodes[c[1]].op == Op::Mul && !opens(c[1], out)) {
@@ -514,7 +523,9 @@ class Natural {
   bool opens(std::size_t i, const std::vector<Factor>& before) const {
     std::vector<Factor> inner;
     bool negative = false;
+    const std::size_t outer = root_;
     factors(i, inner, negative);
+    root_ = outer;
     for (const Factor& f : inner) {
       if (drop_ != 0 && f.power == 1 && literal_reads(f.node, drop_)) return true;
       if (is_literal(f.node)) continue;
@@ -605,7 +616,8 @@ class Natural {
 
   const Expression& e_;
   const PrintOptions& o_;
-  float drop_ = 0;  // the literal product() leaves out, while it gathers the factors
+  float drop_ = 0;                // the literal product() leaves out, while it gathers the factors
+  mutable std::size_t root_ = 0;  // the product whose factors factors() gathers
 };
 
 }  // namespace

@@ -230,6 +230,10 @@ TEST(Print, TextForPeopleIsWhatAPersonWrites) {
   EXPECT_EQ(text("epsilon * r * r"), "epsilon * r^2");
   EXPECT_EQ(text("x * (u * 0.5)"), "x * (0.5 * u)");  // a group may be per material
   EXPECT_EQ(text("(x + 1) * (x + 1)"), "(x + 1)^2");
+  // A repeated group, also where each copy is found elsewhere (Schlick's phase function).
+  EXPECT_EQ(
+      text("1 - x * (1.5 - 0.5 * x * x) * (x * (1.5 - 0.5 * x * x)) + x * (1.5 - 0.5 * x * x) * u"),
+      "1 - (x * (1.5 - 0.5 * x^2))^2 + x * (1.5 - 0.5 * x^2) * u");
   // exp and log where log2(e) and ln(2) appear.
   EXPECT_EQ(text("exp2(-(u * 1.4426951 * v))"), "exp(-u * v)");
   EXPECT_EQ(text("exp2(x * -1.442695)"), "exp(-x)");
