@@ -43,6 +43,15 @@ std::string format_number(double v, const PrintOptions& options) {
 
 namespace {
 
+// The value a leaf shows as a number: a constant, or a parameter printed as its value
+// (PrintOptions::substitute_parameters; 0 where it has none); nullopt for the other nodes.
+std::optional<double> literal_of(const Node& n, const Expression& e, const PrintOptions& o) {
+  if (n.op == Op::Const) return n.value;
+  if (n.op != Op::Param || !o.substitute_parameters) return std::nullopt;
+  const auto k = static_cast<std::size_t>(n.index);
+  return k < e.parameter_values.size() ? e.parameter_values[k] : 0.0;
+}
+
 // Precedence levels for infix printing; higher binds tighter.
 enum Prec { kSum = 1, kProduct = 2, kUnary = 3, kPower = 4, kAtom = 5 };
 
@@ -82,10 +91,6 @@ class InfixPrinter {
     return t;
   }
 
-  double param_value(const Node& n) const {
-    const auto k = static_cast<std::size_t>(n.index);
-    return k < e_.parameter_values.size() ? e_.parameter_values[k] : 0.0;
-  }
   std::string number(double v) const { return format_number(v, o_); }
 
   // Whether a unary operator's sign rule may be used: exact ones always, the library's (sin,
@@ -166,11 +171,10 @@ class InfixPrinter {
     switch (n.op) {
       case Op::Const:
       case Op::Param: {
-        if (n.op == Op::Param && !o_.substitute_parameters)
-          return leaf(e_.parameters.at(static_cast<std::size_t>(n.index)));
-        const double v = n.op == Op::Const ? n.value : param_value(n);
-        if (std::isnan(v)) return leaf(number(v), false, true);
-        return leaf(number(std::fabs(v)), std::signbit(v), true);
+        const std::optional<double> v = literal_of(n, e_, o_);
+        if (!v) return leaf(e_.parameters.at(static_cast<std::size_t>(n.index)));
+        if (std::isnan(*v)) return leaf(number(*v), false, true);
+        return leaf(number(std::fabs(*v)), std::signbit(*v), true);
       }
       case Op::Var: return leaf(e_.variables.at(static_cast<std::size_t>(n.index)));
       case Op::Neg: {
@@ -340,11 +344,7 @@ Expression without_neutral_text(const Expression& e, const PrintOptions& o) {
   const auto literal = [&](const Frag& f) -> std::optional<double> {
     if (f.size() == 2 && f[1].op == Op::Neg && f[0].op == Op::Const) return -f[0].value;
     if (f.size() != 1) return std::nullopt;
-    if (f[0].op == Op::Const) return f[0].value;
-    const auto k = static_cast<std::size_t>(f[0].index);
-    if (f[0].op == Op::Param && o.substitute_parameters && k < e.parameter_values.size())
-      return e.parameter_values[k];
-    return std::nullopt;
+    return literal_of(f[0], e, o);
   };
   // Whether f is a literal whose text reads `value` (0 with either sign).
   const auto reads = [&](const Frag& f, double value) {
@@ -431,16 +431,8 @@ class Natural {
     const auto x = nodes_of(a), y = nodes_of(b);
     return std::equal(x.begin(), x.end(), y.begin(), y.end());
   }
-  // A constant, or a parameter printed as its value.
-  bool is_literal(std::size_t i) const {
-    const Node& n = e_.nodes[i];
-    return n.op == Op::Const || (n.op == Op::Param && o_.substitute_parameters &&
-                                 static_cast<std::size_t>(n.index) < e_.parameter_values.size());
-  }
-  double literal_value(std::size_t i) const {
-    const Node& n = e_.nodes[i];
-    return n.op == Op::Const ? n.value : e_.parameter_values[static_cast<std::size_t>(n.index)];
-  }
+  bool is_literal(std::size_t i) const { return literal_of(e_.nodes[i], e_, o_).has_value(); }
+  double literal_value(std::size_t i) const { return *literal_of(e_.nodes[i], e_, o_); }
   // Within two float32 steps of v: a fitted or hand-written constant that means v.
   bool literal_reads(std::size_t i, float v) const {
     if (!is_literal(i)) return false;
