@@ -165,6 +165,12 @@ std::string search_option_flag(std::string_view field_name) {
   return flag;
 }
 
+std::string flag_with_aliases(const std::string& flag) {
+  // --cost-target: the name cost, eval and the Python layer use for the same choice.
+  if (flag == "--cost") return flag + ",--cost-target";
+  return flag;
+}
+
 std::string flag_for_location(std::string_view location) {
   for (const FieldFlag& f : kFlags)
     if (f.field == location) return std::string(f.flag);

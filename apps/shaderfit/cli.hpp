@@ -50,6 +50,8 @@ std::string flag_for_location(std::string_view location);
 // The flag of a described search option (options.hpp): --<name with '-' for '_'>, unless the
 // table renames it (historical flags such as --time, --evals, --ops).
 std::string search_option_flag(std::string_view field_name);
+// The flag and the other names it answers to, as CLI11 takes them: "--cost,--cost-target".
+std::string flag_with_aliases(const std::string& flag);
 
 // --inputs and --params: the names of a formula's inputs, in argument order, and of its free
 // parameters (comma-separated or repeated), for the commands that read a formula without data.

@@ -124,8 +124,9 @@ void register_cost_command(CLI::App& app, Context& ctx) {
                   "costed as written: helpers inlined, constants folded, branches as selects");
   cmd->add_option("--function", args->function, "the function of --reference-file to cost");
   cmd->add_option("--target", args->target,
-                  "listing to print: sass (default), ptx, generic or sass-half2 (the __half2 "
-                  "code of codegen --precision half, per call of two values)");
+                  "listing to print: sass (default), ptx, generic, sass-half2 (the __half2 "
+                  "code of codegen --precision half, per call of two values), rdna2 or rdna3 "
+                  "(AMD gfx1030, gfx1100)");
   add_name_options(cmd, args->inputs, args->params);
   add_uniform_option(cmd, args->uniform);
   cmd->add_option("--json", args->json_path,

@@ -31,6 +31,7 @@ struct EvalArgs {
   std::string baseline;
   std::vector<std::string> formulas;
   std::string json_path;
+  std::string cost_target;  // --cost-target: empty unless given
   bool float32 = false;  // --float32: the same as --precision float
   std::string precision = "double";
   bool certify = false;
@@ -44,6 +45,13 @@ Precision precision_of(const EvalArgs& a) {
 }
 
 // "x = 0.5" or "(x, y) = (0.5, 1)": a point of the reference's domain.
+// The costs shown: --cost-target's, or sass with --uniform; none otherwise.
+std::optional<InstructionTarget> cost_target_of(const EvalArgs& a) {
+  if (!a.cost_target.empty()) return parse_instruction_target(a.cost_target, {"--cost-target"});
+  if (!a.uniform.empty()) return InstructionTarget::Sass;
+  return std::nullopt;
+}
+
 std::string point_text(const Problem& p, const std::vector<double>& point) {
   if (!p.reference || point.size() != p.reference->domain.size()) return "?";
   std::string names, values;
@@ -70,10 +78,13 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
     out << '\n'
         << (r.baseline ? std::string("[baseline] ") : fmt::format("[{}] ", ++number))
         << to_infix(r.expression, print) << '\n';
-    if (!a.uniform.empty()) {
-      const SplitCost c = split_instruction_count(r.expression, a.uniform, InstructionTarget::Sass);
-      out << fmt::format("  cost: {} per pixel, {} per material (SASS instructions)\n", c.per_pixel,
-                         c.per_material);
+    if (const std::optional<InstructionTarget> t = cost_target_of(a)) {
+      const SplitCost c = split_instruction_count(r.expression, a.uniform, *t);
+      if (a.uniform.empty())
+        out << fmt::format("  cost: {} instructions ({})\n", c.per_pixel, instruction_target_name(*t));
+      else
+        out << fmt::format("  cost: {} per pixel, {} per material ({} instructions)\n", c.per_pixel,
+                           c.per_material, instruction_target_name(*t));
     }
     out << fmt::format("  {:<28} {:>6} {:>11} {:>11} {:>11} {:>11}{}\n", "group", "rows", "MSE",
                        "RMSE", "max abs", "max rel",
@@ -109,7 +120,7 @@ void print_table(std::ostream& out, const std::vector<EvalFormulaResult>& result
 
 EvalReport to_report(std::vector<EvalFormulaResult> results, const EvalArgs& a, const Problem& p) {
   return {p.description, p.data.rows(), p.target,          precision_of(a),
-          a.groups,      a.uniform,     std::move(results)};
+          a.groups,      a.uniform,     std::move(results), cost_target_of(a)};
 }
 
 // With a reference: the errors between the samples too, and a certified bound when asked.
@@ -146,6 +157,7 @@ void check_between_samples(EvalFormulaResult& r, const Problem& p, const EvalArg
 void run_eval(EvalArgs& a, Context& ctx) {
   (void)PrintOptions::for_people(a.digits);  // a bad --digits stops here
   const Precision precision = precision_of(a);
+  (void)cost_target_of(a);  // a bad --cost-target stops here, before the data is read
   const Problem p = load_problem(a.data);
   const Dataset& d = p.data;
   if (a.formulas.empty()) throw Error("no formula to evaluate", SourceLocation{"eval"});
@@ -225,6 +237,9 @@ void register_eval_command(CLI::App& app, Context& ctx) {
       ->each([args](const std::string&) { args->groups_given = true; });
   cmd->add_option("--baseline", args->baseline, "formula the others are compared with");
   add_uniform_option(cmd, args->uniform);
+  cmd->add_option("--cost-target", args->cost_target,
+                  "show each formula's instruction count on this target: sass, ptx, generic, "
+                  "rdna2 or rdna3 (with --uniform: per pixel and per material; default sass there)");
   cmd->add_option("--json", args->json_path, "write the results as JSON to PATH ('-' for stdout)");
   add_precision_option(cmd, args->precision, "the formulas are computed in", "double");
   cmd->add_flag("--float32", args->float32, "the same as --precision float");

@@ -253,7 +253,7 @@ void add_search_option(CLI::App* cmd, SearchArgs& a, const SearchOptionField& f)
         } else if constexpr (std::is_same_v<T, std::optional<std::int64_t>>) {
           cmd->add_option(flag, a.integers[f.name], help);
         } else {
-          cmd->add_option(flag, a.texts[f.name], help);
+          cmd->add_option(flag_with_aliases(flag), a.texts[f.name], help);
         }
       },
       f.member);

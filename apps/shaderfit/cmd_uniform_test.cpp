@@ -52,7 +52,7 @@ TEST(CmdUniform, CodegenPrintsTwoPartsWithBothCosts) {
   const CliResult r =
       run({"codegen", "--lang", "hlsl", "--name", "d", "--uniform", "alpha", kBlinnPhong});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("cost model: per pixel 3 SASS, 3 PTX, 4 generic; per material 6 SASS"),
+  EXPECT_NE(r.out.find("cost model: per pixel 3 SASS, 3 PTX, 4 generic, 3 RDNA; per material 6 SASS"),
             std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("struct d_material {"), std::string::npos) << r.out;

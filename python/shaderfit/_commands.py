@@ -47,8 +47,8 @@ def evaluate(text: str, X, *, inputs: Sequence[str] | None = None, params=None,
 
 def cost(text: str, *, inputs: Sequence[str] | None = None, params=None,
          target: str = "sass", uniform: Sequence[str] = ()) -> dict:
-    """Instruction counts per target (sass, ptx, generic, sass-half2) and the listing for
-    ``target``: the shaderfit.cost/1 document of ``shaderfit cost --json``
+    """Instruction counts per target (sass, ptx, generic, sass-half2, rdna2, rdna3) and the
+    listing for ``target``: the shaderfit.cost/1 document of ``shaderfit cost --json``
     (docs/cost-model.md). With ``uniform`` (per-material inputs) the counts are per pixel, with
     ``per_material`` beside."""
     return json.loads(formula(text, inputs, params).cost_json(target, list(uniform)))

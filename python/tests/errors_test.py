@@ -122,8 +122,9 @@ def test_commands_on_bad_input(seed_data):
         X, y, inputs=["r0", "x"], **FAST)[0].predict, X[:, :1].repeat(3, axis=1))
     raises(shaderfit.Error, r"unknown language 'wgsl' \(known: glsl, hlsl, cuda, cpp, metal\)",
            shaderfit.codegen, "x * x", "wgsl")
-    raises(shaderfit.Error, r"unknown target 'rdna' \(known: sass, ptx, generic, sass-half2\)",
-           shaderfit.cost, "x * x", target="rdna")
+    raises(shaderfit.Error,
+           r"unknown target 'gcn' \(known: sass, ptx, generic, sass-half2, rdna2, rdna3\)",
+           shaderfit.cost, "x * x", target="gcn")
     raises(shaderfit.Error, r"unknown loss 'l1'", shaderfit.fit, "a * x", X[:, 1:], y,
            inputs=["x"], params=["a"], loss="l1")
     raises(shaderfit.Error, r"unknown fit 'best'", shaderfit.rational, "exp", fit="best")

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <regex>
 #include <set>
@@ -25,6 +26,8 @@ namespace {
 using cost_detail::Operand;
 using cost_detail::Program;
 using cost_detail::Step;
+using cost_detail::Comparison;
+using cost_detail::select_comparison;
 
 // A printed value: its text and its precedence (1 sum, 2 product, 3 unary minus, 4 atom/call).
 struct Text {
@@ -73,6 +76,7 @@ class FunctionPrinter {
           named[static_cast<std::size_t>(st.args[k].index)] = true;
     }
     for (std::size_t i = 0; i < p_.steps.size(); ++i) {
+      if (p_.steps[i].compared) continue;  // the selects that read it compare its operands
       Text t = step(p_.steps[i]);
       if (p_.steps[i].uses > 1 || named[i]) t = {temporary(t.s), 4};
       texts_[i] = std::move(t);
@@ -227,10 +231,16 @@ class FunctionPrinter {
             : "(" + to_bits(operand(a, 0)) + " & 0x7fffffffu)";
     return {from_bits(magnitude + " | (" + to_bits(b) + " & 0x80000000u)"), 4};
   }
-  // a >= 0 ? b : c, or a <= 0 ? b : c for the negated condition -a >= 0.
+  // a >= 0 ? b : c, or a <= 0 ? b : c for the negated condition -a >= 0; x >= y ? b : c for a
+  // compared difference a = x - y (select_comparison).
+  // A literal goes on the right, as people write it: x <= 0.5, not 0.5 >= x.
   Text select(const Step& st) const {
-    return {operand(st.args[0], 1) + (st.neg_arg ? " <= " : " >= ") + lit(0.0f) + " ? " +
-                operand(st.args[1], 1) + " : " + operand(st.args[2], 1),
+    const Comparison cmp = select_comparison(p_, st);
+    const bool flip = cmp.lhs.kind == Operand::Kind::Const && cmp.rhs.kind != Operand::Kind::Const;
+    const bool le = st.neg_arg != flip;
+    return {operand(flip ? cmp.rhs : cmp.lhs, 1) + (le ? " <= " : " >= ") +
+                operand(flip ? cmp.lhs : cmp.rhs, 1) + " ? " + operand(st.args[1], 1) + " : " +
+                operand(st.args[2], 1),
             0};
   }
 
@@ -626,20 +636,21 @@ std::string cost_comment(const Expression& e, std::span<const std::string> unifo
     const int n = instruction_count(e, InstructionTarget::SassHalf2);
     return fmt::format("cost model: {} SASS per __half2 ({:g} per value)", n, n / 2.0);
   }
-  constexpr InstructionTarget kTargets[] = {InstructionTarget::Sass, InstructionTarget::Ptx,
-                                            InstructionTarget::Generic};
-  if (!reads_uniform(e, uniform)) {
-    return fmt::format("cost model: {} SASS, {} PTX, {} generic instructions",
-                       instruction_count(e, kTargets[0]), instruction_count(e, kTargets[1]),
-                       instruction_count(e, kTargets[2]));
-  }
-  SplitCost c[3];
-  for (int k = 0; k < 3; ++k) c[k] = split_instruction_count(e, uniform, kTargets[k]);
-  return fmt::format(
-      "cost model: per pixel {} SASS, {} PTX, {} generic; per material {} SASS, {} PTX, {} "
-      "generic instructions",
-      c[0].per_pixel, c[1].per_pixel, c[2].per_pixel, c[0].per_material, c[1].per_material,
-      c[2].per_material);
+  // "6 SASS, 6 PTX, 7 generic, 6 RDNA" (RDNA 2 and 3 apart where they differ); `part` picks a
+  // count of a split.
+  const auto counts = [&](auto count) {
+    const int rdna2 = count(InstructionTarget::Rdna2), rdna3 = count(InstructionTarget::Rdna3);
+    return fmt::format("{} SASS, {} PTX, {} generic, ", count(InstructionTarget::Sass),
+                       count(InstructionTarget::Ptx), count(InstructionTarget::Generic)) +
+           (rdna2 == rdna3 ? fmt::format("{} RDNA", rdna2) : fmt::format("{} RDNA 2, {} RDNA 3", rdna2, rdna3));
+  };
+  if (!reads_uniform(e, uniform))
+    return "cost model: " + counts([&](InstructionTarget t) { return instruction_count(e, t); }) + " instructions";
+  std::map<InstructionTarget, SplitCost> split;
+  for (InstructionTarget t : kInstructionTargets)
+    if (t != InstructionTarget::SassHalf2) split[t] = split_instruction_count(e, uniform, t);
+  return "cost model: per pixel " + counts([&](InstructionTarget t) { return split[t].per_pixel; }) +
+         "; per material " + counts([&](InstructionTarget t) { return split[t].per_material; }) + " instructions";
 }
 
 std::string material_type_name(const std::string& function_name) {

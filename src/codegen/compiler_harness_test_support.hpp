@@ -4,6 +4,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cctype>
+
+#include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +26,7 @@ struct CompiledCounts {
   bool ok = false;
   std::string log;
   std::vector<int> ptx, sass, spirv;
+  std::vector<int> valu;  // AMDGPU VALU instructions (compile_amdgpu)
   bool have_sass = false;
   std::map<std::string, int> spirv_functions;  // every function of the SPIR-V, by name
 };
@@ -104,6 +110,127 @@ inline CompiledCounts compile_spirv(const std::vector<Expression>& formulas, Lan
     r.spirv.push_back(counts.count(f) ? counts.at(f) : -1);
   }
   r.spirv_functions = counts;
+  r.ok = true;
+  return r;
+}
+
+// A clang that compiles OpenCL C for `mcpu` (gfx1030, gfx1100): clang-15, then clang (clang 14
+// has gfx1030 but not gfx1100); nullopt when none has the AMDGPU target or the processor.
+inline std::optional<std::string> find_amdgpu_clang(const std::string& mcpu) {
+  for (const char* name : {"clang-15", "clang"}) {
+    const auto path = find_tool(name);
+    if (!path) continue;
+    std::string log;
+    const std::string cmd = fmt::format(
+        "echo 'kernel void k(global float* o) {{ o[0] = 1.0f; }}' | '{}' -x cl -cl-std=CL2.0 -target "
+        "amdgcn-amd-amdhsa -mcpu={} -nogpulib -S -o /dev/null -",
+        *path, mcpu);
+    if (run_command(cmd, &log) == 0) return path;
+  }
+  return std::nullopt;
+}
+
+// ROCm's device library folder (Debian's rocm-device-libs: ocml.bc and its option files), for
+// the library functions; nullopt where absent.
+inline std::optional<std::filesystem::path> find_ocml() {
+  const std::filesystem::path dir = "/usr/lib/x86_64-linux-gnu/amdgcn/bitcode";
+  std::error_code ec;
+  if (std::filesystem::is_regular_file(dir / "ocml.bc", ec)) return dir;
+  return std::nullopt;
+}
+
+// A VALU operation that is no arithmetic of the formula: a move (v_mov_b32: constants and
+// copies), or address arithmetic (the work-item id times 4, 64-bit shifts and carries).
+inline bool amdgpu_bookkeeping(const std::string& ins) {
+  for (const char* prefix : {"v_mov_b32", "v_dual_mov_b32", "v_lshlrev_b64", "v_add_co_", "v_add_co_ci_"})
+    if (starts_with(ins, prefix)) return true;
+  return (starts_with(ins, "v_lshlrev_b32") || starts_with(ins, "v_dual_lshlrev_b32")) &&
+         ins.find(", 2, v0") != std::string::npos;
+}
+
+// VALU instructions per kernel of AMDGPU assembly but amdgpu_bookkeeping's; a VOPD pair of
+// RDNA 3 (v_dual_a ... :: v_dual_b ...) counts as its operations.
+inline std::map<std::string, int> count_amdgpu(const std::string& assembly) {
+  std::map<std::string, int> out;
+  std::istringstream lines(assembly);
+  std::string kernel;
+  for (std::string line; std::getline(lines, line);) {
+    const std::size_t colon = line.find(':');
+    if (colon != std::string::npos && colon > 0 &&
+        std::all_of(line.begin(), line.begin() + static_cast<std::ptrdiff_t>(colon),
+                    [](char ch) { return std::isalnum(static_cast<unsigned char>(ch)) != 0 || ch == '_'; })) {
+      kernel = line.substr(0, line.find(':'));
+      out[kernel] = 0;
+      continue;
+    }
+    std::size_t at = line.find_first_not_of(" \t");
+    if (kernel.empty() || at == std::string::npos || line.compare(at, 2, "v_") != 0) continue;
+    const std::string ins = line.substr(at);
+    const std::size_t second = ins.find(" :: ");
+    if (second == std::string::npos) {
+      out[kernel] += amdgpu_bookkeeping(ins) ? 0 : 1;
+    } else {
+      out[kernel] += amdgpu_bookkeeping(ins.substr(0, second)) ? 0 : 1;
+      out[kernel] += amdgpu_bookkeeping(ins.substr(second + 4)) ? 0 : 1;
+    }
+  }
+  return out;
+}
+
+// All formulas as the CUDA functions of printed_source and OpenCL kernels k<i> after them, one
+// file compiled by one clang call as OpenCL C for an AMD GPU (-O3 -cl-fast-relaxed-math,
+// -mcpu=gfx1030 or gfx1100), the CUDA math functions defined as clang's built-ins (which lower to
+// the hardware's instructions under fast math) and the library functions as ROCm's OCML ones
+// (linked from `ocml` where given; else they stay calls and the count means nothing). Each
+// kernel reads its inputs at the work-item's index; the counts are count_amdgpu's, in `valu`.
+inline CompiledCounts compile_amdgpu(const std::vector<Expression>& formulas, const std::string& clang,
+                                     const std::string& mcpu, const std::string& folder_name,
+                                     const std::optional<std::filesystem::path>& ocml = std::nullopt) {
+  const auto dir = scratch_folder(folder_name);
+  std::string src =
+      "#define __device__\n#define __forceinline__ static inline __attribute__((always_inline))\n"
+      "#define sqrtf __builtin_sqrtf\n#define rsqrtf(x) (1.0f / __builtin_sqrtf(x))\n"
+      "#define exp2f __builtin_exp2f\n#define log2f __builtin_log2f\n#define expf __builtin_expf\n"
+      "#define logf __builtin_logf\n#define sinf __builtin_sinf\n#define cosf __builtin_cosf\n"
+      "#define fabsf __builtin_fabsf\n#define fminf __builtin_fminf\n#define fmaxf __builtin_fmaxf\n"
+      "#define fmaf __builtin_fmaf\n#define copysignf __builtin_copysignf\n"
+      "#define __saturatef(x) __builtin_fminf(__builtin_fmaxf((x), 0.0f), 1.0f)\n"
+      "float __ocml_asin_f32(float); float __ocml_acos_f32(float); float __ocml_atan_f32(float);\n"
+      "float __ocml_atan2_f32(float, float); float __ocml_tanh_f32(float); float __ocml_erf_f32(float);\n"
+      "#define asinf __ocml_asin_f32\n#define acosf __ocml_acos_f32\n#define atanf __ocml_atan_f32\n"
+      "#define atan2f __ocml_atan2_f32\n#define tanhf __ocml_tanh_f32\n#define erff __ocml_erf_f32\n";
+  src += printed_source(formulas, Language::Cuda);
+  for (std::size_t i = 0; i < formulas.size(); ++i) {
+    const std::size_t n = input_count(formulas[i]);
+    std::string params, args;
+    for (std::size_t k = 0; k < n; ++k) {
+      params += fmt::format(", __global const float* restrict in{}", k);
+      args += fmt::format("{}in{}[g]", k ? ", " : "", k);
+    }
+    src += fmt::format(
+        "__kernel void k{0}(__global float* restrict out{1}) {{\n"
+        "  const uint g = __builtin_amdgcn_workitem_id_x();\n  out[g] = f{0}({2});\n}}\n",
+        i, params, args);
+  }
+  write_text(dir / "all.cl", src);
+  std::string link;
+  if (ocml) {
+    for (const char* f : {"ocml", "oclc_unsafe_math_on", "oclc_finite_only_on", "oclc_daz_opt_on",
+                          "oclc_correctly_rounded_sqrt_off", "oclc_wavefrontsize64_off",
+                          "oclc_isa_version_1030", "oclc_abi_version_400"})
+      link += fmt::format(" -Xclang -mlink-builtin-bitcode -Xclang '{}'", (*ocml / (std::string(f) + ".bc")).string());
+  }
+  CompiledCounts r;
+  const std::string cmd = fmt::format(
+      "cd '{}' && '{}' -x cl -cl-std=CL2.0 -target amdgcn-amd-amdhsa -mcpu={} -O3 "
+      "-cl-fast-relaxed-math -nogpulib{} -S -o all.s all.cl",
+      dir.string(), clang, mcpu, link);
+  if (run_command(cmd, &r.log) != 0) return r;
+  const auto counts = count_amdgpu(read_text(dir / "all.s"));
+  for (std::size_t i = 0; i < formulas.size(); ++i) {
+    const std::string k = "k" + std::to_string(i);
+    r.valu.push_back(counts.count(k) ? counts.at(k) : -1);
+  }
   r.ok = true;
   return r;
 }

@@ -208,7 +208,7 @@ TEST(HalfCodegen, CostCommentNamesTheHalf2Count) {
   EXPECT_EQ(cost_comment(parse_formula("r0 + (x - r0) * x^4"), {}, Precision::Half),
             "cost model: 5 SASS per __half2 (2.5 per value)");
   EXPECT_EQ(cost_comment(parse_formula("r0 + (x - r0) * x^4")),
-            "cost model: 4 SASS, 4 PTX, 5 generic instructions");
+            "cost model: 4 SASS, 4 PTX, 5 generic, 4 RDNA instructions");
 }
 
 }  // namespace

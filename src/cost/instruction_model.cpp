@@ -17,13 +17,14 @@ std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget targ
                                           bool with_text) {
   if (dag.half != lowers_half(target))
     throw Error("internal: a DAG lowered for the wrong arithmetic for its target");
-  const Program program =
-      build_program(dag, target == InstructionTarget::Sass || target == InstructionTarget::Ptx);
+  const Program program = build_program(dag, target != InstructionTarget::Generic);
   switch (target) {
     case InstructionTarget::Sass: return select_sass(dag, program, with_text);
     case InstructionTarget::Ptx: return select_ptx(dag, program, with_text);
     case InstructionTarget::Generic: return select_generic(dag, program, with_text);
     case InstructionTarget::SassHalf2: return select_sass_half2(dag, program, with_text);
+    case InstructionTarget::Rdna2: return select_rdna(dag, program, with_text, false);
+    case InstructionTarget::Rdna3: return select_rdna(dag, program, with_text, true);
   }
   return {};
 }
@@ -45,8 +46,9 @@ InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTa
 }  // namespace cost_detail
 
 // Throughput weights: issue slots per instruction relative to an FP32 FMA, i.e. (FP32 FMA results
-// per clock per SM) / (the unit's results per clock per SM).
-// Source: NVIDIA CUDA C++ Programming Guide, section "Arithmetic Instructions", table
+// per clock) / (the unit's results per clock).
+// NVIDIA (sass, ptx, sass-half2; generic too, taking sm_90 as the reference GPU,
+// docs/cost-model.md): CUDA C++ Programming Guide, section "Arithmetic Instructions", table
 // "Throughput of Native Arithmetic Instructions (operations per clock cycle per multiprocessor)",
 // column compute capability 9.0:
 //   32-bit floating-point add, multiply, multiply-add ............................ 128
@@ -55,14 +57,17 @@ InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTa
 //   compare, minimum, maximum ...................................................... 64
 //   (the MinMax unit; FSETP, FSEL and LOP3 are counted there too: 32-bit compare and
 //   bitwise AND/OR/XOR are 64 per clock in the same table)
-// PTX instructions run on the same units. The generic target has no hardware of its own; it uses
-// the same figures, taking sm_90 as the reference GPU (docs/cost-model.md).
-double throughput_weight(InstructionTarget /*target*/, InstructionUnit unit) {
+// AMD RDNA 2 and 3: AMD's RDNA 2 and RDNA 3 ISA reference guides: a SIMD32 issues one 32-lane
+// VALU instruction per clock, compares, selects and bit operations included; the transcendental
+// instructions (v_rcp, v_rsq, v_sqrt, v_exp, v_log, v_sin, v_cos) run at quarter rate.
+double throughput_weight(InstructionTarget target, InstructionUnit unit) {
+  const bool rdna = target == InstructionTarget::Rdna2 || target == InstructionTarget::Rdna3;
   constexpr double kFp32PerClock = 128.0, kMinMaxPerClock = 64.0, kMufuPerClock = 16.0;
+  constexpr double kRdnaTranscendentalRate = 0.25;
   switch (unit) {
     case InstructionUnit::Fp32: return 1.0;
-    case InstructionUnit::MinMax: return kFp32PerClock / kMinMaxPerClock;
-    case InstructionUnit::Mufu: return kFp32PerClock / kMufuPerClock;
+    case InstructionUnit::MinMax: return rdna ? 1.0 : kFp32PerClock / kMinMaxPerClock;
+    case InstructionUnit::Mufu: return rdna ? 1.0 / kRdnaTranscendentalRate : kFp32PerClock / kMufuPerClock;
   }
   return 1.0;
 }
@@ -106,6 +111,8 @@ std::string_view instruction_target_name(InstructionTarget target) {
     case InstructionTarget::Ptx: return "ptx";
     case InstructionTarget::Generic: return "generic";
     case InstructionTarget::SassHalf2: return "sass-half2";
+    case InstructionTarget::Rdna2: return "rdna2";
+    case InstructionTarget::Rdna3: return "rdna3";
   }
   return "sass";
 }

@@ -16,7 +16,8 @@ struct TargetInstruction {
   std::string comment;  // empty unless asked for
 };
 
-// The target's instructions for `program` (built fused for Sass and Ptx, unfused for Generic).
+// The target's instructions for `program` (built fused for Sass, Ptx and RDNA, unfused for
+// Generic).
 std::vector<TargetInstruction> select_sass(const Dag& dag, const Program& program, bool with_text);
 std::vector<TargetInstruction> select_ptx(const Dag& dag, const Program& program, bool with_text);
 std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& program,
@@ -25,12 +26,17 @@ std::vector<TargetInstruction> select_generic(const Dag& dag, const Program& pro
 std::vector<TargetInstruction> select_sass_half2(const Dag& dag, const Program& program,
                                                  bool with_text);
 
+// Rdna2 and Rdna3 (`rdna3`): the fused program as LLVM's AMDGPU back end selects it
+// (select_rdna.cpp).
+std::vector<TargetInstruction> select_rdna(const Dag& dag, const Program& program, bool with_text,
+                                           bool rdna3);
+
 // True for the targets that count half code: their DAG is lowered with half = true.
 constexpr bool lowers_half(InstructionTarget target) {
   return target == InstructionTarget::SassHalf2;
 }
 
-// The program of `dag` for the target (fused for Sass and Ptx), selected. The DAG must be lowered
+// The program of `dag` for the target (fused for all but Generic), selected. The DAG must be lowered
 // for the target's arithmetic (lowers_half).
 std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target, bool with_text);
 // The instructions counted per unit, weighted and listed.

@@ -49,15 +49,9 @@ struct Val {
 
 class SassSelector {
  public:
-  SassSelector(const Dag& dag, const Program& p, bool text) : dag_(dag), p_(p), text_(text) {
-    const std::size_t n = p.steps.size();
-    consumers_.assign(n, {});
-    for (std::size_t i = 0; i < n; ++i)
-      for (int k = 0; k < p.steps[i].arity; ++k)
-        if (p.steps[i].args[k].kind == Operand::Kind::Step)
-          consumers_[static_cast<std::size_t>(p.steps[i].args[k].index)].push_back(static_cast<int>(i));
+  SassSelector(const Dag& dag, const Program& p, bool text) : dag_(dag), p_(p), readers_(p), text_(text) {
     next_reg_ = static_cast<int>(dag.variables.size() + dag.parameters.size());
-    vals_.assign(n, {});
+    vals_.assign(p.steps.size(), {});
   }
 
   std::vector<TargetInstruction> run() {
@@ -66,14 +60,10 @@ class SassSelector {
   }
 
  private:
-  bool is_result(int s) const {
-    return std::any_of(p_.results.begin(), p_.results.end(), [&](const Operand& r) {
-      return r.kind == Operand::Kind::Step && r.index == s;
-    });
-  }
+  bool is_result(int s) const { return readers_.is_result(s); }
   bool all_alu(int s, bool neg_ok = false) const {
     if (is_result(s)) return false;
-    for (int c : consumers_[static_cast<std::size_t>(s)]) {
+    for (int c : readers_.of(s)) {
       const Op op = p_.steps[static_cast<std::size_t>(c)].op;
       if (!takes_operand_modifiers(op) && !(neg_ok && op == Op::Neg && all_alu(c))) return false;
     }
@@ -84,19 +74,15 @@ class SassSelector {
   // is FMUL, FADD -p, -RZ, then acosf's instructions).
   bool negated_product(int s) const {
     const Step& st = p_.steps[static_cast<std::size_t>(s)];
-    if (st.op != Op::Mul || st.uses != 1 || consumers_[static_cast<std::size_t>(s)].size() != 1) return false;
-    const int c = consumers_[static_cast<std::size_t>(s)][0];
+    if (st.op != Op::Mul || st.uses != 1 || readers_.of(s).size() != 1) return false;
+    const int c = readers_.of(s)[0];
     if (p_.steps[static_cast<std::size_t>(c)].op != Op::Neg || all_alu(c)) return false;
-    for (int r : consumers_[static_cast<std::size_t>(c)])
+    for (int r : readers_.of(c))
       if (library_call(p_.steps[static_cast<std::size_t>(r)].op) != nullptr) return false;
     return true;
   }
 
-  // The one step that reads step s, or -1.
-  int only_reader(int s) const {
-    const auto& c = consumers_[static_cast<std::size_t>(s)];
-    return p_.steps[static_cast<std::size_t>(s)].uses == 1 && c.size() == 1 ? c[0] : -1;
-  }
+  int only_reader(int s) const { return readers_.only_reader(s); }
   const Step* step_of(const Operand& o) const {
     return o.kind == Operand::Kind::Step ? &p_.steps[static_cast<std::size_t>(o.index)] : nullptr;
   }
@@ -112,7 +98,7 @@ class SassSelector {
         x->args[0].kind != Operand::Kind::Const)
       return true;
     if (is_result(s)) return false;
-    for (int c : consumers_[static_cast<std::size_t>(s)]) {
+    for (int c : readers_.of(s)) {
       const Step& rd = p_.steps[static_cast<std::size_t>(c)];
       if (!takes_operand_modifiers(rd.op) && rd.op != Op::Exp && !(rd.op == Op::Neg && all_alu(c))) return false;
       // -|x| as the subtrahend of FADD is not folded (checked against ptxas).
@@ -180,6 +166,7 @@ class SassSelector {
 
   void select(int s) {
     const Step& st = p_.steps[static_cast<std::size_t>(s)];
+    if (st.compared) return;  // its selects compare its operands
     const std::string c = text_ ? names_text_.of(s) : std::string();
     const Val a = st.arity > 0 ? val(st.args[0]) : Val{};
     const Val b = st.arity > 1 ? val(st.args[1]) : Val{};
@@ -287,8 +274,10 @@ class SassSelector {
                                          st.neg_arg ? 1 : 0);
         auto it = predicates_.find(key);
         if (it == predicates_.end()) {
-          const Val p = emit(U::MinMax, "FSETP.GE.FTZ.AND", {st.neg_arg ? negated(a) : a, rz},
-                             "condition of " + c, true);
+          const Comparison cmp = select_comparison(p_, st);
+          const bool zero = cmp.rhs.kind == Operand::Kind::Const && cmp.rhs.value == 0.0f;
+          const Val p = emit(U::MinMax, st.neg_arg ? "FSETP.LE.FTZ.AND" : "FSETP.GE.FTZ.AND",
+                             {val(cmp.lhs), zero ? rz : val(cmp.rhs)}, "condition of " + c, true);
           it = predicates_.emplace(key, p).first;
         }
         // A branch that is computed for this select alone is computed under the predicate.
@@ -328,9 +317,9 @@ class SassSelector {
 
   const Dag& dag_;
   const Program& p_;
+  StepReaders readers_;
   StepText names_text_{dag_, p_};
   bool text_;
-  std::vector<std::vector<int>> consumers_;
   std::vector<Val> vals_;
   std::map<std::tuple<int, int>, Val> scaled_;
   std::map<std::tuple<int, int, int>, Val> predicates_;  // Select: FSETP per condition and sign

@@ -79,6 +79,7 @@ class TextSelector {
 
   void select(int s) {
     const Step& st = p_.steps[static_cast<std::size_t>(s)];
+    if (st.compared) return;  // its selects compare its operands
     const std::string c = text_ ? names_text_.of(s) : std::string();
     const std::string a = st.arity > 0 ? name(st.args[0]) : std::string();
     const std::string b = st.arity > 1 ? name(st.args[1]) : std::string();
@@ -151,7 +152,8 @@ class TextSelector {
         } else {
           const char* op = ptx_ ? (st.neg_arg ? "setp.le.ftz.f32" : "setp.ge.ftz.f32")
                                 : (st.neg_arg ? "OpFOrdLessThanEqual" : "OpFOrdGreaterThanEqual");
-          p = emit(U::MinMax, op, {a, ptx_ ? ptx_const(0.0f) : "0"}, "condition of " + c);
+          const Comparison cmp = select_comparison(p_, st);
+          p = emit(U::MinMax, op, {name(cmp.lhs), name(cmp.rhs)}, "condition of " + c);
           conditions_[key] = p;
         }
         simple(U::MinMax, "selp.f32", "OpSelect",

@@ -1,5 +1,6 @@
 #include "cost/step_program.hpp"
 
+#include <algorithm>
 #include <array>
 
 #include "shaderfit/core/error.hpp"
@@ -326,8 +327,28 @@ class ProgramBuilder {
     }
     for (const Operand& r : prog_.results)
       if (r.kind == Operand::Kind::Step) ++prog_.steps[static_cast<std::size_t>(r.index)].uses;
+    if (!dag_.half) mark_compared();
     return std::move(prog_);
   }
+
+  // Step.compared: a difference every reader of which compares it with zero (half programs
+  // keep their differences: evaluate_half rounds them).
+  void mark_compared() {
+    std::vector<int> as_condition(prog_.steps.size(), 0);
+    for (const Step& st : prog_.steps) {
+      if (st.op != Op::Select) continue;
+      if (st.args[0].kind == Operand::Kind::Step) ++as_condition[static_cast<std::size_t>(st.args[0].index)];
+      for (int k : {1, 2})  // also read as a branch: computed
+        if (st.args[k].kind == Operand::Kind::Step) as_condition[static_cast<std::size_t>(st.args[k].index)] = -kMaxUses;
+    }
+    for (std::size_t i = 0; i < prog_.steps.size(); ++i) {
+      Step& st = prog_.steps[i];
+      const bool literal_sum = st.op == Op::Add && (st.args[0].kind == Operand::Kind::Const ||
+                                                    st.args[1].kind == Operand::Kind::Const);
+      if ((st.op == Op::Sub || literal_sum) && as_condition[i] > 0 && as_condition[i] == st.uses) st.compared = true;
+    }
+  }
+  static constexpr int kMaxUses = 1 << 30;
 
   const Dag& dag_;
   bool fused_;
@@ -345,6 +366,39 @@ class ProgramBuilder {
 
 Program build_program(const Dag& dag, bool fused) {
   return ProgramBuilder(dag, fused && !dag.half).build();
+}
+
+Comparison select_comparison(const Program& p, const Step& select) {
+  const Operand& a = select.args[0];
+  if (a.kind == Operand::Kind::Step) {
+    const Step& d = p.steps[static_cast<std::size_t>(a.index)];
+    if (d.compared) {
+      if (d.op == Op::Sub) return {d.args[0], d.args[1]};
+      // a + K >= 0 is a >= -K.
+      const int k = d.args[0].kind == Operand::Kind::Const ? 0 : 1;
+      Operand rhs = d.args[k];
+      rhs.value = -rhs.value;
+      return {d.args[1 - k], rhs};
+    }
+  }
+  return {a, Operand{Operand::Kind::Const, 0, 0.0f}};
+}
+
+StepReaders::StepReaders(const Program& p) : p_(p), readers_(p.steps.size()) {
+  for (std::size_t i = 0; i < p.steps.size(); ++i)
+    for (int k = 0; k < p.steps[i].arity; ++k)
+      if (p.steps[i].args[k].kind == Operand::Kind::Step)
+        readers_[static_cast<std::size_t>(p.steps[i].args[k].index)].push_back(static_cast<int>(i));
+}
+
+bool StepReaders::is_result(int s) const {
+  return std::any_of(p_.results.begin(), p_.results.end(),
+                     [&](const Operand& r) { return r.kind == Operand::Kind::Step && r.index == s; });
+}
+
+int StepReaders::only_reader(int s) const {
+  const auto& r = of(s);
+  return p_.steps[static_cast<std::size_t>(s)].uses == 1 && r.size() == 1 ? r[0] : -1;
 }
 
 }  // namespace shaderfit::cost_detail

@@ -42,6 +42,10 @@ struct Step {
   // Select: the condition is read negated, -a >= 0, which every language writes a <= 0 (the same
   // for every a, zeros and NaN included): one comparison either way.
   bool neg_arg = false;
+  // Sub (a - b), or Add of a literal (a + K), read only as the condition of selects: not
+  // computed; each select compares its operands instead (a - b >= 0 is a >= b, the same for
+  // finite a and b), as people write x > 0.5 ? ... (select_comparison).
+  bool compared = false;
 };
 
 struct Program {
@@ -51,6 +55,29 @@ struct Program {
 };
 
 Program build_program(const Dag& dag, bool fused);
+
+// What a Select step compares: lhs >= rhs, or lhs <= rhs when the step's neg_arg is set. The
+// operands of its condition when that step is `compared`, else the condition and a literal 0.
+struct Comparison {
+  Operand lhs, rhs;
+};
+Comparison select_comparison(const Program& p, const Step& select);
+
+// Who reads each step of a program: the selectors' view of uses.
+class StepReaders {
+ public:
+  explicit StepReaders(const Program& p);
+  // The steps that read step s, in program order (a step reading s twice is listed twice).
+  [[nodiscard]] const std::vector<int>& of(int s) const { return readers_[static_cast<std::size_t>(s)]; }
+  // Step s is one of the program's results.
+  [[nodiscard]] bool is_result(int s) const;
+  // The one step that reads step s (s used once, not a result), or -1.
+  [[nodiscard]] int only_reader(int s) const;
+
+ private:
+  const Program& p_;
+  std::vector<std::vector<int>> readers_;
+};
 
 // True for the steps whose SASS forms take negated and absolute-value operands for free:
 // FADD (Add, Sub), FMUL, FFMA, FMNMX.

@@ -16,8 +16,8 @@ bool is_ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c))
 bool is_ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
 
 // Longest first, so that "<=" is one token and "<" another.
-constexpr std::string_view kFormulaSymbols[] = {"<=", ">=", "+", "-", "*", "/",
-                                                "^",  "(",  ")", ",", "<", ">"};
+constexpr std::string_view kFormulaSymbols[] = {"<=", ">=", "+", "-", "*", "/", "^",
+                                                "(",  ")",  ",", "<", ">", "?", ":"};
 
 }  // namespace
 

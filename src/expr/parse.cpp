@@ -41,6 +41,7 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
   Expression run() {
     if (peek().kind == Token::End) fail("empty formula", peek().column);
     expression();
+    if (peek().is(":")) fail("unexpected ':' without a '?' before it", peek().column);
     if (peek().kind != Token::End)
       fail("unexpected '" + std::string(peek().text) + "'", peek().column);
     if (opts_.literals_as_parameters) free_literals();
@@ -48,12 +49,14 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
     return std::move(expr_);
   }
 
-  // A sum where a comparison may not follow: comparisons only appear in select's condition.
+  // A sum, or C's conditional X cmp Y ? b : c (the same as select(X cmp Y, b, c)); a comparison
+  // appears only there and in select's condition.
   std::size_t expression() override {
+    const std::size_t x_begin = expr_.nodes.size();
     const std::size_t v = binary();
-    if (is_comparison()) {
-      fail("a comparison ('" + std::string(peek().text) +
-               "') is only allowed as the first argument of select",
+    if (is_comparison()) return conditional(x_begin);
+    if (peek().is("?")) {
+      fail("the condition before '?' must be a comparison (X >= Y, X > Y, X <= Y or X < Y)",
            peek().column);
     }
     return v;
@@ -242,20 +245,7 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
     const std::string cmp(next().text);
     const std::size_t y_begin = expr_.nodes.size();
     expression();
-    // The condition as P >= Q, negated when `swap`.
-    const bool y_first = cmp == "<=" || cmp == ">";
-    const bool swap = cmp == ">" || cmp == "<";
-    const std::size_t end = expr_.nodes.size();
-    if (y_first) swap_last_two(x_begin, y_begin);
-    const std::size_t q_begin = y_first ? x_begin + (end - y_begin) : y_begin;
-    if (q_begin + 1 == end && is_zero_leaf(q_begin)) {
-      drop_last_leaf();
-    } else if (is_zero_leaf(x_begin) && q_begin == x_begin + 1) {
-      drop_node(x_begin);
-      emit(Node::op_node(Op::Neg));
-    } else {
-      emit(Node::op_node(Op::Sub));
-    }
+    const bool swap = condition(x_begin, y_begin, cmp);
     std::size_t b_begin = 0, c_begin = 0;
     for (std::size_t* begin : {&b_begin, &c_begin}) {
       if (!peek().is(",")) {
@@ -273,6 +263,58 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
     next();
     if (swap) swap_last_two(b_begin, c_begin);
     emit(Node::op_node(Op::Select));
+  }
+
+  // X cmp Y ? b : c, after X (which begins at node x_begin); the branches are expressions, so
+  // that b ? c : d nests to the right as in C.
+  std::size_t conditional(std::size_t x_begin) {
+    const int cmp_column = peek().column;
+    const std::string cmp(next().text);
+    const std::size_t y_begin = expr_.nodes.size();
+    binary();
+    if (is_comparison()) fail("comparisons do not chain: expected '?'", peek().column);
+    if (!peek().is("?")) {
+      fail("a comparison ('" + cmp + "') is only allowed in a condition: select(X " + cmp +
+               " Y, b, c) or X " + cmp + " Y ? b : c (found " + describe(peek()) +
+               " where '?' would be)",
+           cmp_column);
+    }
+    const Token question = next();
+    const Nest nest(*this, question);
+    const bool swap = condition(x_begin, y_begin, cmp);
+    const std::size_t b_begin = expr_.nodes.size();
+    expression();
+    if (!peek().is(":")) {
+      fail("expected ':' after the first branch of '?' at column " +
+               std::to_string(question.column) + ", found " + describe(peek()),
+           peek().column);
+    }
+    next();
+    const std::size_t c_begin = expr_.nodes.size();
+    expression();
+    if (swap) swap_last_two(b_begin, c_begin);
+    emit(Node::op_node(Op::Select));
+    return x_begin;
+  }
+
+  // The condition X cmp Y, its two sides parsed (beginning at nodes x_begin and y_begin), as the
+  // operand a of select(a, b, c): returns whether b and c are to be swapped.
+  bool condition(std::size_t x_begin, std::size_t y_begin, const std::string& cmp) {
+    // The condition as P >= Q, negated when `swap`.
+    const bool y_first = cmp == "<=" || cmp == ">";
+    const bool swap = cmp == ">" || cmp == "<";
+    const std::size_t end = expr_.nodes.size();
+    if (y_first) swap_last_two(x_begin, y_begin);
+    const std::size_t q_begin = y_first ? x_begin + (end - y_begin) : y_begin;
+    if (q_begin + 1 == end && is_zero_leaf(q_begin)) {
+      drop_last_leaf();
+    } else if (is_zero_leaf(x_begin) && q_begin == x_begin + 1) {
+      drop_node(x_begin);
+      emit(Node::op_node(Op::Neg));
+    } else {
+      emit(Node::op_node(Op::Sub));
+    }
+    return swap;
   }
 
   bool is_zero_leaf(std::size_t i) const {

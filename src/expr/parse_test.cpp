@@ -135,16 +135,20 @@ INSTANTIATE_TEST_SUITE_P(
         BadFormula{"1e+", "exponent has no digits", 1}, BadFormula{"sqrt", "needs arguments", 1},
         BadFormula{"1e999", "out of range", 1},
         BadFormula{"min(x)", "min takes 2 arguments, got 1", 1},
-        BadFormula{"x >= 0", "only allowed as the first argument of select", 3},
-        BadFormula{"sqrt(x < r0)", "only allowed as the first argument of select", 8},
+        BadFormula{"x >= 0", "only allowed in a condition", 3},
+        BadFormula{"sqrt(x < r0)", "only allowed in a condition", 8},
         BadFormula{"select(x, 1, 2)", "must be a comparison", 8},
         BadFormula{"select(x + 1 = 0, 1, 2)", "unexpected character '='", 14},
-        BadFormula{"select(x >= 0, 1 < x, 2)", "only allowed as the first", 18},
-        BadFormula{"select(x >= r0 >= 0, 1, 2)", "only allowed as the first", 16},
-        BadFormula{"select((x >= 0), 1, 2)", "only allowed as the first", 11},
+        BadFormula{"select(x >= 0, 1 < x, 2)", "only allowed in a condition", 18},
+        BadFormula{"select(x >= r0 >= 0, 1, 2)", "only allowed in a condition", 16},
+        BadFormula{"select((x >= 0), 1, 2)", "only allowed in a condition", 11},
         BadFormula{"select(x >= 0, 1)", "expected ',' and two more", 17},
         BadFormula{"select(x >= 0, 1, 2, 3)", "expected ')' after the 3", 20},
         BadFormula{"select()", "select takes 3 arguments, got 0", 1},
+        BadFormula{"x ? 1 : 2", "the condition before '?' must be a comparison", 3},
+        BadFormula{"x > 1 ? 2", "expected ':' after the first branch of '?' at column 7", 10},
+        BadFormula{"x > 1 > 2 ? 1 : 2", "comparisons do not chain", 7},
+        BadFormula{"x : 2", "unexpected ':' without a '?'", 3},
         BadFormula{"copysign(x)", "copysign takes 2 arguments, got 1", 1},
         BadFormula{"sign(x, r0)", "sign takes 1 argument, got 2", 1}),
     [](const ::testing::TestParamInfo<BadFormula>& p) { return "case" + std::to_string(p.index); });
@@ -222,6 +226,17 @@ TEST(Parse, SelectComparisonsLowerToOneOperator) {
   const Expression q = parse_formula("select(pi > x, 0.5, 3)", o);
   EXPECT_EQ(to_infix(q, {.substitute_parameters = true}),
             "select(x - 3.141592653589793 >= 0, 3, 0.5)");
+}
+
+// C's conditional is select: X cmp Y ? b : c parses to select(X cmp Y, b, c), lowest in
+// precedence and nesting to the right.
+TEST(Parse, ConditionalIsSelect) {
+  auto p = [](const char* s) { return to_infix(parse_formula(s, vars({"x", "y"}))); };
+  EXPECT_EQ(p("x > 0.5 ? x*x : sqrt(x)"), p("select(x > 0.5, x*x, sqrt(x))"));
+  EXPECT_EQ(p("x >= y ? 1 : 2"), "select(x - y >= 0, 1, 2)");
+  EXPECT_EQ(p("x < y ? 1 : x > 2 ? 3 : 4"), p("select(x < y, 1, select(x > 2, 3, 4))"));
+  EXPECT_EQ(p("1 + (x <= y ? x : y) * 2"), p("1 + select(x <= y, x, y) * 2"));
+  EXPECT_EQ(p("x + 1 >= y * 2 ? x : y + 1"), p("select(x + 1 >= y * 2, x, y + 1)"));
 }
 
 TEST(Parse, PrintThenParseRoundTripsRandomExpressions) {

@@ -114,10 +114,13 @@ std::string eval_json(const EvalReport& report) {
     f["formula"] = r.formula;
     f["input"] = r.input;
     f["role"] = r.baseline ? "baseline" : "candidate";
-    if (!report.uniform.empty()) {
-      const SplitCost c =
-          split_instruction_count(r.expression, report.uniform, InstructionTarget::Sass);
-      f["cost"] = {{"per_pixel", c.per_pixel}, {"per_material", c.per_material}};
+    if (report.cost_target) {
+      const SplitCost c = split_instruction_count(r.expression, report.uniform, *report.cost_target);
+      f["cost"] = {{"target", instruction_target_name(*report.cost_target)}};
+      if (report.uniform.empty())
+        f["cost"]["instructions"] = c.per_pixel;
+      else
+        f["cost"].update({{"per_pixel", c.per_pixel}, {"per_material", c.per_material}});
     }
     f["all"] = metrics_json(r.all);
     if (base && !r.baseline) f["all"]["change_vs_baseline"] = change_json(r.all, base->all);

@@ -112,10 +112,10 @@ struct Scored {
 // `weights` as the search's rows weighed (a scene's display loss), or empty.
 Scored score(const std::string& label, const std::string& text, const Expression& e,
              const Dataset& d, const std::string& target, std::span<const double> weights,
-             std::span<const std::string> uniform, Precision precision) {
+             std::span<const std::string> uniform, Precision precision, CostTarget cost) {
   Scored s{label, text, e, {}, 0};
   s.m = error_metrics(evaluate_on(s.e, d, precision), d.numeric(target).values, {}, weights);
-  s.cost = expression_cost(s.e, CostTarget::Instructions, uniform);
+  s.cost = expression_cost(s.e, cost, uniform);
   return s;
 }
 
@@ -209,6 +209,12 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
                 .value_or(Precision::Double)
           : Precision::Double;
   const Precision precision = a.precision.value_or(run_precision);
+  // The search's cost (JSON options.cost): baselines and the chosen formula are counted the same.
+  const CostTarget cost_target =
+      j.contains("options") && j["options"].contains("cost") && j["options"]["cost"].is_string()
+          ? cost_target_from_name(j["options"]["cost"].get<std::string>()).value_or(CostTarget::Instructions)
+          : CostTarget::Instructions;
+  const InstructionTarget counted = instruction_target_of(cost_target).value_or(InstructionTarget::Sass);
 
   // The chosen formula: the rule's pick, or the caller's formula.
   ReportChoice chosen;
@@ -242,7 +248,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     std::vector<std::string> row = {number_text(m.cost)};
     if (!uniform.empty())
       row.push_back(std::to_string(
-          split_instruction_count(m.expression, uniform, InstructionTarget::Sass).per_material));
+          split_instruction_count(m.expression, uniform, counted).per_material));
     row.insert(row.end(), {number_text(m.metrics.mse), number_text(m.metrics.max_abs)});
     if (float32) row.push_back(number_text(m.float32_max_abs));
     if (half) row.push_back(number_text(m.half_max_abs));
@@ -324,7 +330,8 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   if (a.data != nullptr) {
     for (const ReportFormula& b : a.baselines) {
       baselines.push_back(
-          score(b.label, b.formula, b.expression, *a.data, target, weights, uniform, precision));
+          score(b.label, b.formula, b.expression, *a.data, target, weights, uniform, precision,
+                cost_target));
       pareto.markers.push_back({b.label, baselines.back().cost, baselines.back().m.mse});
       pareto_caption += "; " + b.label + " = " + b.formula;
     }
@@ -342,8 +349,12 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
   answer.answer(chosen_text);
   if (pick) {
     const FrontMember& m = members[pick->index];
-    answer.paragraph(fmt::format("Cost {:g} {}; MSE {}, max abs {}.", m.cost,
-                                 uniform.empty() ? "instructions" : "instructions per pixel",
+    answer.paragraph(fmt::format("Cost {:g} {}{}; MSE {}, max abs {}.", m.cost,
+                                 cost_target == CostTarget::Nodes ? "nodes" : "instructions",
+                                 std::string(uniform.empty() ? "" : " per pixel") +
+                                     (cost_target == CostTarget::Rdna2 || cost_target == CostTarget::Rdna3
+                                          ? " (" + std::string(cost_target_name(cost_target)) + ")"
+                                          : ""),
                                  number_text(m.metrics.mse), number_text(m.metrics.max_abs)));
   }
   answer.paragraph("How: " + chosen.how + ". Why: " + chosen.why + ".");
@@ -366,7 +377,7 @@ ReportChoice add_search_report(HtmlReport& r, const json& j, const std::string& 
     const Dataset& d = *a.data;
     std::vector<std::vector<std::string>> cmp;
     Scored c = score("chosen", chosen_text, parse_formula_on(chosen.formula, d, formula_location),
-                     d, target, weights, uniform, precision);
+                     d, target, weights, uniform, precision, cost_target);
     c.label = fmt::format("chosen (cost {:g})", c.cost);
     auto row = [&](const Scored& s, const Scored* base) {
       return std::vector<std::string>{

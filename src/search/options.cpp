@@ -117,8 +117,9 @@ const SearchOptionField kFields[] = {
     {.name = "cost",
      .member = &O::cost,
      .role = Role::Search,
-     .help = "instructions or nodes",
-     .choices = "instructions, nodes"},
+     .help = "what the front's cost counts: instructions (NVIDIA SASS), rdna2 or rdna3 (AMD "
+             "RDNA 2 and 3 VALU instructions), or nodes",
+     .choices = "instructions, rdna2, rdna3, nodes"},
     {.name = "operators",
      .member = &O::operators,
      .role = Role::Search,

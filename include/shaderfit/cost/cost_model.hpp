@@ -14,6 +14,10 @@
 // `r0 + (1 - r0)*x^5` costs 5; with cos_theta as input, the Fresnel forms of docs/cost-model.md
 // cost 6, 5 and 6, as their SASS listings do.
 //
+// `Rdna2` and `Rdna3` are the AMD RDNA VALU instruction counts of the same model
+// (`instruction_count(e, InstructionTarget::Rdna2)`): a search ranked by them finds the formulas
+// that are cheap on those GPUs (docs/cost-model.md, "RDNA").
+//
 // `Nodes` is the number of nodes of the postfix expression (leaves included).
 //
 // With per-material (uniform) inputs (cost/per_material.hpp), the cost is the per-pixel part's:
@@ -26,18 +30,22 @@
 #include <string>
 #include <string_view>
 
+#include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/expr/expression.hpp"
 
 namespace shaderfit {
 
-enum class CostTarget { Nodes, Instructions };
+enum class CostTarget { Nodes, Instructions, Rdna2, Rdna3 };
+
+// The instruction target a cost counts on (Instructions: Sass); nullopt for Nodes.
+std::optional<InstructionTarget> instruction_target_of(CostTarget target);
 
 // Never negative; 0 only for an expression that is a single leaf (Instructions).
 double expression_cost(const Expression& e, CostTarget target);
 double expression_cost(const Expression& e, CostTarget target,
                        std::span<const std::string> uniform);
 
-// "nodes" / "instructions"; nullopt for any other name.
+// "nodes" / "instructions" / "rdna2" / "rdna3"; nullopt for any other name.
 std::optional<CostTarget> cost_target_from_name(std::string_view name);
 std::string_view cost_target_name(CostTarget target);
 

@@ -21,6 +21,14 @@
 //    which computes two values at once: the count is per __half2 call, half of it per value.
 //    HADD2/HMUL2/HFMA2/HMNMX2 one each; exp2, log2, sqrt, ... convert both halves to float, run
 //    two MUFU ops and pack the results back (docs/precision.md, "Half cost").
+//  - Rdna2, Rdna3: AMD RDNA 2 (gfx1030: PlayStation 5, Xbox Series, Steam Deck) and RDNA 3
+//    (gfx1100) VALU instructions as LLVM's AMDGPU back end selects them under fast math (the
+//    program of sass, fused): v_fma_f32 for a*b + c; -x and |x| free source modifiers on every
+//    float instruction; saturate the clamp bit of the instruction before it; min(max(x, K0), K1)
+//    one v_med3_f32; v_rcp/v_rsq/v_sqrt/v_exp/v_log/v_sin/v_cos_f32 at quarter rate; exp, log,
+//    sin and cos a scale and the instruction, the scale merged into a product with a literal;
+//    select v_cmp + v_cndmask_b32; copysign v_bfi_b32. The two count the same (RDNA 3's dual
+//    issue of two operations as one VOPD instruction is not modelled).
 // Inputs, parameters and literal constants cost nothing; parameters count as run-time inputs.
 #pragma once
 
@@ -35,23 +43,26 @@
 
 namespace shaderfit {
 
-enum class InstructionTarget : std::uint8_t { Sass, Ptx, Generic, SassHalf2 };
+enum class InstructionTarget : std::uint8_t { Sass, Ptx, Generic, SassHalf2, Rdna2, Rdna3 };
 
 // Every target, in the order tables list them.
 inline constexpr InstructionTarget kInstructionTargets[] = {
-    InstructionTarget::Sass, InstructionTarget::Ptx, InstructionTarget::Generic,
-    InstructionTarget::SassHalf2};
+    InstructionTarget::Sass,      InstructionTarget::Ptx,   InstructionTarget::Generic,
+    InstructionTarget::SassHalf2, InstructionTarget::Rdna2, InstructionTarget::Rdna3};
 
 // The hardware unit an instruction issues to; it sets the instruction's throughput weight.
 enum class InstructionUnit : std::uint8_t {
-  Fp32,    // FADD, FMUL, FFMA (and their PTX / SPIR-V counterparts); HADD2, HMUL2, HFMA2, F2FP
+  Fp32,    // FADD, FMUL, FFMA (and their PTX / SPIR-V counterparts); HADD2, HMUL2, HFMA2, F2FP;
+           // RDNA v_add/v_sub/v_mul/v_fma_f32
   MinMax,  // FMNMX, and the compares, selects and bit operations of select, sign and copysign;
-           // HMNMX2, VHMNMX, HSET2, HSETP2, PLOP3
-  Mufu,    // the multi-function unit: rcp, rsqrt, sqrt, exp2, log2, sin, cos
+           // HMNMX2, VHMNMX, HSET2, HSETP2, PLOP3; RDNA v_min/v_max/v_med3_f32, v_cmp,
+           // v_cndmask, v_bfi, v_and, v_xor
+  Mufu,    // the multi-function unit: rcp, rsqrt, sqrt, exp2, log2, sin, cos (on RDNA the
+           // quarter-rate transcendental instructions v_rcp ... v_cos_f32)
 };
 
 struct ListingLine {
-  std::string instruction;  // "FADD.FTZ R2, -R1, 1"
+  std::string instruction;  // "FADD.FTZ R2, -R1, 1", "v_sub_f32 v2, 1, v1"
   std::string comment;      // "1 - cos_theta": the value it computes
   InstructionUnit unit = InstructionUnit::Fp32;
 };
@@ -79,7 +90,7 @@ std::string format_listing(const InstructionCost& cost);
 // in src/cost/instruction_model.cpp).
 double throughput_weight(InstructionTarget target, InstructionUnit unit);
 
-// "sass" / "ptx" / "generic" / "sass-half2"; nullopt for any other name.
+// "sass" / "ptx" / "generic" / "sass-half2" / "rdna2" / "rdna3"; nullopt for any other name.
 std::optional<InstructionTarget> instruction_target_from_name(std::string_view name);
 // The same, or shaderfit::Error at `where` that lists the known names.
 InstructionTarget parse_instruction_target(std::string_view name, const SourceLocation& where);

@@ -38,6 +38,9 @@ struct EvalReport {
   std::vector<std::string> groups;          // the grouping columns
   std::vector<std::string> uniform;         // per-material inputs: each formula's two costs
   std::vector<EvalFormulaResult> results;   // the baseline first, when there is one
+  // The target each formula's cost counts on, when costs are shown (asked for, or with uniform
+  // inputs, where it is sass unless asked).
+  std::optional<InstructionTarget> cost_target;
 };
 
 // shaderfit.eval/1; metrics of candidates carry their change against the baseline.

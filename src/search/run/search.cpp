@@ -423,7 +423,8 @@ void run_search(const SearchOptions& given, const SearchProblem& problem, Search
     for (FrontMember& m : summary->front) {
       m.uniform = options.uniform;
       m.material_cost =
-          split_instruction_count(m.expression, options.uniform, InstructionTarget::Sass)
+          split_instruction_count(m.expression, options.uniform,
+                                  instruction_target_of(options.cost).value_or(InstructionTarget::Sass))
               .per_material;
     }
   }

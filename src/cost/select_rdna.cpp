@@ -1,0 +1,468 @@
+// RDNA selection: the VALU instructions LLVM's AMDGPU back end makes of the generated code
+// (clang -O3 -cl-fast-relaxed-math, gfx1030 for RDNA 2, gfx1100 for RDNA 3), counted as
+// operations. Rules, each checked against clang's output (docs/cost-model.md, "RDNA"):
+//  - + - * fma min max are one VALU instruction each (v_add_f32, v_sub_f32, v_mul_f32,
+//    v_fma_f32 / v_fmac_f32, v_min_f32, v_max_f32); literals are free operands (an inline
+//    constant or the one 32-bit literal of the instruction; moves of constants are not counted);
+//  - every float instruction (the transcendentals and v_cndmask's VOP3 form too) reads -x and |x|
+//    as source modifiers: a negation or |x| read only by those is free; a negation of the result
+//    of +, -, *, fma, min, max, a reciprocal or a sine, read only there, moves into that
+//    instruction's operands (-(a * b) = -a * b, -rcp(x) = rcp(-x)); any other negation is
+//    v_xor_b32 with the sign bit, any other |x| v_and_b32;
+//  - saturate is the clamp bit of the instruction that computes its operand when that operand
+//    is read only there and is not a bit operation (v_bfi, v_cndmask, v_xor, v_and); otherwise
+//    v_max_f32 x, x clamp;
+//  - min(min(a, b), c) and max(max(a, b), c), the inner one read only there, are one v_min3_f32 or
+//    v_max3_f32; on RDNA 3 also min(max(a, b), c) and max(min(a, b), c), one v_maxmin_f32 or
+//    v_minmax_f32 (RDNA 2 has v_med3_f32 for min(max(x, K0), K1), which LLVM forms only with IEEE
+//    mode off, as in pixel shaders, not in the compute kernels of the check: counted as two);
+//  - |x| of a value that is never negative (exp2, exp, sqrt, saturate, x * x) is x;
+//  - a function of its inverse, the inner one read only there, is its argument: log2(exp2(x)),
+//    exp2(log2(x)) (so pow(x, 1)), log(exp(x)), exp(log(x)) and 1 / (1 / x) are x (fast math);
+//  - a / b is v_rcp_f32 and v_mul_f32 (the reciprocal of one divisor computed once); 1 / exp2(x)
+//    and 1 / exp(x), the exponential read only there, is v_exp_f32 of -x;
+//  - sqrt, rsqrt, exp2, log2 are v_sqrt_f32, v_rsq_f32, v_exp_f32, v_log_f32 (quarter rate);
+//    exp(x) scales by log2(e) first, log(x) by ln(2) after, sin and cos by 1 / (2 pi) first (once
+//    per distinct argument); a scale merges into a product with a literal that is read only there
+//    (exp(2 * x) is v_mul_f32 by 2 log2(e) and v_exp_f32; log(x) * 3 is v_log_f32 and v_mul_f32);
+//  - select(a, b, c) is v_cmp_ge_f32 (one per distinct condition and sign) and v_cndmask_b32;
+//    copysign is v_bfi_b32; sign(x) is v_bfi_b32 (copysign(1, x)), v_cmp_lg_f32 and
+//    v_cndmask_b32;
+//  - asin, acos, atan, atan2, tanh and erf are the instructions of ROCm's OCML functions as
+//    measured (cost/library_calls.hpp).
+// RDNA 2 and RDNA 3 count the same but for v_maxmin_f32 and v_minmax_f32; RDNA 3 may also issue
+// two independent operations as one VOPD instruction (v_dual_*), which the count does not model
+// (the check counts a pair as its two operations).
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <set>
+#include <tuple>
+
+#include "cost/float_text.hpp"
+#include "cost/library_calls.hpp"
+#include "cost/select.hpp"
+#include "cost/step_text.hpp"
+#include "shaderfit/core/error.hpp"
+
+namespace shaderfit::cost_detail {
+
+namespace {
+
+// A value as a VALU instruction reads it: a VGPR with modifiers, or a literal.
+struct Val {
+  int reg = -1;
+  bool neg = false, abs = false;
+  bool imm = false;
+  float value = 0.0f;
+  const char* token = nullptr;  // printed as is: vcc_lo, 0x80000000
+};
+
+// Operators whose instructions take -x and |x| operands for free.
+bool reads_modifiers(Op op) {
+  switch (op) {
+    case Op::CopySign:
+    case Op::Sign:
+    case Op::Neg:
+    case Op::Abs: return false;
+    default: return true;
+  }
+}
+
+// Operators whose result's negation moves into their own operands.
+bool absorbs_negation(Op op) {
+  switch (op) {
+    case Op::Add:
+    case Op::Sub:
+    case Op::Mul:
+    case Op::Fma:
+    case Op::Min:
+    case Op::Max:
+    case Op::Sin: return true;
+    default: return false;
+  }
+}
+
+class RdnaSelector {
+ public:
+  RdnaSelector(const Dag& dag, const Program& p, bool text, bool rdna3)
+      : dag_(dag), p_(p), readers_(p), text_(text), rdna3_(rdna3) {
+    next_reg_ = static_cast<int>(dag.variables.size() + dag.parameters.size());
+    vals_.assign(p.steps.size(), {});
+    pair_min_max();
+    pair_inverses();
+  }
+
+  std::vector<TargetInstruction> run() {
+    for (std::size_t i = 0; i < p_.steps.size(); ++i) select(static_cast<int>(i));
+    return std::move(out_);
+  }
+
+ private:
+  const Step& step(int s) const { return p_.steps[static_cast<std::size_t>(s)]; }
+  const Step* step_of(const Operand& o) const { return o.kind == Operand::Kind::Step ? &step(o.index) : nullptr; }
+
+  // Every reader of step s takes modifiers (and s is not a result).
+  bool all_modifier_readers(int s) const {
+    if (readers_.is_result(s)) return false;
+    for (int r : readers_.of(s))
+      if (!reads_modifiers(step(r).op)) return false;
+    return true;
+  }
+  // Step s (a Neg) is free: read only as a modifier, or moved into the step it negates.
+  bool free_negation(int s) const {
+    if (all_modifier_readers(s)) return true;
+    return moves_into(step(s).args[0]);
+  }
+  bool moves_into(const Operand& o) const {
+    const Step* x = step_of(o);
+    if (x == nullptr) return false;
+    if (absorbs_negation(x->op) || (x->op == Op::Div && is_reciprocal(*x)))
+      return readers_.only_reader(o.index) >= 0;
+    return false;
+  }
+  // |x| of a value that is never negative: x itself.
+  bool never_negative(const Operand& o) const {
+    const Step* x = step_of(o);
+    if (x == nullptr) return false;
+    switch (x->op) {
+      case Op::Exp2:
+      case Op::Exp:
+      case Op::Sqrt:
+      case Op::Saturate: return true;
+      case Op::Mul:
+        return x->args[0].kind == x->args[1].kind && x->args[0].index == x->args[1].index &&
+               x->args[0].kind != Operand::Kind::Const;
+      default: return false;
+    }
+  }
+  // The instruction of step s can carry the clamp bit of a saturate that reads it.
+  bool clamps(int s) const {
+    if (cancels_[static_cast<std::size_t>(s)]) return false;  // no instruction of its own
+    switch (step(s).op) {
+      case Op::Select:
+      case Op::CopySign:
+      case Op::Sign: return false;
+      case Op::Neg: return free_negation(s) && step_of(step(s).args[0]) != nullptr && clamps(step(s).args[0].index);
+      case Op::Abs: return false;
+      default: return library_call(step(s).op) == nullptr;
+    }
+  }
+  // A single-use product with a literal factor, whose literal a following scale merges into.
+  bool literal_product(const Operand& o) const {
+    const Step* x = step_of(o);
+    return x && x->op == Op::Mul && readers_.only_reader(o.index) >= 0 &&
+           (x->args[0].kind == Operand::Kind::Const || x->args[1].kind == Operand::Kind::Const);
+  }
+  bool read_by_saturate(int s) const {
+    const int r = readers_.only_reader(s);
+    return r >= 0 && step(r).op == Op::Saturate && clamps(s);
+  }
+
+  Val val(const Operand& o) const {
+    switch (o.kind) {
+      case Operand::Kind::Const: return Val{-1, false, false, true, o.value};
+      case Operand::Kind::Var: return Val{o.index};
+      case Operand::Kind::Param: return Val{static_cast<int>(dag_.variables.size()) + o.index};
+      default: return vals_[static_cast<std::size_t>(o.index)];
+    }
+  }
+  static std::string text(const Val& v) {
+    if (v.token) return v.neg ? std::string("-") + v.token : std::string(v.token);
+    if (v.imm) return float_text(v.value);
+    std::string r = "v" + std::to_string(v.reg);
+    if (v.abs) r = "|" + r + "|";
+    return v.neg ? "-" + r : r;
+  }
+  static Val negated(Val v) {
+    if (v.imm && !v.token) v.value = -v.value;
+    else v.neg = !v.neg;
+    return v;
+  }
+  static Val literal(float v) { return Val{-1, false, false, true, v}; }
+  static Val token(const char* t) { return Val{-1, false, false, true, 0.0f, t}; }
+
+  // One instruction; `clamp` appends the clamp bit.
+  Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args, const std::string& comment,
+           bool clamp = false) {
+    Val d{next_reg_++};
+    TargetInstruction ins;
+    ins.unit = unit;
+    if (text_) {
+      ins.text = op + " " + text(d);
+      for (const Val& a : args) ins.text += ", " + text(a);
+      if (clamp) ins.text += " clamp";
+      ins.comment = comment;
+    }
+    out_.push_back(std::move(ins));
+    return d;
+  }
+  // A float instruction computing step s, with the clamp bit when a saturate reads it alone.
+  Val emit_step(int s, InstructionUnit unit, const std::string& op, std::initializer_list<Val> args,
+                const std::string& comment) {
+    const bool sat = read_by_saturate(s);
+    const int r = readers_.only_reader(s);
+    return emit(unit, op, args, sat && text_ ? names_text_.of(r) : comment, sat);
+  }
+
+  Val library(const LibraryCall& call, Val a, Val b, int arity, const std::string& c) {
+    const std::vector<std::string_view> ops = mnemonics(call.rdna);
+    Val v;
+    for (std::size_t k = 0; k < ops.size(); ++k) {
+      const std::string what =
+          text_ ? (k + 1 == ops.size() ? c : fmt::format("{} {}/{}", call.ocml, k + 1, ops.size())) : std::string();
+      if (k == 0 && arity == 2) v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {a, b}, what);
+      else v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {k == 0 ? a : v}, what);
+    }
+    return v;
+  }
+
+  // A scale by `k` before a transcendental (exp, sin, cos): merged into a single-use product
+  // with a literal factor.
+  Val scaled(const Operand& o, float k, const std::string& comment) {
+    if (literal_product(o)) {
+      const Step& m = *step_of(o);
+      const bool first = m.args[0].kind == Operand::Kind::Const;
+      const Operand& other = first ? m.args[1] : m.args[0];
+      const float c = (first ? m.args[0] : m.args[1]).value * k;
+      return emit(InstructionUnit::Fp32, "v_mul_f32", {literal(c), val(other)}, comment);
+    }
+    return emit(InstructionUnit::Fp32, "v_mul_f32", {literal(k), val(o)}, comment);
+  }
+  // A single-use product with a literal factor whose only reader scales it (exp, sin, cos) or
+  // whose only reader is a log's scale: computed by that reader.
+  bool merged_product(int s) const {
+    if (!literal_product(Operand{Operand::Kind::Step, s})) return false;
+    const Op r = step(readers_.only_reader(s)).op;
+    return r == Op::Exp || r == Op::Sin || r == Op::Cos;
+  }
+
+  void select(int s) {
+    const Step& st = step(s);
+    if (st.compared) return;  // its selects compare its operands
+    if (cancelled_[static_cast<std::size_t>(s)]) return;  // its inverse reads it
+    if (cancels_[static_cast<std::size_t>(s)]) {
+      const Operand& g = inverse_operand(st);
+      vals_[static_cast<std::size_t>(s)] = val(inverse_operand(step(g.index)));
+      return;
+    }
+    const std::string c = text_ ? names_text_.of(s) : std::string();
+    const Val a = st.arity > 0 ? val(st.args[0]) : Val{};
+    const Val b = st.arity > 1 ? val(st.args[1]) : Val{};
+    Val& out = vals_[static_cast<std::size_t>(s)];
+    using U = InstructionUnit;
+    switch (st.op) {
+      case Op::Add: out = emit_step(s, U::Fp32, "v_add_f32", {a, b}, c); break;
+      case Op::Sub: out = emit_step(s, U::Fp32, "v_sub_f32", {a, b}, c); break;
+      case Op::Mul: {
+        if (merged_product(s)) {
+          out = Val{};  // computed by its reader's scale
+          break;
+        }
+        // log(x) * K: the ln(2) scale of the log merges into this product.
+        for (int k = 0; k < 2; ++k) {
+          const Step* x = step_of(st.args[k]);
+          if (x && x->op == Op::Log && st.args[1 - k].kind == Operand::Kind::Const) {
+            out = emit_step(s, U::Fp32, "v_mul_f32", {literal(st.args[1 - k].value * kLn2), k ? b : a}, c);
+            return;
+          }
+        }
+        out = emit_step(s, U::Fp32, "v_mul_f32", {a, b}, c);
+        break;
+      }
+      case Op::Fma: out = emit_step(s, U::Fp32, "v_fma_f32", {a, b, val(st.args[2])}, c); break;
+      case Op::Min:
+      case Op::Max: {
+        if (inner_[static_cast<std::size_t>(s)]) {
+          out = Val{};  // computed by the three-operand instruction that reads it
+          break;
+        }
+        const int k = outer_[static_cast<std::size_t>(s)];
+        if (k >= 0) {
+          const Step& in = step(st.args[k].index);
+          const char* op = in.op == st.op ? (st.op == Op::Min ? "v_min3_f32" : "v_max3_f32")
+                                          : (st.op == Op::Min ? "v_maxmin_f32" : "v_minmax_f32");
+          out = emit_step(s, U::MinMax, op, {val(in.args[0]), val(in.args[1]), val(st.args[1 - k])}, c);
+          break;
+        }
+        out = emit_step(s, U::MinMax, st.op == Op::Min ? "v_min_f32" : "v_max_f32", {a, b}, c);
+        break;
+      }
+      case Op::Neg:
+        if (all_modifier_readers(s)) out = negated(a);
+        else if (moves_into(st.args[0])) out = negated(a);  // the producer computed it negated
+        else out = emit(U::MinMax, "v_xor_b32", {token("0x80000000"), a}, c);
+        break;
+      case Op::Abs:
+        if (never_negative(st.args[0])) out = a;
+        else if (all_modifier_readers(s)) out = Val{a.reg, false, true};
+        else out = emit(U::MinMax, "v_and_b32", {token("0x7fffffff"), a}, c);
+        break;
+      case Op::Div: {
+        const bool rcp = is_reciprocal(st);
+        const Step* den = step_of(st.args[1]);
+        if (rcp && den && (den->op == Op::Exp2 || den->op == Op::Exp) && den->uses == 1) {
+          out = b;  // the exponential of -x
+          break;
+        }
+        if (rcp) {
+          const Val r = emit_step(s, U::Mufu, "v_rcp_f32", {a.value < 0 ? negated(b) : b}, c);
+          out = r;
+          break;
+        }
+        const Val r = emit(U::Mufu, "v_rcp_f32", {b}, "reciprocal of the divisor");
+        out = emit_step(s, U::Fp32, "v_mul_f32", {a, r}, c);
+        break;
+      }
+      case Op::Sqrt: out = emit_step(s, U::Mufu, "v_sqrt_f32", {a}, c); break;
+      case Op::Rsqrt: out = emit_step(s, U::Mufu, "v_rsq_f32", {a}, c); break;
+      case Op::Exp2: out = emit_step(s, U::Mufu, "v_exp_f32", {inverted(s) ? negated(a) : a}, c); break;
+      case Op::Log2: out = emit_step(s, U::Mufu, "v_log_f32", {a}, c); break;
+      case Op::Exp: {
+        const float k = (st.neg_arg != inverted(s)) ? -kLog2E : kLog2E;
+        const Val t = scaled(st.args[0], k, "log2(e) * ...");
+        out = emit_step(s, U::Mufu, "v_exp_f32", {t}, c);
+        break;
+      }
+      case Op::Log: {
+        const int r = readers_.only_reader(s);
+        const Step* rd = r >= 0 ? &step(r) : nullptr;
+        const bool merged = rd && rd->op == Op::Mul &&
+                            (rd->args[0].kind == Operand::Kind::Const || rd->args[1].kind == Operand::Kind::Const);
+        if (merged) {
+          out = emit(U::Mufu, "v_log_f32", {a}, "log2 of ...");  // the reader scales by K ln(2)
+        } else {
+          const Val t = emit(U::Mufu, "v_log_f32", {a}, "log2 of ...");
+          out = emit_step(s, U::Fp32, "v_mul_f32", {literal(kLn2), t}, c);
+        }
+        break;
+      }
+      case Op::Saturate: {
+        const Step* x = step_of(st.args[0]);
+        if (x && readers_.only_reader(st.args[0].index) == s && clamps(st.args[0].index)) out = a;
+        else out = emit(U::MinMax, "v_max_f32", {a, a}, c, true);
+        break;
+      }
+      case Op::Sin:
+      case Op::Cos: {
+        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
+        auto it = scaled_.find(key);
+        if (it == scaled_.end()) it = scaled_.emplace(key, scaled(st.args[0], kInv2Pi, "argument / (2 pi)")).first;
+        out = emit_step(s, U::Mufu, st.op == Op::Sin ? "v_sin_f32" : "v_cos_f32", {it->second}, c);
+        break;
+      }
+      case Op::Sign: {
+        const Val one = emit(U::MinMax, "v_bfi_b32", {token("0x7fffffff"), literal(1.0f), a}, "copysign(1, ...)");
+        const Val vcc = emit(U::MinMax, "v_cmp_lg_f32", {literal(0.0f), a}, "test of " + c);
+        (void)vcc;
+        out = emit(U::MinMax, "v_cndmask_b32", {a, one, token("vcc_lo")}, c);
+        break;
+      }
+      case Op::CopySign: out = emit(U::MinMax, "v_bfi_b32", {token("0x7fffffff"), a, b}, c); break;
+      case Op::Select: {
+        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index, st.neg_arg ? 1 : 0);
+        if (conditions_.insert(key).second) {
+          const Comparison cmp = select_comparison(p_, st);
+          emit(U::MinMax, st.neg_arg ? "v_cmp_le_f32" : "v_cmp_ge_f32", {val(cmp.lhs), val(cmp.rhs)},
+               "condition of " + c);
+        }
+        out = emit(U::MinMax, "v_cndmask_b32", {val(st.args[2]), b, token("vcc_lo")}, c);
+        break;
+      }
+      default: {
+        const LibraryCall* f = library_call(st.op);
+        if (f == nullptr) throw Error("internal: no RDNA form for '" + std::string(op_info(st.op).name) + "'");
+        out = library(*f, a, b, st.arity, c);
+        break;
+      }
+    }
+  }
+
+  bool is_reciprocal(const Step& st) const {
+    return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
+           (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
+  }
+  // Step s (an exponential) is read only by a reciprocal: it computes exp2(-x) instead.
+  bool inverted(int s) const {
+    const int r = readers_.only_reader(s);
+    return r >= 0 && is_reciprocal(step(r));
+  }
+  // The step pairs f(g(x)) that are x: g is f's inverse and is read only by f.
+  static std::optional<Op> inverse(const Step& st) {
+    switch (st.op) {
+      case Op::Log2: return Op::Exp2;
+      case Op::Exp2: return Op::Log2;
+      case Op::Log: return Op::Exp;
+      case Op::Exp: return st.neg_arg ? std::nullopt : std::optional<Op>(Op::Log);
+      case Op::Div:
+        return st.args[0].kind == Operand::Kind::Const && st.args[0].value == 1.0f ? std::optional<Op>(Op::Div)
+                                                                                   : std::nullopt;
+      default: return std::nullopt;
+    }
+  }
+  // The operand a step of `inverse` inverts: the divisor of 1 / x, else the first.
+  static const Operand& inverse_operand(const Step& st) { return st.args[st.op == Op::Div ? 1 : 0]; }
+  void pair_inverses() {
+    cancelled_.assign(p_.steps.size(), false);
+    cancels_.assign(p_.steps.size(), false);
+    for (std::size_t f = 0; f < p_.steps.size(); ++f) {
+      const Step& st = p_.steps[f];
+      const std::optional<Op> want = inverse(st);
+      const Operand& arg = inverse_operand(st);
+      const Step* g = step_of(arg);
+      if (!want || g == nullptr || g->op != *want || !inverse(*g) || cancels_[static_cast<std::size_t>(arg.index)] ||
+          readers_.only_reader(arg.index) != static_cast<int>(f))
+        continue;
+      cancelled_[static_cast<std::size_t>(arg.index)] = true;
+      cancels_[f] = true;
+    }
+  }
+
+  // The min and max steps that merge into one three-operand instruction: a min or max read only
+  // by a min or max (a different one only on RDNA 3) that takes it as an operand, and that did
+  // not take an inner one itself.
+  void pair_min_max() {
+    inner_.assign(p_.steps.size(), false);
+    outer_.assign(p_.steps.size(), -1);
+    for (std::size_t r = 0; r < p_.steps.size(); ++r) {
+      const Step& st = p_.steps[r];
+      if (st.op != Op::Min && st.op != Op::Max) continue;
+      for (int k = 0; k < 2; ++k) {
+        const Step* in = step_of(st.args[k]);
+        if (in == nullptr || (in->op != Op::Min && in->op != Op::Max) || (in->op != st.op && !rdna3_)) continue;
+        const auto i = static_cast<std::size_t>(st.args[k].index);
+        if (outer_[i] >= 0 || readers_.only_reader(st.args[k].index) != static_cast<int>(r)) continue;
+        inner_[i] = true;
+        outer_[r] = k;
+        break;
+      }
+    }
+  }
+
+  const Dag& dag_;
+  const Program& p_;
+  StepReaders readers_;
+  StepText names_text_{dag_, p_};
+  bool text_;
+  bool rdna3_;
+  std::vector<bool> inner_;  // a min or max computed by the three-operand instruction reading it
+  std::vector<int> outer_;   // the operand (0, 1) of a min or max that is its inner one, or -1
+  std::vector<bool> cancelled_, cancels_;  // g and f of f(g(x)) = x (pair_inverses)
+  std::vector<Val> vals_;
+  std::map<std::tuple<int, int>, Val> scaled_;
+  std::set<std::tuple<int, int, int>> conditions_;  // Select: one v_cmp per condition and sign
+  std::vector<TargetInstruction> out_;
+  int next_reg_ = 0;
+};
+
+}  // namespace
+
+std::vector<TargetInstruction> select_rdna(const Dag& dag, const Program& program, bool with_text,
+                                           bool rdna3) {
+  return RdnaSelector(dag, program, with_text, rdna3).run();
+}
+
+}  // namespace shaderfit::cost_detail
