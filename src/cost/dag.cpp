@@ -43,9 +43,17 @@ bool ref_less(DagRef x, DagRef y) { return code(x) < code(y); }
 
 class Builder {
  public:
-  explicit Builder(Dag& dag) : dag_(dag), half_(dag.half) {}
+  explicit Builder(Dag& dag) : dag_(dag), half_(dag.half), fast_(dag.fast_math) {}
 
   [[nodiscard]] bool half() const { return half_; }
+  // log(x) = log2(x) * ln2, the product marked log_scale; with fast math log(exp(x)) = x, and
+  // a log2 that folds (log2(exp2(x)) = x) leaves a plain product.
+  DagRef log(DagRef a) {
+    if (fast_ && !a.neg && dag_.node(a.id).op == Op::Exp) return dag_.node(a.id).a;
+    // (LLVM folds log2(exp2(x)) but not log(exp2(x)): the log2 here does not fold.)
+    const DagRef l = unary(Op::Log2, a, false);
+    return mul(l, constant(kLn2), !l.neg && dag_.node(l.id).op == Op::Log2);
+  }
 
   // A literal of the expression: its float32 value, or in a half DAG its binary16 value.
   DagRef literal(double v) { return constant(static_cast<float>(half_ ? round_to_half(v) : v)); }
@@ -69,6 +77,11 @@ class Builder {
       return fold([&](auto t) { return as(t, value(a)) + as(t, value(b)); });
     if (is_minus_zero(b)) return a;  // x + -0 == x for every x
     if (is_minus_zero(a)) return b;
+    if (fast_) {  // x + 0 = x, x - x = 0
+      if (is_zero(b)) return a;
+      if (is_zero(a)) return b;
+      if (a.id == b.id && a.neg != b.neg) return constant(0.0f);
+    }
     // Keep the first operand positive: -a + b = b - a, and -a - b = -(a + b).
     if (a.neg) std::swap(a, b);
     const bool flip = a.neg;
@@ -87,6 +100,13 @@ class Builder {
       return {b.id, b.neg != (value(a) < 0)};
     if (is_const(b) && !log_scale && std::fabs(value(b)) == 1.0f)
       return {a.id, a.neg != (value(b) < 0)};
+    if (fast_) {  // x * 0 = 0, x * (1 / x) = 1
+      if (is_zero(a) || is_zero(b)) return constant(0.0f);
+      for (const auto& [x, r] : {std::pair{a, b}, std::pair{b, a}}) {
+        const DagNode& rn = dag_.node(r.id);
+        if (rn.op == Op::Rcp && rn.a.id == x.id) return constant(x.neg != r.neg != rn.a.neg ? -1.0f : 1.0f);
+      }
+    }
     const bool neg = a.neg != b.neg;
     a.neg = b.neg = false;
     DagNode n;
@@ -97,7 +117,8 @@ class Builder {
     return {intern(n), neg};
   }
 
-  DagRef unary(Op op, DagRef a) {
+  // `inverse_folds`: with fast math, f(g(x)) = x for a g that inverts f (below).
+  DagRef unary(Op op, DagRef a, bool inverse_folds = true) {
     if (is_const(a)) {
       return fold([&](auto t) {
         const auto x = as(t, value(a));
@@ -106,6 +127,11 @@ class Builder {
     }
     if (!half_ && op == Op::Rcp && !a.neg && dag_.node(a.id).op == Op::Sqrt) {
       return unary(Op::Rsqrt, dag_.node(a.id).a);  // 1 / sqrt(x) is rsqrt(x), as nvcc makes it
+    }
+    if (fast_ && inverse_folds) {  // 1 / (1 / x) = x, log2(exp2(x)) = x
+      const DagNode& in = dag_.node(a.id);
+      if (op == Op::Rcp && in.op == Op::Rcp) return {in.a.id, in.a.neg != a.neg};
+      if (op == Op::Log2 && in.op == Op::Exp2 && !a.neg) return in.a;
     }
     bool out_neg = false;
     if (op_info(op).parity == OpParity::Odd) {  // the sign moves to the result
@@ -268,6 +294,7 @@ class Builder {
     if (half_) return constant(static_cast<float>(round_to_half(f(0.0))));
     return constant(f(0.0f));
   }
+  [[nodiscard]] bool is_zero(DagRef r) const { return is_const(r) && value(r) == 0.0f; }
   [[nodiscard]] bool is_minus_zero(DagRef r) const {
     return is_const(r) && value(r) == 0.0f && std::signbit(value(r));
   }
@@ -295,7 +322,7 @@ class Builder {
   }
 
   Dag& dag_;
-  bool half_;
+  bool half_, fast_;
   std::unordered_map<Key, int, KeyHash> ids_;
 };
 
@@ -316,7 +343,7 @@ DagRef lower_node(const Node& n, const DagRef* args, Builder& b) {
     case Op::IPow: return b.ipow(args[0], n.index);
     case Op::Log:
       if (b.half()) return b.unary(Op::Log, args[0]);
-      return b.mul(b.unary(Op::Log2, args[0]), b.constant(kLn2), true);
+      return b.log(args[0]);
     case Op::Fma:
       if (b.half()) return b.fma(args[0], args[1], args[2]);
       return b.add(b.mul(args[0], args[1]), args[2]);
@@ -344,12 +371,15 @@ void count_uses(Dag& dag) {
 
 }  // namespace
 
-Dag lower_expression(const Expression& e, bool half) { return lower_expressions({&e, 1}, half); }
+Dag lower_expression(const Expression& e, bool half, bool fast_math) {
+  return lower_expressions({&e, 1}, half, fast_math);
+}
 
-Dag lower_expressions(std::span<const Expression> values, bool half) {
+Dag lower_expressions(std::span<const Expression> values, bool half, bool fast_math) {
   if (values.empty()) throw Error("empty expression");
   Dag dag;
   dag.half = half;
+  dag.fast_math = fast_math && !half;
   dag.variables = values.front().variables;
   dag.parameters = values.front().parameters;
   Builder builder(dag);

@@ -25,6 +25,13 @@
 // Rcp, and a / K a product only where 1/K is an exact power of two; fma(a, b, c) is one Fma node
 // (a * b + c stays a product and a sum); log(x) is one Log node; 1 / sqrt(x) stays a division of
 // the square root. The other rewrites above are exact in any precision and stay.
+//
+// Lowered for fast math (`fast_math` = true; the RDNA targets, whose compiler, LLVM under
+// -cl-fast-relaxed-math, assumes no NaN, infinity or signed zero and rewrites the algebra), the DAG
+// also makes these folds: x - x = 0, x * 0 = 0, x + 0 = x, x * (1 / x) = 1 (so x / x),
+// 1 / (1 / x) = x, log2(exp2(x)) = x and log(exp(x)) = x. (LLVM also makes exp2(log2(x)) = x; the
+// DAG does not, as it differs for x < 0 and a search would take pow(x, 1) for x.) Code
+// generation never lowers so: it prints the formula's own arithmetic.
 #pragma once
 
 #include <cstdint>
@@ -61,7 +68,8 @@ struct Dag {
   std::vector<DagRef> roots;  // the values computed: one, or several sharing their nodes
   std::vector<int> uses;      // per node: references from live nodes, +1 per root
   std::vector<std::string> variables, parameters;
-  bool half = false;  // lowered for binary16 arithmetic (see above)
+  bool half = false;       // lowered for binary16 arithmetic (see above)
+  bool fast_math = false;  // lowered with fast math's folds (see above)
 
   [[nodiscard]] const DagNode& node(int id) const { return nodes[static_cast<std::size_t>(id)]; }
   [[nodiscard]] bool is_const(int id) const { return node(id).op == Op::Const; }
@@ -70,10 +78,10 @@ struct Dag {
 
 // Throws shaderfit::Error for an empty or malformed expression. `half`: lowered for binary16
 // arithmetic (see above).
-Dag lower_expression(const Expression& e, bool half = false);
+Dag lower_expression(const Expression& e, bool half = false, bool fast_math = false);
 // Several values lowered into one DAG, equal subexpressions shared across them (one root each,
 // in order); all over the first expression's variable and parameter tables.
-Dag lower_expressions(std::span<const Expression> values, bool half = false);
+Dag lower_expressions(std::span<const Expression> values, bool half = false, bool fast_math = false);
 
 // Infix text of a DAG value for listings: names from the expression, at most `max_chars`
 // characters (longer text is cut with "...").

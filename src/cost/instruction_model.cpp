@@ -15,7 +15,7 @@ namespace cost_detail {
 
 std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget target,
                                           bool with_text) {
-  if (dag.half != lowers_half(target))
+  if (dag.half != lowers_half(target) || dag.fast_math != lowers_fast_math(target))
     throw Error("internal: a DAG lowered for the wrong arithmetic for its target");
   const Program program = build_program(dag, target != InstructionTarget::Generic);
   switch (target) {
@@ -27,6 +27,10 @@ std::vector<TargetInstruction> select_for(const Dag& dag, InstructionTarget targ
     case InstructionTarget::Rdna3: return select_rdna(dag, program, with_text, true);
   }
   return {};
+}
+
+Dag lower_for(std::span<const Expression> values, InstructionTarget target) {
+  return lower_expressions(values, lowers_half(target), lowers_fast_math(target));
 }
 
 InstructionCost tally(std::vector<TargetInstruction> instructions, InstructionTarget target) {
@@ -73,12 +77,12 @@ double throughput_weight(InstructionTarget target, InstructionUnit unit) {
 }
 
 InstructionCost instruction_cost(const Expression& e, InstructionTarget target) {
-  const cost_detail::Dag dag = cost_detail::lower_expression(e, cost_detail::lowers_half(target));
+  const cost_detail::Dag dag = cost_detail::lower_for({&e, 1}, target);
   return cost_detail::tally(cost_detail::select_for(dag, target, true), target);
 }
 
 int instruction_count(const Expression& e, InstructionTarget target) {
-  const cost_detail::Dag dag = cost_detail::lower_expression(e, cost_detail::lowers_half(target));
+  const cost_detail::Dag dag = cost_detail::lower_for({&e, 1}, target);
   return static_cast<int>(cost_detail::select_for(dag, target, false).size());
 }
 

@@ -316,18 +316,14 @@ SplitCost split_instruction_count(const Expression& e, std::span<const std::stri
   const MaterialSplit s = split_per_material(e, uniform);
   return {instruction_count(s.per_pixel, target),
           static_cast<int>(
-              cost_detail::select_for(cost_detail::lower_expressions(
-                                          value_expressions(s), cost_detail::lowers_half(target)),
-                                      target, false)
+              cost_detail::select_for(cost_detail::lower_for(value_expressions(s), target), target, false)
                   .size())};
 }
 
 InstructionCost material_instruction_cost(const MaterialSplit& split, InstructionTarget target) {
   if (split.values.empty()) return cost_detail::tally({}, target);
   return cost_detail::tally(
-      cost_detail::select_for(cost_detail::lower_expressions(value_expressions(split),
-                                                             cost_detail::lowers_half(target)),
-                              target, true),
+      cost_detail::select_for(cost_detail::lower_for(value_expressions(split), target), target, true),
       target);
 }
 

@@ -1,6 +1,7 @@
 // Internal: instruction selection of a program for one target, with or without listing text.
 #pragma once
 
+#include <span>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,15 @@ std::vector<TargetInstruction> select_rdna(const Dag& dag, const Program& progra
 constexpr bool lowers_half(InstructionTarget target) {
   return target == InstructionTarget::SassHalf2;
 }
+
+// True for the targets whose compiler rewrites the algebra under fast math: their DAG is lowered
+// with fast_math = true (dag.hpp).
+constexpr bool lowers_fast_math(InstructionTarget target) {
+  return target == InstructionTarget::Rdna2 || target == InstructionTarget::Rdna3;
+}
+
+// `values` lowered as the target's compiler sees them (lowers_half, lowers_fast_math).
+Dag lower_for(std::span<const Expression> values, InstructionTarget target);
 
 // The program of `dag` for the target (fused for all but Generic), selected. The DAG must be lowered
 // for the target's arithmetic (lowers_half).

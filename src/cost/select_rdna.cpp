@@ -17,8 +17,10 @@
 //    v_minmax_f32 (RDNA 2 has v_med3_f32 for min(max(x, K0), K1), which LLVM forms only with IEEE
 //    mode off, as in pixel shaders, not in the compute kernels of the check: counted as two);
 //  - |x| of a value that is never negative (exp2, exp, sqrt, saturate, x * x) is x;
-//  - a function of its inverse, the inner one read only there, is its argument: log2(exp2(x)),
-//    exp2(log2(x)) (so pow(x, 1)), log(exp(x)), exp(log(x)) and 1 / (1 / x) are x (fast math);
+//  - a product with a factor x + 1, x - 1, 1 - x or -1 - x is one v_fma_f32 ((x + 1) y = x y + y),
+//    so such a sum read only by products is not computed (LLVM's distributive FMA fold);
+//  - the DAG is lowered with fast math's folds (dag.hpp: x - x, x / x, 1 / (1 / x), ...), as
+//    LLVM rewrites the algebra under -cl-fast-relaxed-math;
 //  - a / b is v_rcp_f32 and v_mul_f32 (the reciprocal of one divisor computed once); 1 / exp2(x)
 //    and 1 / exp(x), the exponential read only there, is v_exp_f32 of -x;
 //  - sqrt, rsqrt, exp2, log2 are v_sqrt_f32, v_rsq_f32, v_exp_f32, v_log_f32 (quarter rate);
@@ -38,7 +40,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <optional>
 #include <set>
 #include <tuple>
 
@@ -93,7 +94,7 @@ class RdnaSelector {
     next_reg_ = static_cast<int>(dag.variables.size() + dag.parameters.size());
     vals_.assign(p.steps.size(), {});
     pair_min_max();
-    pair_inverses();
+    find_distributed();
   }
 
   std::vector<TargetInstruction> run() {
@@ -141,7 +142,6 @@ class RdnaSelector {
   }
   // The instruction of step s can carry the clamp bit of a saturate that reads it.
   bool clamps(int s) const {
-    if (cancels_[static_cast<std::size_t>(s)]) return false;  // no instruction of its own
     switch (step(s).op) {
       case Op::Select:
       case Op::CopySign:
@@ -243,12 +243,7 @@ class RdnaSelector {
   void select(int s) {
     const Step& st = step(s);
     if (st.compared) return;  // its selects compare its operands
-    if (cancelled_[static_cast<std::size_t>(s)]) return;  // its inverse reads it
-    if (cancels_[static_cast<std::size_t>(s)]) {
-      const Operand& g = inverse_operand(st);
-      vals_[static_cast<std::size_t>(s)] = val(inverse_operand(step(g.index)));
-      return;
-    }
+    if (distributed_[static_cast<std::size_t>(s)]) return;  // its products distribute over it
     const std::string c = text_ ? names_text_.of(s) : std::string();
     const Val a = st.arity > 0 ? val(st.args[0]) : Val{};
     const Val b = st.arity > 1 ? val(st.args[1]) : Val{};
@@ -261,6 +256,15 @@ class RdnaSelector {
         if (merged_product(s)) {
           out = Val{};  // computed by its reader's scale
           break;
+        }
+        for (int k = 0; k < 2; ++k) {
+          const Operand& f = st.args[k];
+          if (f.kind != Operand::Kind::Step || !distributed_[static_cast<std::size_t>(f.index)]) continue;
+          // (x + 1) y = fma(x, y, y), and the like.
+          const auto [x, x_neg, one] = unit_sum(step(f.index));
+          const Val y = val(st.args[1 - k]);
+          out = emit_step(s, U::Fp32, "v_fma_f32", {x_neg ? negated(val(x)) : val(x), y, one < 0 ? negated(y) : y}, c);
+          return;
         }
         // log(x) * K: the ln(2) scale of the log merges into this product.
         for (int k = 0; k < 2; ++k) {
@@ -390,34 +394,38 @@ class RdnaSelector {
     const int r = readers_.only_reader(s);
     return r >= 0 && is_reciprocal(step(r));
   }
-  // The step pairs f(g(x)) that are x: g is f's inverse and is read only by f.
-  static std::optional<Op> inverse(const Step& st) {
-    switch (st.op) {
-      case Op::Log2: return Op::Exp2;
-      case Op::Exp2: return Op::Log2;
-      case Op::Log: return Op::Exp;
-      case Op::Exp: return st.neg_arg ? std::nullopt : std::optional<Op>(Op::Log);
-      case Op::Div:
-        return st.args[0].kind == Operand::Kind::Const && st.args[0].value == 1.0f ? std::optional<Op>(Op::Div)
-                                                                                   : std::nullopt;
-      default: return std::nullopt;
-    }
-  }
-  // The operand a step of `inverse` inverts: the divisor of 1 / x, else the first.
-  static const Operand& inverse_operand(const Step& st) { return st.args[st.op == Op::Div ? 1 : 0]; }
-  void pair_inverses() {
-    cancelled_.assign(p_.steps.size(), false);
-    cancels_.assign(p_.steps.size(), false);
-    for (std::size_t f = 0; f < p_.steps.size(); ++f) {
-      const Step& st = p_.steps[f];
-      const std::optional<Op> want = inverse(st);
-      const Operand& arg = inverse_operand(st);
-      const Step* g = step_of(arg);
-      if (!want || g == nullptr || g->op != *want || !inverse(*g) || cancels_[static_cast<std::size_t>(arg.index)] ||
-          readers_.only_reader(arg.index) != static_cast<int>(f))
+  // A sum x + 1, x - 1, 1 - x or -1 - x as (x, x negated, the literal); `one` 0 for other steps.
+  struct UnitSum {
+    Operand x;
+    bool x_neg = false;
+    float one = 0.0f;
+  };
+  static UnitSum unit_sum(const Step& st) {
+    if (st.op != Op::Add && st.op != Op::Sub) return {};
+    for (int k = 0; k < 2; ++k) {
+      const Operand& lit = st.args[k];
+      if (lit.kind != Operand::Kind::Const || std::fabs(lit.value) != 1.0f || st.args[1 - k].kind == Operand::Kind::Const)
         continue;
-      cancelled_[static_cast<std::size_t>(arg.index)] = true;
-      cancels_[f] = true;
+      if (st.op == Op::Add) return {st.args[1 - k], false, lit.value};
+      return k == 0 ? UnitSum{st.args[1], true, lit.value} : UnitSum{st.args[0], false, -lit.value};
+    }
+    return {};
+  }
+  // The unit sums every reader of which is a product that takes it as one factor.
+  void find_distributed() {
+    distributed_.assign(p_.steps.size(), false);
+    for (std::size_t i = 0; i < p_.steps.size(); ++i) {
+      const Step& st = p_.steps[i];
+      if (unit_sum(st).one == 0.0f || st.compared || readers_.is_result(static_cast<int>(i)) || readers_.of(static_cast<int>(i)).empty())
+        continue;
+      bool all = true;
+      for (int r : readers_.of(static_cast<int>(i))) {
+        const Step& rd = step(r);
+        const bool first = rd.args[0].kind == Operand::Kind::Step && rd.args[0].index == static_cast<int>(i);
+        const bool second = rd.args[1].kind == Operand::Kind::Step && rd.args[1].index == static_cast<int>(i);
+        all = all && rd.op == Op::Mul && first != second;
+      }
+      distributed_[i] = all;
     }
   }
 
@@ -450,7 +458,7 @@ class RdnaSelector {
   bool rdna3_;
   std::vector<bool> inner_;  // a min or max computed by the three-operand instruction reading it
   std::vector<int> outer_;   // the operand (0, 1) of a min or max that is its inner one, or -1
-  std::vector<bool> cancelled_, cancels_;  // g and f of f(g(x)) = x (pair_inverses)
+  std::vector<bool> distributed_;          // unit sums the products reading them take apart
   std::vector<Val> vals_;
   std::map<std::tuple<int, int>, Val> scaled_;
   std::set<std::tuple<int, int, int>> conditions_;  // Select: one v_cmp per condition and sign
