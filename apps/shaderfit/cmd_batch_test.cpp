@@ -49,6 +49,22 @@ TEST(CmdBatch, WritesTheHeadersTheJsonAndTheReport) {
   EXPECT_NE(again.out.find("(2 finished by an earlier run)"), std::string::npos) << again.out;
 }
 
+// A manifest's cost names the search's cost target: its costs are RDNA 2 counts.
+TEST(CmdBatch, CostRdna2) {
+  const std::string m = scratch_file(
+      "batch_rdna.toml", "[defaults]\ntime = 600\nevals = 5000\ncost = \"rdna2\"\n\n"
+                         "[[function]]\nname = \"fast_tanh\"\nreference = \"tanh(x)\"\n"
+                         "domain = { x = [0.0, 4.0] }\nsamples = 200\n");
+  const fs::path out = fs::path(m).parent_path() / "batch-rdna-out";
+  fs::remove_all(out);
+  const CliResult r = run({"batch", m, "--out", out.string()});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::ifstream in(out / "entries/fast_tanh.json");
+  const auto doc = nlohmann::json::parse(in);
+  EXPECT_EQ(doc.at("cost"), "rdna2");
+  EXPECT_NE(r.out.find("fast_tanh  cost"), std::string::npos) << r.out;
+}
+
 TEST(CmdBatch, ABadEntryIsOneLineAndTheOthersRun) {
   const std::string m =
       scratch_file("bad.toml", issue_manifest("\n[[function]]\nname = \"oops\"\nreference = "

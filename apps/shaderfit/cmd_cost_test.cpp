@@ -39,11 +39,31 @@ TEST(CmdCost, HalfRowIsPerTwoValuesAndLeftOutWhereThereIsNoHalfForm) {
   EXPECT_NE(h.err.find("sign has no half form"), std::string::npos) << h.err;
 }
 
+// AMD RDNA 2 (gfx1030): the counts of the hand-written kernels (docs/cost-model.md, "RDNA").
+TEST(CmdCost, Rdna2CountsAsClangCompilesThem) {
+  const std::pair<const char*, int> cases[] = {
+      {"x*x*x + 1/(x + 2)", 4}, {"exp2(a*x + 0.5)", 2}, {"pow(x, 2.4)", 3}, {"x > 0.5 ? x*x : sqrt(x)", 4}};
+  for (const auto& [formula, count] : cases) {
+    const CliResult r = run({"cost", "--target", "rdna2", "--json", "-", formula});
+    ASSERT_EQ(r.status, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["targets"]["rdna2"]["instructions"], count) << formula;
+    EXPECT_EQ(j["listing"]["target"], "rdna2");
+    EXPECT_EQ(j["listing"]["lines"].size(), static_cast<std::size_t>(count)) << formula;
+  }
+  const CliResult t = run({"cost", "--target", "rdna3", "x > 0.5 ? x*x : sqrt(x)"});
+  ASSERT_EQ(t.status, 0) << t.err;
+  EXPECT_TRUE(std::regex_search(t.out, std::regex("\\nrdna2 +4 "))) << t.out;
+  EXPECT_NE(t.out.find("v_cndmask_b32"), std::string::npos) << t.out;
+}
+
 TEST(CmdCost, UnknownTargetIsOneLineAndStatus2) {
   const CliResult r = run({"cost", "--target", "x86", "a + b"});
   EXPECT_EQ(r.status, 2);
   EXPECT_EQ(line_count(r.err), 1);
-  EXPECT_NE(r.err.find("unknown target 'x86'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("unknown target 'x86' (known: sass, ptx, generic, sass-half2, rdna2, rdna3)"),
+            std::string::npos)
+      << r.err;
 }
 
 TEST(CmdCost, BadFormulaIsOneLineAndStatus2) {

@@ -34,6 +34,19 @@ TEST(CliEval, SeedClaimOnTheSeedDataSet) {
   EXPECT_GE(seed["groups"]["material"].size(), 7u);
 }
 
+// --cost-target: each formula's count on that target, in the table and the JSON.
+TEST(CliEval, CostTarget) {
+  const CliResult r = run({"eval", "--dataset", "fresnel-seed", "--cost-target", "rdna2", kSeed});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("cost: 4 instructions (rdna2)"), std::string::npos) << r.out;
+  const CliResult j = run({"eval", "--dataset", "fresnel-seed", "--cost-target", "sass", "--json", "-", kSchlick});
+  ASSERT_EQ(j.status, 0) << j.err;
+  const auto doc = nlohmann::json::parse(j.out);
+  EXPECT_EQ(doc["results"][0]["cost"], nlohmann::json({{"target", "sass"}, {"instructions", 5}}));
+  testing::expect_bad_input({"eval", "--dataset", "fresnel-seed", "--cost-target", "gcn", kSeed},
+                            "--cost-target: unknown target 'gcn'");
+}
+
 // Constants for people: float32's shortest text, or --digits N significant digits; the JSON
 // keeps the formula exact.
 TEST(CliEval, DigitsOfTheConstants) {

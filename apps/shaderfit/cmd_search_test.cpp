@@ -169,10 +169,32 @@ TEST(CmdSearch, AutoOperatorsAreResolvedShownAndRecorded) {
                    "shaderfit: error: --ops: unknown operator 'auto'");
 }
 
+// Ranked by RDNA 2: the JSON names the target, and every member's cost is its rdna2 count.
+TEST(CmdSearch, CostTargetRdna2) {
+  const auto r = run({"search", "--dataset", "fresnel-seed", "--cost-target", "rdna2", "--evals",
+                      "20000", "--threads", "1", "--quiet", "--json", "-"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["options"]["cost"], "rdna2");
+  ASSERT_FALSE(j["front"].empty());
+  for (const auto& m : j["front"]) {
+    const auto c = run({"cost", "--inputs", "r0,x", "--json", "-", m["formula"].get<std::string>()});
+    ASSERT_EQ(c.status, 0) << c.err;
+    EXPECT_EQ(m["cost"].get<double>(), nlohmann::json::parse(c.out)["targets"]["rdna2"]["instructions"].get<double>())
+        << m["formula"];
+  }
+  const auto same = run({"search", "--dataset", "fresnel-seed", "--cost", "rdna3", "--evals", "2000",
+                         "--threads", "1", "--quiet", "--json", "-"});
+  ASSERT_EQ(same.status, 0) << same.err;
+  EXPECT_EQ(nlohmann::json::parse(same.out)["options"]["cost"], "rdna3");
+}
+
 TEST(CmdSearch, OtherBadOptions) {
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--loss", "l7"}, "unknown loss 'l7'");
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--cost", "watts"},
-                   "unknown cost 'watts'");
+                   "unknown cost 'watts' (known: instructions, rdna2, rdna3, nodes)");
+  expect_bad_input({"search", "--dataset", "fresnel-seed", "--cost-target", "rdna"},
+                   "--cost: unknown cost 'rdna'");
   expect_bad_input({"search", "--dataset", "fresnel-seed", "--literals", "1,two"},
                    "not a number: 'two'");
   // Library errors name the field (SearchOptions::max_power); the command shows its flag.

@@ -47,6 +47,13 @@ def test_front_members_carry_every_figure(seed_data):
     assert str(m) == m.formula_display
 
 
+def test_a_search_ranked_by_rdna2_counts_rdna2(seed_data):
+    front = shaderfit.search(seed_data.X, seed_data.y, inputs=seed_data.inputs, cost="rdna2",
+                             **EXACT)
+    assert all(float(m.cost) == m.cost("rdna2") for m in front)
+    assert shaderfit.cost("x > 0.5 ? x*x : sqrt(x)")["targets"]["rdna2"]["instructions"] == 4
+
+
 def test_same_seed_and_budget_give_the_same_front(seed_data):
     a = shaderfit.search(seed_data.X, seed_data.y, inputs=seed_data.inputs, seed=3, **EXACT)
     b = shaderfit.search(seed_data.X, seed_data.y, inputs=seed_data.inputs, seed=3, **EXACT)

@@ -48,7 +48,7 @@ Arrows read_arrows() {
   return arrows;
 }
 
-// The areas ("expr") and their wings ("search/front").
+// The areas ("expr") and their wings ("search/front"); a testdata folder holds files, not code.
 std::set<std::string> area_folders() {
   std::set<std::string> out;
   for (const fs::path& dir : {kRoot / "src", kRoot / "include" / "shaderfit"})
@@ -56,8 +56,9 @@ std::set<std::string> area_folders() {
       if (!e.is_directory()) continue;
       const std::string area = e.path().filename().string();
       out.insert(area);
-      for (const auto& w : fs::directory_iterator(e.path()))
-        if (w.is_directory()) out.insert(area + "/" + w.path().filename().string());
+      for (const auto& w : fs::directory_iterator(e.path()))  // testdata: tests' files, no wing
+        if (w.is_directory() && w.path().filename() != "testdata")
+          out.insert(area + "/" + w.path().filename().string());
     }
   return out;
 }
