@@ -185,10 +185,10 @@ class RdnaSelector {
   static Val literal(float v) { return Val{-1, false, false, true, v}; }
   static Val token(const char* t) { return Val{-1, false, false, true, 0.0f, t}; }
 
-  // One instruction; `clamp` appends the clamp bit.
+  // One instruction; `clamp` appends the clamp bit. A comparison writes vcc_lo.
   Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args, const std::string& comment,
            bool clamp = false) {
-    Val d{next_reg_++};
+    const Val d = op.starts_with("v_cmp_") ? token("vcc_lo") : Val{next_reg_++};
     TargetInstruction ins;
     ins.unit = unit;
     if (text_) {

@@ -164,6 +164,26 @@ class InfixPrinter {
     return leaf(s + ")");
   }
 
+  std::string condition(std::size_t i) {
+    const Node& n = e_.nodes[i];
+    if (o_.natural && n.op == Op::Sub) {
+      std::size_t c[2] = {0, 0};
+      e_.child_indices(i, std::span<std::size_t>(c, 2));
+      const Term a = term(c[0]), b = term(c[1]);
+      const auto zero = [](const Term& t) { return t.literal && (t.text == "0" || t.text == "0.0"); };
+      if (!zero(a) && !zero(b)) {
+        if (a.literal && !b.literal) return shown(b) + " <= " + shown(a);
+        return shown(a) + " >= " + shown(b);
+      }
+    }
+    if (o_.natural && n.op == Op::Neg) {  // -x >= 0 is x <= 0
+      std::size_t c[1] = {0};
+      e_.child_indices(i, std::span<std::size_t>(c, 1));
+      return shown(term(c[0])) + " <= 0";
+    }
+    return shown(term(i)) + " >= 0";
+  }
+
   Term term(std::size_t i) {
     const Node& n = e_.nodes[i];
     std::size_t c[3] = {0, 0, 0};
@@ -209,9 +229,10 @@ class InfixPrinter {
         return leaf("pow(" + shown(term(c[0])) + ", " + exponent + ")");
       }
       // The condition as the parser reads it back into the same operand (a literal 0 on the
-      // right of >= adds no node).
+      // right of >= adds no node); for people a difference is the comparison it came from,
+      // x <= 0.5 for 0.5 - x >= 0, which the parser reads back into the same difference.
       case Op::Select:
-        return leaf("select(" + shown(term(c[0])) + " >= 0, " + shown(term(c[1])) + ", " +
+        return leaf("select(" + condition(c[0]) + ", " + shown(term(c[1])) + ", " +
                     shown(term(c[2])) + ")");
       default: return call(n, c);
     }
