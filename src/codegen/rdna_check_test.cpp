@@ -7,7 +7,6 @@
 
 #include <fstream>
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "codegen/compiler_harness_test_support.hpp"
@@ -38,7 +37,8 @@ struct Agreement {
   int checked = 0, agree = 0;
   std::string differs;
 };
-Agreement check(const Processor& cpu, const std::vector<Expression>& formulas, const std::string& name,
+Agreement check(const Processor& cpu, const std::vector<Expression>& formulas,
+                const std::string& name,
                 const std::optional<std::filesystem::path>& ocml = std::nullopt) {
   Agreement a;
   const auto clang = testing::find_amdgpu_clang(cpu.mcpu);
@@ -46,7 +46,8 @@ Agreement check(const Processor& cpu, const std::vector<Expression>& formulas, c
     std::cout << "skipped: no clang with the AMDGPU target for " << cpu.mcpu << '\n';
     return a;
   }
-  const testing::CompiledCounts c = testing::compile_amdgpu(formulas, *clang, cpu.mcpu, name + "_" + cpu.mcpu, ocml);
+  const testing::CompiledCounts c =
+      testing::compile_amdgpu(formulas, *clang, cpu.mcpu, name + "_" + cpu.mcpu, ocml);
   EXPECT_TRUE(c.ok) << c.log;
   if (!c.ok) return a;
   for (std::size_t i = 0; i < formulas.size(); ++i) {
@@ -60,10 +61,11 @@ Agreement check(const Processor& cpu, const std::vector<Expression>& formulas, c
     if (c.valu[i] == model)
       ++a.agree;
     else
-      a.differs += "\n  " + std::to_string(model) + " model, " + std::to_string(c.valu[i]) + " clang: " +
-                   to_infix(formulas[i]);
+      a.differs += "\n  " + std::to_string(model) + " model, " + std::to_string(c.valu[i]) +
+                   " clang: " + to_infix(formulas[i]);
   }
-  std::cout << cpu.mcpu << ", " << name << ": " << a.agree << " of " << a.checked << " agree" << a.differs << '\n';
+  std::cout << cpu.mcpu << ", " << name << ": " << a.agree << " of " << a.checked << " agree"
+            << a.differs << '\n';
   return a;
 }
 
@@ -73,7 +75,8 @@ TEST(RdnaCheck, HandCountedFormulas) {
       parsed({"x*x*x + 1/(x + 2)", "exp2(a*x + 0.5)", "pow(x, 2.4)", "x > 0.5 ? x*x : sqrt(x)"});
   const int expected[] = {4, 2, 3, 4};
   for (const Processor& cpu : kProcessors) {
-    for (std::size_t i = 0; i < f.size(); ++i) EXPECT_EQ(instruction_count(f[i], cpu.target), expected[i]) << i;
+    for (std::size_t i = 0; i < f.size(); ++i)
+      EXPECT_EQ(instruction_count(f[i], cpu.target), expected[i]) << i;
     const Agreement a = check(cpu, f, "hand");
     EXPECT_EQ(a.agree, a.checked) << a.differs;
   }
@@ -92,18 +95,45 @@ TEST(RdnaCheck, ShadingFormulasAndOperatorRules) {
       "exp2(log2(c) * 0.45454545)",
       "x / (1 + x)",
       "saturate(x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14))",
-      "saturate(x * y)", "saturate(x + y) * y", "saturate(x)", "saturate(sqrt(x)) + x",
-      "min(max(x, 0.25), 0.75)", "max(min(x, 0.75), 0.25)", "min(max(x, y), 2)",
-      "sin(x) + cos(x)", "sin(2 * x)", "exp(3 * x)", "log(x) * 3", "exp(-x * y)", "1 / exp2(x)",
-      "-sqrt(x)", "-cos(x)", "copysign(x, y)", "copysign(x, -y)", "sign(x) * y", "abs(x * y) + sqrt(abs(x * y))",
-      "x >= y ? x * y : x + 1", "x * y >= 1 ? x : y * y", "-x >= 0 ? y : x * x", "x >= 0 ? -y : x * x",
-      "-(x >= 0 ? y : x * x)", "rcp(x) * y - rcp(x)", "rsqrt(x * y)", "x / y", "-(x * y + 1)",
+      "saturate(x * y)",
+      "saturate(x + y) * y",
+      "saturate(x)",
+      "saturate(sqrt(x)) + x",
+      "min(max(x, 0.25), 0.75)",
+      "max(min(x, 0.75), 0.25)",
+      "min(max(x, y), 2)",
+      "sin(x) + cos(x)",
+      "sin(2 * x)",
+      "exp(3 * x)",
+      "log(x) * 3",
+      "exp(-x * y)",
+      "1 / exp2(x)",
+      "-sqrt(x)",
+      "-cos(x)",
+      "copysign(x, y)",
+      "copysign(x, -y)",
+      "sign(x) * y",
+      "abs(x * y) + sqrt(abs(x * y))",
+      "x >= y ? x * y : x + 1",
+      "x * y >= 1 ? x : y * y",
+      "-x >= 0 ? y : x * x",
+      "x >= 0 ? -y : x * x",
+      "-(x >= 0 ? y : x * x)",
+      "rcp(x) * y - rcp(x)",
+      "rsqrt(x * y)",
+      "x / y",
+      "-(x * y + 1)",
       // compiler_check_test's sign, copysign and select formulas.
-      "select(x - y >= 0, x * y, x + 1)", "select(x >= 0, 2, 0.5) * y", "sign(x) * y + sign(y)",
+      "select(x - y >= 0, x * y, x + 1)",
+      "select(x >= 0, 2, 0.5) * y",
+      "sign(x) * y + sign(y)",
       "copysign(x, y) * copysign(1, y) + copysign(x * x, -y)",
-      "select(-x >= 0, y, x * x) + select(-x >= 0, x * x, y) * y", "select(x * y >= 0, sqrt(x), rcp(y))",
-      "sign(x - y) * copysign(y, x - y)", "select(x < y, x * 2, y * 3) - select(y > x, x + 1, y * y)",
-      "sign(x * y + 1) * (x + y)", "copysign(x + y, x - y) * 0.5",
+      "select(-x >= 0, y, x * x) + select(-x >= 0, x * x, y) * y",
+      "select(x * y >= 0, sqrt(x), rcp(y))",
+      "sign(x - y) * copysign(y, x - y)",
+      "select(x < y, x * 2, y * 3) - select(y > x, x + 1, y * y)",
+      "sign(x * y + 1) * (x + y)",
+      "copysign(x + y, x - y) * 0.5",
   });
   for (const Processor& cpu : kProcessors) {
     const Agreement a = check(cpu, f, "rules");
@@ -114,11 +144,11 @@ TEST(RdnaCheck, ShadingFormulasAndOperatorRules) {
 TEST(RdnaCheck, LibraryFunctions) {
   const auto ocml = testing::find_ocml();
   if (!ocml) GTEST_SKIP() << "skipped: ROCm's ocml.bc not found (rocm-device-libs)";
-  const std::vector<Expression> f = parsed({"asin(x) * y", "acos(x * y)", "atan(x) + y", "atan2(x, y) * 2",
-                                            "tanh(x * y + 1)", "erf(x) * y", "atan(-x * y) * y", "asin(-x * y)",
-                                            "acos(1 - x)", "atan2(x, -(x * y))", "-atan(x)", "acos(-x * y)",
-                                            "atan2(-x, y + 1)", "erf(x - y) + tanh(x)", "erf(x) + erf(y)",
-                                            "atan(x, y)"});
+  const std::vector<Expression> f =
+      parsed({"asin(x) * y", "acos(x * y)", "atan(x) + y", "atan2(x, y) * 2", "tanh(x * y + 1)",
+              "erf(x) * y", "atan(-x * y) * y", "asin(-x * y)", "acos(1 - x)", "atan2(x, -(x * y))",
+              "-atan(x)", "acos(-x * y)", "atan2(-x, y + 1)", "erf(x - y) + tanh(x)",
+              "erf(x) + erf(y)", "atan(x, y)"});
   for (const Processor& cpu : kProcessors) {
     const auto clang = testing::find_amdgpu_clang(cpu.mcpu);
     if (clang && clang->find("clang-15") == std::string::npos) {
@@ -132,7 +162,8 @@ TEST(RdnaCheck, LibraryFunctions) {
 
 // The yardstick's published formulas (bench/published_forms.py keeps them).
 TEST(RdnaCheck, PublishedFormulas) {
-  std::ifstream in(std::string(SHADERFIT_SOURCE_DIR) + "/src/codegen/testdata/published_forms.json");
+  std::ifstream in(std::string(SHADERFIT_SOURCE_DIR) +
+                   "/src/codegen/testdata/published_forms.json");
   ASSERT_TRUE(in) << "published_forms.json not found";
   const nlohmann::json j = nlohmann::json::parse(in);
   std::vector<Expression> f;

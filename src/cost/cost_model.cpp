@@ -1,9 +1,9 @@
 #include "shaderfit/cost/cost_model.hpp"
 
+#include <utility>
+
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/cost/per_material.hpp"
-
-#include <utility>
 
 namespace shaderfit {
 
@@ -18,7 +18,8 @@ std::optional<InstructionTarget> instruction_target_of(CostTarget target) {
 }
 
 double expression_cost(const Expression& e, CostTarget target) {
-  if (const auto t = instruction_target_of(target)) return static_cast<double>(instruction_count(e, *t));
+  if (const auto t = instruction_target_of(target))
+    return static_cast<double>(instruction_count(e, *t));
   return static_cast<double>(e.nodes.size());
 }
 

@@ -104,7 +104,9 @@ class RdnaSelector {
 
  private:
   const Step& step(int s) const { return p_.steps[static_cast<std::size_t>(s)]; }
-  const Step* step_of(const Operand& o) const { return o.kind == Operand::Kind::Step ? &step(o.index) : nullptr; }
+  const Step* step_of(const Operand& o) const {
+    return o.kind == Operand::Kind::Step ? &step(o.index) : nullptr;
+  }
 
   // Every reader of step s takes modifiers (and s is not a result).
   bool all_modifier_readers(int s) const {
@@ -146,7 +148,9 @@ class RdnaSelector {
       case Op::Select:
       case Op::CopySign:
       case Op::Sign: return false;
-      case Op::Neg: return free_negation(s) && step_of(step(s).args[0]) != nullptr && clamps(step(s).args[0].index);
+      case Op::Neg:
+        return free_negation(s) && step_of(step(s).args[0]) != nullptr &&
+               clamps(step(s).args[0].index);
       case Op::Abs: return false;
       default: return library_call(step(s).op) == nullptr;
     }
@@ -178,16 +182,18 @@ class RdnaSelector {
     return v.neg ? "-" + r : r;
   }
   static Val negated(Val v) {
-    if (v.imm && !v.token) v.value = -v.value;
-    else v.neg = !v.neg;
+    if (v.imm && !v.token)
+      v.value = -v.value;
+    else
+      v.neg = !v.neg;
     return v;
   }
   static Val literal(float v) { return Val{-1, false, false, true, v}; }
   static Val token(const char* t) { return Val{-1, false, false, true, 0.0f, t}; }
 
   // One instruction; `clamp` appends the clamp bit. A comparison writes vcc_lo.
-  Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args, const std::string& comment,
-           bool clamp = false) {
+  Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args,
+           const std::string& comment, bool clamp = false) {
     const Val d = op.starts_with("v_cmp_") ? token("vcc_lo") : Val{next_reg_++};
     TargetInstruction ins;
     ins.unit = unit;
@@ -213,9 +219,12 @@ class RdnaSelector {
     Val v;
     for (std::size_t k = 0; k < ops.size(); ++k) {
       const std::string what =
-          text_ ? (k + 1 == ops.size() ? c : fmt::format("{} {}/{}", call.ocml, k + 1, ops.size())) : std::string();
-      if (k == 0 && arity == 2) v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {a, b}, what);
-      else v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {k == 0 ? a : v}, what);
+          text_ ? (k + 1 == ops.size() ? c : fmt::format("{} {}/{}", call.ocml, k + 1, ops.size()))
+                : std::string();
+      if (k == 0 && arity == 2)
+        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {a, b}, what);
+      else
+        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {k == 0 ? a : v}, what);
     }
     return v;
   }
@@ -242,7 +251,7 @@ class RdnaSelector {
 
   void select(int s) {
     const Step& st = step(s);
-    if (st.compared) return;  // its selects compare its operands
+    if (st.compared) return;                                // its selects compare its operands
     if (distributed_[static_cast<std::size_t>(s)]) return;  // its products distribute over it
     const std::string c = text_ ? names_text_.of(s) : std::string();
     const Val a = st.arity > 0 ? val(st.args[0]) : Val{};
@@ -259,18 +268,21 @@ class RdnaSelector {
         }
         for (int k = 0; k < 2; ++k) {
           const Operand& f = st.args[k];
-          if (f.kind != Operand::Kind::Step || !distributed_[static_cast<std::size_t>(f.index)]) continue;
+          if (f.kind != Operand::Kind::Step || !distributed_[static_cast<std::size_t>(f.index)])
+            continue;
           // (x + 1) y = fma(x, y, y), and the like.
           const auto [x, x_neg, one] = unit_sum(step(f.index));
           const Val y = val(st.args[1 - k]);
-          out = emit_step(s, U::Fp32, "v_fma_f32", {x_neg ? negated(val(x)) : val(x), y, one < 0 ? negated(y) : y}, c);
+          out = emit_step(s, U::Fp32, "v_fma_f32",
+                          {x_neg ? negated(val(x)) : val(x), y, one < 0 ? negated(y) : y}, c);
           return;
         }
         // log(x) * K: the ln(2) scale of the log merges into this product.
         for (int k = 0; k < 2; ++k) {
           const Step* x = step_of(st.args[k]);
           if (x && x->op == Op::Log && st.args[1 - k].kind == Operand::Kind::Const) {
-            out = emit_step(s, U::Fp32, "v_mul_f32", {literal(st.args[1 - k].value * kLn2), k ? b : a}, c);
+            out = emit_step(s, U::Fp32, "v_mul_f32",
+                            {literal(st.args[1 - k].value * kLn2), k ? b : a}, c);
             return;
           }
         }
@@ -289,21 +301,28 @@ class RdnaSelector {
           const Step& in = step(st.args[k].index);
           const char* op = in.op == st.op ? (st.op == Op::Min ? "v_min3_f32" : "v_max3_f32")
                                           : (st.op == Op::Min ? "v_maxmin_f32" : "v_minmax_f32");
-          out = emit_step(s, U::MinMax, op, {val(in.args[0]), val(in.args[1]), val(st.args[1 - k])}, c);
+          out = emit_step(s, U::MinMax, op, {val(in.args[0]), val(in.args[1]), val(st.args[1 - k])},
+                          c);
           break;
         }
         out = emit_step(s, U::MinMax, st.op == Op::Min ? "v_min_f32" : "v_max_f32", {a, b}, c);
         break;
       }
       case Op::Neg:
-        if (all_modifier_readers(s)) out = negated(a);
-        else if (moves_into(st.args[0])) out = negated(a);  // the producer computed it negated
-        else out = emit(U::MinMax, "v_xor_b32", {token("0x80000000"), a}, c);
+        if (all_modifier_readers(s))
+          out = negated(a);
+        else if (moves_into(st.args[0]))
+          out = negated(a);  // the producer computed it negated
+        else
+          out = emit(U::MinMax, "v_xor_b32", {token("0x80000000"), a}, c);
         break;
       case Op::Abs:
-        if (never_negative(st.args[0])) out = a;
-        else if (all_modifier_readers(s)) out = Val{a.reg, false, true};
-        else out = emit(U::MinMax, "v_and_b32", {token("0x7fffffff"), a}, c);
+        if (never_negative(st.args[0]))
+          out = a;
+        else if (all_modifier_readers(s))
+          out = Val{a.reg, false, true};
+        else
+          out = emit(U::MinMax, "v_and_b32", {token("0x7fffffff"), a}, c);
         break;
       case Op::Div: {
         const bool rcp = is_reciprocal(st);
@@ -323,7 +342,9 @@ class RdnaSelector {
       }
       case Op::Sqrt: out = emit_step(s, U::Mufu, "v_sqrt_f32", {a}, c); break;
       case Op::Rsqrt: out = emit_step(s, U::Mufu, "v_rsq_f32", {a}, c); break;
-      case Op::Exp2: out = emit_step(s, U::Mufu, "v_exp_f32", {inverted(s) ? negated(a) : a}, c); break;
+      case Op::Exp2:
+        out = emit_step(s, U::Mufu, "v_exp_f32", {inverted(s) ? negated(a) : a}, c);
+        break;
       case Op::Log2: out = emit_step(s, U::Mufu, "v_log_f32", {a}, c); break;
       case Op::Exp: {
         const float k = (st.neg_arg != inverted(s)) ? -kLog2E : kLog2E;
@@ -334,8 +355,9 @@ class RdnaSelector {
       case Op::Log: {
         const int r = readers_.only_reader(s);
         const Step* rd = r >= 0 ? &step(r) : nullptr;
-        const bool merged = rd && rd->op == Op::Mul &&
-                            (rd->args[0].kind == Operand::Kind::Const || rd->args[1].kind == Operand::Kind::Const);
+        const bool merged =
+            rd && rd->op == Op::Mul &&
+            (rd->args[0].kind == Operand::Kind::Const || rd->args[1].kind == Operand::Kind::Const);
         if (merged) {
           out = emit(U::Mufu, "v_log_f32", {a}, "log2 of ...");  // the reader scales by K ln(2)
         } else {
@@ -346,20 +368,24 @@ class RdnaSelector {
       }
       case Op::Saturate: {
         const Step* x = step_of(st.args[0]);
-        if (x && readers_.only_reader(st.args[0].index) == s && clamps(st.args[0].index)) out = a;
-        else out = emit(U::MinMax, "v_max_f32", {a, a}, c, true);
+        if (x && readers_.only_reader(st.args[0].index) == s && clamps(st.args[0].index))
+          out = a;
+        else
+          out = emit(U::MinMax, "v_max_f32", {a, a}, c, true);
         break;
       }
       case Op::Sin:
       case Op::Cos: {
         const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
         auto it = scaled_.find(key);
-        if (it == scaled_.end()) it = scaled_.emplace(key, scaled(st.args[0], kInv2Pi, "argument / (2 pi)")).first;
+        if (it == scaled_.end())
+          it = scaled_.emplace(key, scaled(st.args[0], kInv2Pi, "argument / (2 pi)")).first;
         out = emit_step(s, U::Mufu, st.op == Op::Sin ? "v_sin_f32" : "v_cos_f32", {it->second}, c);
         break;
       }
       case Op::Sign: {
-        const Val one = emit(U::MinMax, "v_bfi_b32", {token("0x7fffffff"), literal(1.0f), a}, "copysign(1, ...)");
+        const Val one = emit(U::MinMax, "v_bfi_b32", {token("0x7fffffff"), literal(1.0f), a},
+                             "copysign(1, ...)");
         const Val vcc = emit(U::MinMax, "v_cmp_lg_f32", {literal(0.0f), a}, "test of " + c);
         (void)vcc;
         out = emit(U::MinMax, "v_cndmask_b32", {a, one, token("vcc_lo")}, c);
@@ -367,18 +393,20 @@ class RdnaSelector {
       }
       case Op::CopySign: out = emit(U::MinMax, "v_bfi_b32", {token("0x7fffffff"), a, b}, c); break;
       case Op::Select: {
-        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index, st.neg_arg ? 1 : 0);
+        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index,
+                                         st.neg_arg ? 1 : 0);
         if (conditions_.insert(key).second) {
           const Comparison cmp = select_comparison(p_, st);
-          emit(U::MinMax, st.neg_arg ? "v_cmp_le_f32" : "v_cmp_ge_f32", {val(cmp.lhs), val(cmp.rhs)},
-               "condition of " + c);
+          emit(U::MinMax, st.neg_arg ? "v_cmp_le_f32" : "v_cmp_ge_f32",
+               {val(cmp.lhs), val(cmp.rhs)}, "condition of " + c);
         }
         out = emit(U::MinMax, "v_cndmask_b32", {val(st.args[2]), b, token("vcc_lo")}, c);
         break;
       }
       default: {
         const LibraryCall* f = library_call(st.op);
-        if (f == nullptr) throw Error("internal: no RDNA form for '" + std::string(op_info(st.op).name) + "'");
+        if (f == nullptr)
+          throw Error("internal: no RDNA form for '" + std::string(op_info(st.op).name) + "'");
         out = library(*f, a, b, st.arity, c);
         break;
       }
@@ -404,7 +432,8 @@ class RdnaSelector {
     if (st.op != Op::Add && st.op != Op::Sub) return {};
     for (int k = 0; k < 2; ++k) {
       const Operand& lit = st.args[k];
-      if (lit.kind != Operand::Kind::Const || std::fabs(lit.value) != 1.0f || st.args[1 - k].kind == Operand::Kind::Const)
+      if (lit.kind != Operand::Kind::Const || std::fabs(lit.value) != 1.0f ||
+          st.args[1 - k].kind == Operand::Kind::Const)
         continue;
       if (st.op == Op::Add) return {st.args[1 - k], false, lit.value};
       return k == 0 ? UnitSum{st.args[1], true, lit.value} : UnitSum{st.args[0], false, -lit.value};
@@ -416,13 +445,16 @@ class RdnaSelector {
     distributed_.assign(p_.steps.size(), false);
     for (std::size_t i = 0; i < p_.steps.size(); ++i) {
       const Step& st = p_.steps[i];
-      if (unit_sum(st).one == 0.0f || st.compared || readers_.is_result(static_cast<int>(i)) || readers_.of(static_cast<int>(i)).empty())
+      if (unit_sum(st).one == 0.0f || st.compared || readers_.is_result(static_cast<int>(i)) ||
+          readers_.of(static_cast<int>(i)).empty())
         continue;
       bool all = true;
       for (int r : readers_.of(static_cast<int>(i))) {
         const Step& rd = step(r);
-        const bool first = rd.args[0].kind == Operand::Kind::Step && rd.args[0].index == static_cast<int>(i);
-        const bool second = rd.args[1].kind == Operand::Kind::Step && rd.args[1].index == static_cast<int>(i);
+        const bool first =
+            rd.args[0].kind == Operand::Kind::Step && rd.args[0].index == static_cast<int>(i);
+        const bool second =
+            rd.args[1].kind == Operand::Kind::Step && rd.args[1].index == static_cast<int>(i);
         all = all && rd.op == Op::Mul && first != second;
       }
       distributed_[i] = all;
@@ -440,9 +472,12 @@ class RdnaSelector {
       if (st.op != Op::Min && st.op != Op::Max) continue;
       for (int k = 0; k < 2; ++k) {
         const Step* in = step_of(st.args[k]);
-        if (in == nullptr || (in->op != Op::Min && in->op != Op::Max) || (in->op != st.op && !rdna3_)) continue;
+        if (in == nullptr || (in->op != Op::Min && in->op != Op::Max) ||
+            (in->op != st.op && !rdna3_))
+          continue;
         const auto i = static_cast<std::size_t>(st.args[k].index);
-        if (outer_[i] >= 0 || readers_.only_reader(st.args[k].index) != static_cast<int>(r)) continue;
+        if (outer_[i] >= 0 || readers_.only_reader(st.args[k].index) != static_cast<int>(r))
+          continue;
         inner_[i] = true;
         outer_[r] = k;
         break;
@@ -458,7 +493,7 @@ class RdnaSelector {
   bool rdna3_;
   std::vector<bool> inner_;  // a min or max computed by the three-operand instruction reading it
   std::vector<int> outer_;   // the operand (0, 1) of a min or max that is its inner one, or -1
-  std::vector<bool> distributed_;          // unit sums the products reading them take apart
+  std::vector<bool> distributed_;  // unit sums the products reading them take apart
   std::vector<Val> vals_;
   std::map<std::tuple<int, int>, Val> scaled_;
   std::set<std::tuple<int, int, int>> conditions_;  // Select: one v_cmp per condition and sign
