@@ -98,21 +98,9 @@ TEST(CompilerCheck, SeedFormulasAndTableAgainstNvccAndGlslang) {
   }
 }
 
-// sign, copysign and select, counted by the model and by the compilers. (The kernels read their
-// inputs from memory; a select of a bare input would become a predicated load there, which no
-// shader has, so the branches here are computed values, literals or values read twice.)
-const char* const kNewOperators[] = {
-    "select(x - y >= 0, x * y, x + 1)",
-    "select(x >= 0, 2, 0.5) * y",
-    "sign(x) * y + sign(y)",
-    "copysign(x, y) * copysign(1, y) + copysign(x * x, -y)",
-    "select(-x >= 0, y, x * x) + select(-x >= 0, x * x, y) * y",
-    "select(x * y >= 0, sqrt(x), rcp(y))",
-    "sign(x - y) * copysign(y, x - y)",
-    "select(x < y, x * 2, y * 3) - select(y > x, x + 1, y * y)",
-    "sign(x * y + 1) * (x + y)",
-    "copysign(x + y, x - y) * 0.5",
-};
+// sign, copysign and select, counted by the model and by the compilers (the formulas and why
+// their branches are computed values: compiler_harness_test_support.hpp).
+using testing::kNewOperators;
 
 TEST(CompilerCheck, SignCopysignSelectAgainstNvccAndGlslang) {
   const auto nvcc = testing::find_tool("nvcc");
@@ -158,12 +146,7 @@ TEST(CompilerCheck, SignCopysignSelectAgainstNvccAndGlslang) {
 // asin, acos, atan, atan2, tanh and erf (CUDA's library functions, GLSL.std.450's functions, the
 // erf helper in GLSL and HLSL), counted by the model and by the compilers. A function's SPIR-V
 // count leaves out the helper it calls; the helper is counted once, as its own function.
-const char* const kLibraryOperators[] = {
-    "asin(x) * y",      "acos(x * y)",          "atan(x) + y",      "atan2(x, y) * 2",
-    "tanh(x * y + 1)",  "erf(x) * y",           "atan(-x * y) * y", "asin(-x * y)",
-    "acos(1 - x)",      "atan2(x, -(x * y))",   "-atan(x)",         "acos(-x * y)",
-    "atan2(-x, y + 1)", "erf(x - y) + tanh(x)", "erf(x) + erf(y)",  "atan(x, y)",
-};
+using testing::kLibraryOperators;
 
 TEST(CompilerCheck, LibraryFunctionsAgainstNvccAndGlslang) {
   const auto nvcc = testing::find_tool("nvcc");

@@ -114,6 +114,31 @@ inline CompiledCounts compile_spirv(const std::vector<Expression>& formulas, Lan
   return r;
 }
 
+// sign, copysign and select formulas that the compiler checks share (compiler_check_test.cpp,
+// rdna_check_test.cpp). The kernels read their inputs from memory; a select of a bare input would
+// become a predicated load there, which no shader's register inputs allow, so the branches are
+// computed values, literals or values read twice.
+inline constexpr const char* kNewOperators[] = {
+    "select(x - y >= 0, x * y, x + 1)",
+    "select(x >= 0, 2, 0.5) * y",
+    "sign(x) * y + sign(y)",
+    "copysign(x, y) * copysign(1, y) + copysign(x * x, -y)",
+    "select(-x >= 0, y, x * x) + select(-x >= 0, x * x, y) * y",
+    "select(x * y >= 0, sqrt(x), rcp(y))",
+    "sign(x - y) * copysign(y, x - y)",
+    "select(x < y, x * 2, y * 3) - select(y > x, x + 1, y * y)",
+    "sign(x * y + 1) * (x + y)",
+    "copysign(x + y, x - y) * 0.5",
+};
+
+// asin, acos, atan, atan2, tanh and erf in formulas, as the compiler checks count them.
+inline constexpr const char* kLibraryOperators[] = {
+    "asin(x) * y",      "acos(x * y)",          "atan(x) + y",      "atan2(x, y) * 2",
+    "tanh(x * y + 1)",  "erf(x) * y",           "atan(-x * y) * y", "asin(-x * y)",
+    "acos(1 - x)",      "atan2(x, -(x * y))",   "-atan(x)",         "acos(-x * y)",
+    "atan2(-x, y + 1)", "erf(x - y) + tanh(x)", "erf(x) + erf(y)",  "atan(x, y)",
+};
+
 // A clang that compiles OpenCL C for `mcpu` (gfx1030, gfx1100): clang-15, then clang (clang 14
 // has gfx1030 but not gfx1100); nullopt when none has the AMDGPU target or the processor.
 inline std::optional<std::string> find_amdgpu_clang(const std::string& mcpu) {

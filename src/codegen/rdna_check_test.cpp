@@ -82,9 +82,10 @@ TEST(RdnaCheck, HandCountedFormulas) {
   }
 }
 
-// The shading formulas of compiler_check_test's table and the operators with their own rules.
+// The shading formulas of compiler_check_test's table, the operators with their own rules, and the
+// sign, copysign and select formulas of the compiler checks.
 TEST(RdnaCheck, ShadingFormulasAndOperatorRules) {
-  const std::vector<Expression> f = parsed({
+  std::vector<Expression> f = parsed({
       "r0 + (1 - r0) * (1 - cos_theta)^5",
       "r0 + (1 - cos_theta - r0) * (1 - cos_theta)^4",
       "r0 + (1 - r0 - s * cos_theta) * (1 - cos_theta)^4",
@@ -123,18 +124,8 @@ TEST(RdnaCheck, ShadingFormulasAndOperatorRules) {
       "rsqrt(x * y)",
       "x / y",
       "-(x * y + 1)",
-      // compiler_check_test's sign, copysign and select formulas.
-      "select(x - y >= 0, x * y, x + 1)",
-      "select(x >= 0, 2, 0.5) * y",
-      "sign(x) * y + sign(y)",
-      "copysign(x, y) * copysign(1, y) + copysign(x * x, -y)",
-      "select(-x >= 0, y, x * x) + select(-x >= 0, x * x, y) * y",
-      "select(x * y >= 0, sqrt(x), rcp(y))",
-      "sign(x - y) * copysign(y, x - y)",
-      "select(x < y, x * 2, y * 3) - select(y > x, x + 1, y * y)",
-      "sign(x * y + 1) * (x + y)",
-      "copysign(x + y, x - y) * 0.5",
   });
+  for (const char* t : testing::kNewOperators) f.push_back(parse_formula(t));
   for (const Processor& cpu : kProcessors) {
     const Agreement a = check(cpu, f, "rules");
     EXPECT_EQ(a.agree, a.checked) << a.differs;
@@ -144,11 +135,8 @@ TEST(RdnaCheck, ShadingFormulasAndOperatorRules) {
 TEST(RdnaCheck, LibraryFunctions) {
   const auto ocml = testing::find_ocml();
   if (!ocml) GTEST_SKIP() << "skipped: ROCm's ocml.bc not found (rocm-device-libs)";
-  const std::vector<Expression> f =
-      parsed({"asin(x) * y", "acos(x * y)", "atan(x) + y", "atan2(x, y) * 2", "tanh(x * y + 1)",
-              "erf(x) * y", "atan(-x * y) * y", "asin(-x * y)", "acos(1 - x)", "atan2(x, -(x * y))",
-              "-atan(x)", "acos(-x * y)", "atan2(-x, y + 1)", "erf(x - y) + tanh(x)",
-              "erf(x) + erf(y)", "atan(x, y)"});
+  std::vector<Expression> f;
+  for (const char* t : testing::kLibraryOperators) f.push_back(parse_formula(t));
   for (const Processor& cpu : kProcessors) {
     const auto clang = testing::find_amdgpu_clang(cpu.mcpu);
     if (clang && clang->find("clang-15") == std::string::npos) {

@@ -45,6 +45,7 @@
 
 #include "cost/float_text.hpp"
 #include "cost/library_calls.hpp"
+#include "cost/register_value.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
 #include "shaderfit/core/error.hpp"
@@ -53,14 +54,7 @@ namespace shaderfit::cost_detail {
 
 namespace {
 
-// A value as a VALU instruction reads it: a VGPR with modifiers, or a literal.
-struct Val {
-  int reg = -1;
-  bool neg = false, abs = false;
-  bool imm = false;
-  float value = 0.0f;
-  const char* token = nullptr;  // printed as is: vcc_lo, 0x80000000
-};
+using Val = RegisterValue;
 
 // Operators whose instructions take -x and |x| operands for free.
 bool reads_modifiers(Op op) {
@@ -87,12 +81,10 @@ bool absorbs_negation(Op op) {
   }
 }
 
-class RdnaSelector {
+class RdnaSelector : SelectorState {
  public:
   RdnaSelector(const Dag& dag, const Program& p, bool text, bool rdna3)
-      : dag_(dag), p_(p), readers_(p), text_(text), rdna3_(rdna3) {
-    next_reg_ = static_cast<int>(dag.variables.size() + dag.parameters.size());
-    vals_.assign(p.steps.size(), {});
+      : SelectorState(dag, p, text), rdna3_(rdna3) {
     pair_min_max();
     find_distributed();
   }
@@ -166,28 +158,7 @@ class RdnaSelector {
     return r >= 0 && step(r).op == Op::Saturate && clamps(s);
   }
 
-  Val val(const Operand& o) const {
-    switch (o.kind) {
-      case Operand::Kind::Const: return Val{-1, false, false, true, o.value};
-      case Operand::Kind::Var: return Val{o.index};
-      case Operand::Kind::Param: return Val{static_cast<int>(dag_.variables.size()) + o.index};
-      default: return vals_[static_cast<std::size_t>(o.index)];
-    }
-  }
-  static std::string text(const Val& v) {
-    if (v.token) return v.neg ? std::string("-") + v.token : std::string(v.token);
-    if (v.imm) return float_text(v.value);
-    std::string r = "v" + std::to_string(v.reg);
-    if (v.abs) r = "|" + r + "|";
-    return v.neg ? "-" + r : r;
-  }
-  static Val negated(Val v) {
-    if (v.imm && !v.token)
-      v.value = -v.value;
-    else
-      v.neg = !v.neg;
-    return v;
-  }
+  static std::string text(const Val& v) { return register_value_text(v, "v"); }
   static Val literal(float v) { return Val{-1, false, false, true, v}; }
   static Val token(const char* t) { return Val{-1, false, false, true, 0.0f, t}; }
 
@@ -215,18 +186,9 @@ class RdnaSelector {
   }
 
   Val library(const LibraryCall& call, Val a, Val b, int arity, const std::string& c) {
-    const std::vector<std::string_view> ops = mnemonics(call.rdna);
-    Val v;
-    for (std::size_t k = 0; k < ops.size(); ++k) {
-      const std::string what =
-          text_ ? (k + 1 == ops.size() ? c : fmt::format("{} {}/{}", call.ocml, k + 1, ops.size()))
-                : std::string();
-      if (k == 0 && arity == 2)
-        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {a, b}, what);
-      else
-        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {k == 0 ? a : v}, what);
-    }
-    return v;
+    return emit_library_call(call.rdna, call.ocml, a, b, arity, c, text_,
+                             [&](InstructionUnit u, const std::string& op, std::initializer_list<Val> args,
+                                 const std::string& what) { return emit(u, op, args, what); });
   }
 
   // A scale by `k` before a transcendental (exp, sin, cos): merged into a single-use product
@@ -485,20 +447,12 @@ class RdnaSelector {
     }
   }
 
-  const Dag& dag_;
-  const Program& p_;
-  StepReaders readers_;
-  StepText names_text_{dag_, p_};
-  bool text_;
   bool rdna3_;
   std::vector<bool> inner_;  // a min or max computed by the three-operand instruction reading it
   std::vector<int> outer_;   // the operand (0, 1) of a min or max that is its inner one, or -1
   std::vector<bool> distributed_;  // unit sums the products reading them take apart
-  std::vector<Val> vals_;
   std::map<std::tuple<int, int>, Val> scaled_;
   std::set<std::tuple<int, int, int>> conditions_;  // Select: one v_cmp per condition and sign
-  std::vector<TargetInstruction> out_;
-  int next_reg_ = 0;
 };
 
 }  // namespace

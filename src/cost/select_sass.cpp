@@ -30,6 +30,7 @@
 
 #include "cost/float_text.hpp"
 #include "cost/library_calls.hpp"
+#include "cost/register_value.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
 #include "shaderfit/core/error.hpp"
@@ -38,21 +39,11 @@ namespace shaderfit::cost_detail {
 
 namespace {
 
-// A value as SASS reads it: a register with modifiers, or an immediate.
-struct Val {
-  int reg = -1;
-  bool neg = false, abs = false;
-  bool imm = false;
-  float value = 0.0f;
-  const char* token = nullptr;  // printed as is: RZ, PT
-};
+using Val = RegisterValue;
 
-class SassSelector {
+class SassSelector : SelectorState {
  public:
-  SassSelector(const Dag& dag, const Program& p, bool text) : dag_(dag), p_(p), readers_(p), text_(text) {
-    next_reg_ = static_cast<int>(dag.variables.size() + dag.parameters.size());
-    vals_.assign(p.steps.size(), {});
-  }
+  SassSelector(const Dag& dag, const Program& p, bool text) : SelectorState(dag, p, text) {}
 
   std::vector<TargetInstruction> run() {
     for (std::size_t i = 0; i < p_.steps.size(); ++i) select(static_cast<int>(i));
@@ -107,27 +98,8 @@ class SassSelector {
     return true;
   }
 
-  Val val(const Operand& o) const {
-    switch (o.kind) {
-      case Operand::Kind::Const: return Val{-1, false, false, true, o.value};
-      case Operand::Kind::Var: return Val{o.index};
-      case Operand::Kind::Param: return Val{static_cast<int>(dag_.variables.size()) + o.index};
-      default: return vals_[static_cast<std::size_t>(o.index)];
-    }
-  }
-  static std::string text(const Val& v) {
-    if (v.token) return v.neg ? std::string("-") + v.token : std::string(v.token);
-    if (v.imm) return float_text(v.value);
-    std::string r = "R" + std::to_string(v.reg);
-    if (v.abs) r = "|" + r + "|";
-    return v.neg ? "-" + r : r;
-  }
+  static std::string text(const Val& v) { return register_value_text(v, "R"); }
   static Val sign_mask() { return Val{-1, false, false, true, 0.0f, "0x80000000"}; }
-  static Val negated(Val v) {
-    if (v.imm && !v.token) v.value = -v.value;
-    else v.neg = !v.neg;
-    return v;
-  }
 
   Val emit(InstructionUnit unit, const std::string& op, std::initializer_list<Val> args,
            const std::string& comment, bool predicate = false) {
@@ -150,18 +122,9 @@ class SassSelector {
   // The measured instructions of a library function, the first reading the operands and the
   // last giving the result.
   Val library(const LibraryCall& call, Val a, Val b, int arity, const std::string& c) {
-    const std::vector<std::string_view> ops = mnemonics(call.sass);
-    Val v;
-    for (std::size_t k = 0; k < ops.size(); ++k) {
-      const std::string what =
-          text_ ? (k + 1 == ops.size() ? c : fmt::format("{} {}/{}", call.cuda, k + 1, ops.size()))
-                : std::string();
-      if (k == 0 && arity == 2)
-        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {a, b}, what);
-      else
-        v = emit(mnemonic_unit(ops[k]), std::string(ops[k]), {k == 0 ? a : v}, what);
-    }
-    return v;
+    return emit_library_call(call.sass, call.cuda, a, b, arity, c, text_,
+                             [&](InstructionUnit u, const std::string& op, std::initializer_list<Val> args,
+                                 const std::string& what) { return emit(u, op, args, what); });
   }
 
   void select(int s) {
@@ -315,17 +278,9 @@ class SassSelector {
     }
   }
 
-  const Dag& dag_;
-  const Program& p_;
-  StepReaders readers_;
-  StepText names_text_{dag_, p_};
-  bool text_;
-  std::vector<Val> vals_;
   std::map<std::tuple<int, int>, Val> scaled_;
   std::map<std::tuple<int, int, int>, Val> predicates_;  // Select: FSETP per condition and sign
   std::deque<std::string> predicate_names_;
-  std::vector<TargetInstruction> out_;
-  int next_reg_ = 0;
 };
 
 }  // namespace
