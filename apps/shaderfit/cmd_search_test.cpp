@@ -95,7 +95,9 @@ TEST(CmdSearch, ThePrintedFrontHasNoNoiseSteps) {
   std::size_t minor = 0;
   for (const auto& m : j["front"]) minor += m.value("minor_step", false) ? 1 : 0;
   EXPECT_EQ(j["front"].size(), shown.size() + minor);
-  if (minor > 0) EXPECT_NE(r.out.find("not shown: each lowers the loss"), std::string::npos);
+  if (minor > 0) {
+    EXPECT_NE(r.out.find("not shown: each lowers the loss"), std::string::npos);
+  }
   auto every = args;
   every.insert(every.end(), {"--min-step", "0"});
   const auto all = run(every);

@@ -162,11 +162,11 @@ TEST(PrintedFormulas, RealFrontsReadBackToTheSameFunctionAtTheSameCost) {
       const std::string where = c.at("case").get<std::string>();
       // The JSON's exact text reads back at its member's cost (the search counts each member
       // as its text reads: search/front/tidy.hpp, count_as_printed).
-      if (const double c = expression_cost(e, CostTarget::Instructions, per_material);
-          c != m.at("cost").get<double>()) {
+      if (const double read = expression_cost(e, CostTarget::Instructions, per_material);
+          read != m.at("cost").get<double>()) {
         ++exact_text_cost_other;
         std::printf("%s: %s reads back at %g, the member's cost %g\n", where.c_str(),
-                    m.at("formula").get<std::string>().c_str(), c, m.at("cost").get<double>());
+                    m.at("formula").get<std::string>().c_str(), read, m.at("cost").get<double>());
       }
       check_member(where, e, points, per_material, tally);
     }
