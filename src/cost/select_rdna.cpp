@@ -10,8 +10,8 @@
 //    instruction's operands (-(a * b) = -a * b, -rcp(x) = rcp(-x)); any other negation is
 //    v_xor_b32 with the sign bit, any other |x| v_and_b32;
 //  - saturate is the clamp bit of the instruction that computes its operand when that operand
-//    is read only there and is not a bit operation (v_bfi, v_cndmask, v_xor, v_and); otherwise
-//    v_max_f32 x, x clamp;
+//    is read only there and is not a bit operation (v_bfi, v_cndmask, v_xor, v_and) nor a * b + K
+//    with a literal K (v_fmaak_f32, which has no clamp bit); otherwise v_max_f32 x, x clamp;
 //  - min(min(a, b), c) and max(max(a, b), c), the inner one read only there, are one v_min3_f32 or
 //    v_max3_f32; on RDNA 3 also min(max(a, b), c) and max(min(a, b), c), one v_maxmin_f32 or
 //    v_minmax_f32 (RDNA 2 has v_med3_f32 for min(max(x, K0), K1), which LLVM forms only with IEEE
@@ -55,6 +55,13 @@ namespace shaderfit::cost_detail {
 namespace {
 
 using Val = RegisterValue;
+
+// A float the instructions encode as an inline constant (no 32-bit literal): 0, 0.5, 1, 2, 4, their
+// negations and 1 / (2 pi).
+bool inline_constant(float v) {
+  const float a = std::fabs(v);
+  return a == 0.0f || a == 0.5f || a == 1.0f || a == 2.0f || a == 4.0f || v == kInv2Pi;
+}
 
 // Operators whose instructions take -x and |x| operands for free.
 bool reads_modifiers(Op op) {
@@ -136,7 +143,11 @@ class RdnaSelector : SelectorState {
   }
   // The instruction of step s can carry the clamp bit of a saturate that reads it.
   bool clamps(int s) const {
-    switch (step(s).op) {
+    const Step& st = step(s);
+    switch (st.op) {
+      case Op::Fma:  // a * b + K with a literal K is v_fmaak_f32, a VOP2 form with no clamp bit
+        return !(st.args[2].kind == Operand::Kind::Const && !inline_constant(st.args[2].value) &&
+                 st.args[0].kind != Operand::Kind::Const && st.args[1].kind != Operand::Kind::Const);
       case Op::Select:
       case Op::CopySign:
       case Op::Sign: return false;
