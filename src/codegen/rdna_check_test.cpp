@@ -1,8 +1,8 @@
 // The RDNA cost model (targets rdna2 and rdna3) against LLVM's AMDGPU back end: the generated code
 // compiled by clang as OpenCL C for gfx1030 (RDNA 2) and gfx1100 (RDNA 3), its VALU instructions
 // counted (compile_amdgpu). Each test skips with "skipped: ..." where clang lacks the processor;
-// formulas with library functions need ROCm's OCML (Debian's rocm-device-libs) and clang 15. docs/cost-model.md,
-// "RDNA", has the agreement and where the model differs.
+// formulas with library functions need ROCm's OCML (Debian's rocm-device-libs) and clang 15.
+// docs/cost-model.md, "RDNA", has the agreement and where the model differs.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -119,6 +119,9 @@ TEST(RdnaCheck, ShadingFormulasAndOperatorRules) {
       "saturate(fma(x, y, 0.3))",
       "saturate(fma(x, 0.3, y))",
       "saturate(x + 0.3)",
+      "sqrt(x) * sqrt(y)",
+      "sqrt(1 - x) * sqrt(y)",
+      "y / rsqrt(x)",
       "saturate(x + y) * y",
       "saturate(x)",
       "saturate(sqrt(x)) + x",
@@ -192,7 +195,8 @@ TEST(RdnaCheck, SearchFronts) {
   for (const auto& c : j.at("cases")) {
     ParseOptions o;
     for (const auto& [name, range] : c.at("ranges").items()) o.variables.push_back(name);
-    for (const auto& m : c.at("members")) f.push_back(parse_formula(m.at("formula").get<std::string>(), o));
+    for (const auto& m : c.at("members"))
+      f.push_back(parse_formula(m.at("formula").get<std::string>(), o));
   }
   for (const Processor& cpu : kProcessors) {
     const Agreement a = check(cpu, f, "search fronts");

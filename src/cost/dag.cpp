@@ -128,9 +128,10 @@ class Builder {
     if (!half_ && op == Op::Rcp && !a.neg && dag_.node(a.id).op == Op::Sqrt) {
       return unary(Op::Rsqrt, dag_.node(a.id).a);  // 1 / sqrt(x) is rsqrt(x), as nvcc makes it
     }
-    if (fast_ && inverse_folds) {  // 1 / (1 / x) = x, log2(exp2(x)) = x
+    if (fast_ && inverse_folds) {  // 1 / (1 / x) = x, 1 / rsqrt(x) = sqrt(x), log2(exp2(x)) = x
       const DagNode& in = dag_.node(a.id);
       if (op == Op::Rcp && in.op == Op::Rcp) return {in.a.id, in.a.neg != a.neg};
+      if (op == Op::Rcp && in.op == Op::Rsqrt && !a.neg) return unary(Op::Sqrt, in.a);
       if (op == Op::Log2 && in.op == Op::Exp2 && !a.neg) return in.a;
     }
     bool out_neg = false;

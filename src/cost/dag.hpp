@@ -29,7 +29,7 @@
 // Lowered for fast math (`fast_math` = true; the RDNA targets, whose compiler, LLVM under
 // -cl-fast-relaxed-math, assumes no NaN, infinity or signed zero and rewrites the algebra), the DAG
 // also makes these folds: x - x = 0, x * 0 = 0, x + 0 = x, x * (1 / x) = 1 (so x / x),
-// 1 / (1 / x) = x, log2(exp2(x)) = x and log(exp(x)) = x. (LLVM also makes exp2(log2(x)) = x; the
+// 1 / (1 / x) = x, 1 / rsqrt(x) = sqrt(x), log2(exp2(x)) = x and log(exp(x)) = x. (LLVM also makes exp2(log2(x)) = x; the
 // DAG does not, as it differs for x < 0 and a search would take pow(x, 1) for x.) Code
 // generation never lowers so: it prints the formula's own arithmetic.
 #pragma once

@@ -19,6 +19,7 @@
 //  - |x| of a value that is never negative (exp2, exp, sqrt, saturate, x * x) is x;
 //  - a product with a factor x + 1, x - 1, 1 - x or -1 - x is one v_fma_f32 ((x + 1) y = x y + y),
 //    so such a sum read only by products is not computed (LLVM's distributive FMA fold);
+//  - sqrt(a) * sqrt(b), both roots read only there, is sqrt(a * b): one product, one root;
 //  - the DAG is lowered with fast math's folds (dag.hpp: x - x, x / x, 1 / (1 / x), ...), as
 //    LLVM rewrites the algebra under -cl-fast-relaxed-math;
 //  - a / b is v_rcp_f32 and v_mul_f32 (the reciprocal of one divisor computed once); 1 / exp2(x)
@@ -93,6 +94,7 @@ class RdnaSelector : SelectorState {
   RdnaSelector(const Dag& dag, const Program& p, bool text, bool rdna3)
       : SelectorState(dag, p, text), rdna3_(rdna3) {
     pair_min_max();
+    find_root_products();
     find_distributed();
   }
 
@@ -147,7 +149,8 @@ class RdnaSelector : SelectorState {
     switch (st.op) {
       case Op::Fma:  // a * b + K with a literal K is v_fmaak_f32, a VOP2 form with no clamp bit
         return !(st.args[2].kind == Operand::Kind::Const && !inline_constant(st.args[2].value) &&
-                 st.args[0].kind != Operand::Kind::Const && st.args[1].kind != Operand::Kind::Const);
+                 st.args[0].kind != Operand::Kind::Const &&
+                 st.args[1].kind != Operand::Kind::Const);
       case Op::Select:
       case Op::CopySign:
       case Op::Sign: return false;
@@ -197,9 +200,10 @@ class RdnaSelector : SelectorState {
   }
 
   Val library(const LibraryCall& call, Val a, Val b, int arity, const std::string& c) {
-    return emit_library_call(call.rdna, call.ocml, a, b, arity, c, text_,
-                             [&](InstructionUnit u, const std::string& op, std::initializer_list<Val> args,
-                                 const std::string& what) { return emit(u, op, args, what); });
+    return emit_library_call(
+        call.rdna, call.ocml, a, b, arity, c, text_,
+        [&](InstructionUnit u, const std::string& op, std::initializer_list<Val> args,
+            const std::string& what) { return emit(u, op, args, what); });
   }
 
   // A scale by `k` before a transcendental (exp, sin, cos): merged into a single-use product
@@ -239,15 +243,29 @@ class RdnaSelector : SelectorState {
           out = Val{};  // computed by its reader's scale
           break;
         }
+        const bool roots = root_product_[static_cast<std::size_t>(s)];
+        const auto [f0, f1] = factors(st, s);
+        const Operand fs[2] = {f0, f1};
         for (int k = 0; k < 2; ++k) {
-          const Operand& f = st.args[k];
+          const Operand& f = fs[k];
           if (f.kind != Operand::Kind::Step || !distributed_[static_cast<std::size_t>(f.index)])
             continue;
           // (x + 1) y = fma(x, y, y), and the like.
           const auto [x, x_neg, one] = unit_sum(step(f.index));
-          const Val y = val(st.args[1 - k]);
-          out = emit_step(s, U::Fp32, "v_fma_f32",
-                          {x_neg ? negated(val(x)) : val(x), y, one < 0 ? negated(y) : y}, c);
+          const Val y = val(fs[1 - k]);
+          const Val p =
+              roots ? emit(U::Fp32, "v_fma_f32",
+                           {x_neg ? negated(val(x)) : val(x), y, one < 0 ? negated(y) : y},
+                           "the product of the radicands")
+                    : emit_step(s, U::Fp32, "v_fma_f32",
+                                {x_neg ? negated(val(x)) : val(x), y, one < 0 ? negated(y) : y}, c);
+          out = roots ? emit_step(s, U::Mufu, "v_sqrt_f32", {p}, c) : p;
+          return;
+        }
+        if (roots) {  // sqrt(a) * sqrt(b) = sqrt(a * b)
+          const Val p =
+              emit(U::Fp32, "v_mul_f32", {val(f0), val(f1)}, "the product of the radicands");
+          out = emit_step(s, U::Mufu, "v_sqrt_f32", {p}, c);
           return;
         }
         // log(x) * K: the ln(2) scale of the log merges into this product.
@@ -313,7 +331,10 @@ class RdnaSelector : SelectorState {
         out = emit_step(s, U::Fp32, "v_mul_f32", {a, r}, c);
         break;
       }
-      case Op::Sqrt: out = emit_step(s, U::Mufu, "v_sqrt_f32", {a}, c); break;
+      case Op::Sqrt:
+        if (merged_root_[static_cast<std::size_t>(s)]) break;  // its product takes the radicand
+        out = emit_step(s, U::Mufu, "v_sqrt_f32", {a}, c);
+        break;
       case Op::Rsqrt: out = emit_step(s, U::Mufu, "v_rsq_f32", {a}, c); break;
       case Op::Exp2:
         out = emit_step(s, U::Mufu, "v_exp_f32", {inverted(s) ? negated(a) : a}, c);
@@ -414,6 +435,31 @@ class RdnaSelector : SelectorState {
     return {};
   }
   // The unit sums every reader of which is a product that takes it as one factor.
+  // sqrt(a) * sqrt(b) = sqrt(a * b) where both roots are read only by the product.
+  void find_root_products() {
+    root_product_.assign(p_.steps.size(), false);
+    merged_root_.assign(p_.steps.size(), false);
+    for (std::size_t m = 0; m < p_.steps.size(); ++m) {
+      const Step& st = p_.steps[m];
+      if (st.op != Op::Mul) continue;
+      const Step *x = step_of(st.args[0]), *y = step_of(st.args[1]);
+      if (!x || !y || x->op != Op::Sqrt || y->op != Op::Sqrt ||
+          st.args[0].index == st.args[1].index ||
+          readers_.only_reader(st.args[0].index) != static_cast<int>(m) ||
+          readers_.only_reader(st.args[1].index) != static_cast<int>(m))
+        continue;
+      root_product_[m] = true;
+      merged_root_[static_cast<std::size_t>(st.args[0].index)] = true;
+      merged_root_[static_cast<std::size_t>(st.args[1].index)] = true;
+    }
+  }
+  // The factors a product multiplies: its operands, or for a product of merged roots their
+  // radicands.
+  std::pair<Operand, Operand> factors(const Step& product, int index) const {
+    if (!root_product_[static_cast<std::size_t>(index)]) return {product.args[0], product.args[1]};
+    return {step(product.args[0].index).args[0], step(product.args[1].index).args[0]};
+  }
+
   void find_distributed() {
     distributed_.assign(p_.steps.size(), false);
     for (std::size_t i = 0; i < p_.steps.size(); ++i) {
@@ -423,11 +469,12 @@ class RdnaSelector : SelectorState {
         continue;
       bool all = true;
       for (int r : readers_.of(static_cast<int>(i))) {
-        const Step& rd = step(r);
-        const bool first =
-            rd.args[0].kind == Operand::Kind::Step && rd.args[0].index == static_cast<int>(i);
-        const bool second =
-            rd.args[1].kind == Operand::Kind::Step && rd.args[1].index == static_cast<int>(i);
+        // A merged root reads it for the product of radicands that reads the root.
+        const int p = merged_root_[static_cast<std::size_t>(r)] ? readers_.only_reader(r) : r;
+        const Step& rd = step(p);
+        const auto [f0, f1] = factors(rd, p);
+        const bool first = f0.kind == Operand::Kind::Step && f0.index == static_cast<int>(i);
+        const bool second = f1.kind == Operand::Kind::Step && f1.index == static_cast<int>(i);
         all = all && rd.op == Op::Mul && first != second;
       }
       distributed_[i] = all;
@@ -461,7 +508,8 @@ class RdnaSelector : SelectorState {
   bool rdna3_;
   std::vector<bool> inner_;  // a min or max computed by the three-operand instruction reading it
   std::vector<int> outer_;   // the operand (0, 1) of a min or max that is its inner one, or -1
-  std::vector<bool> distributed_;  // unit sums the products reading them take apart
+  std::vector<bool> distributed_;                 // unit sums the products reading them take apart
+  std::vector<bool> root_product_, merged_root_;  // sqrt(a) * sqrt(b) and its two roots
   std::map<std::tuple<int, int>, Val> scaled_;
   std::set<std::tuple<int, int, int>> conditions_;  // Select: one v_cmp per condition and sign
 };
