@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -54,6 +55,17 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
   std::size_t expression() override {
     const std::size_t x_begin = expr_.nodes.size();
     const std::size_t v = binary();
+    if (pending_ && pending_->begin >= x_begin) {
+      // (X cmp Y) ? b : c: a parenthesized comparison is a condition where '?' follows it.
+      const bool whole = pending_->begin == x_begin && pending_->end == expr_.nodes.size();
+      if (whole && peek().is("?")) {
+        const bool swap = pending_->swap;
+        pending_.reset();
+        return branches(x_begin, swap);
+      }
+      if (whole && peek().is(")")) return x_begin;  // parenthesized again: '?' may follow
+      comparison_outside_a_condition(pending_->cmp, pending_->column, "");
+    }
     if (is_comparison()) return conditional(x_begin);
     if (peek().is("?")) {
       fail("the condition before '?' must be a comparison (X >= Y, X > Y, X <= Y or X < Y)",
@@ -235,17 +247,25 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
     const int x_column = peek().column;
     if (peek().is(")")) fail("select takes 3 arguments, got 0", name.column);
     binary();
-    if (!is_comparison()) {
-      fail(
-          "the first argument of select must be a comparison (X >= Y, X > Y, X <= Y or X < Y), "
-          "found " +
-              describe(peek()) + " after it",
-          peek().is(",") || peek().is(")") ? x_column : peek().column);
+    bool swap = false;
+    if (pending_ && pending_->begin == x_begin && pending_->end == expr_.nodes.size()) {
+      swap = pending_->swap;  // select((X cmp Y), b, c)
+      pending_.reset();
+    } else {
+      if (pending_ && pending_->begin >= x_begin)  // select((X cmp Y) + 1, ...)
+        comparison_outside_a_condition(pending_->cmp, pending_->column, "");
+      if (!is_comparison()) {
+        fail(
+            "the first argument of select must be a comparison (X >= Y, X > Y, X <= Y or X < Y), "
+            "found " +
+                describe(peek()) + " after it",
+            peek().is(",") || peek().is(")") ? x_column : peek().column);
+      }
+      const std::string cmp(next().text);
+      const std::size_t y_begin = expr_.nodes.size();
+      expression();
+      swap = condition(x_begin, y_begin, cmp);
     }
-    const std::string cmp(next().text);
-    const std::size_t y_begin = expr_.nodes.size();
-    expression();
-    const bool swap = condition(x_begin, y_begin, cmp);
     std::size_t b_begin = 0, c_begin = 0;
     for (std::size_t* begin : {&b_begin, &c_begin}) {
       if (!peek().is(",")) {
@@ -274,14 +294,29 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
     binary();
     if (is_comparison()) fail("comparisons do not chain: expected '?'", peek().column);
     if (!peek().is("?")) {
-      fail("a comparison ('" + cmp + "') is only allowed in a condition: select(X " + cmp +
-               " Y, b, c) or X " + cmp + " Y ? b : c (found " + describe(peek()) +
-               " where '?' would be)",
-           cmp_column);
+      if (peek().is(")") && nesting > 0) {  // (X cmp Y): the '?' may follow the ')'
+        pending_ = PendingCondition{x_begin, 0, condition(x_begin, y_begin, cmp), cmp_column, cmp};
+        pending_->end = expr_.nodes.size();
+        return x_begin;
+      }
+      comparison_outside_a_condition(cmp, cmp_column, describe(peek()));
     }
+    return branches(x_begin, condition(x_begin, y_begin, cmp));
+  }
+
+  // `found`: what stands where the '?' would be, or empty where that is not the point.
+  [[noreturn]] void comparison_outside_a_condition(const std::string& cmp, int column,
+                                                   const std::string& found) const {
+    fail("a comparison ('" + cmp + "') is only allowed in a condition: select(X " + cmp +
+             " Y, b, c) or X " + cmp + " Y ? b : c" +
+             (found.empty() ? std::string() : " (found " + found + " where '?' would be)"),
+         column);
+  }
+
+  // '? b : c' of a condition whose difference begins at node x_begin; emits the select.
+  std::size_t branches(std::size_t x_begin, bool swap) {
     const Token question = next();
     const Nest nest(*this, question);
-    const bool swap = condition(x_begin, y_begin, cmp);
     const std::size_t b_begin = expr_.nodes.size();
     expression();
     if (!peek().is(":")) {
@@ -296,6 +331,16 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
     emit(Node::op_node(Op::Select));
     return x_begin;
   }
+
+  // A parenthesized comparison waiting for the '?' after its ')': its difference, emitted as
+  // nodes [begin, end), and whether the branches swap (condition).
+  struct PendingCondition {
+    std::size_t begin = 0, end = 0;
+    bool swap = false;
+    int column = 0;
+    std::string cmp;
+  };
+  std::optional<PendingCondition> pending_;
 
   // The condition X cmp Y, its two sides parsed (beginning at nodes x_begin and y_begin), as the
   // operand a of select(a, b, c): returns whether b and c are to be swapped.

@@ -141,7 +141,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadFormula{"select(x + 1 = 0, 1, 2)", "unexpected character '='", 14},
         BadFormula{"select(x >= 0, 1 < x, 2)", "only allowed in a condition", 18},
         BadFormula{"select(x >= r0 >= 0, 1, 2)", "only allowed in a condition", 16},
-        BadFormula{"select((x >= 0), 1, 2)", "only allowed in a condition", 11},
+        BadFormula{"select((x >= 0) + 1, 1, 2)", "only allowed in a condition", 11},
+        BadFormula{"(x > 0) + 1 ? 1 : 2", "only allowed in a condition", 4},
+        BadFormula{"max((x > 0), 1)", "only allowed in a condition", 8},
         BadFormula{"select(x >= 0, 1)", "expected ',' and two more", 17},
         BadFormula{"select(x >= 0, 1, 2, 3)", "expected ')' after the 3", 20},
         BadFormula{"select()", "select takes 3 arguments, got 0", 1},
@@ -237,6 +239,11 @@ TEST(Parse, ConditionalIsSelect) {
   EXPECT_EQ(p("x < y ? 1 : x > 2 ? 3 : 4"), p("select(x < y, 1, select(x > 2, 3, 4))"));
   EXPECT_EQ(p("1 + (x <= y ? x : y) * 2"), p("1 + select(x <= y, x, y) * 2"));
   EXPECT_EQ(p("x + 1 >= y * 2 ? x : y + 1"), p("select(x + 1 >= y * 2, x, y + 1)"));
+  // A parenthesized comparison, as C code writes it.
+  EXPECT_EQ(p("(x > 0.5) ? x*x : sqrt(x)"), p("select(x > 0.5, x*x, sqrt(x))"));
+  EXPECT_EQ(p("((x >= y)) ? 1 : 2"), "select(x - y >= 0, 1, 2)");
+  EXPECT_EQ(p("select((x >= y), 1, 2)"), "select(x - y >= 0, 1, 2)");
+  EXPECT_EQ(p("x > 0 ? (y > 0) ? 1 : 2 : 3"), p("select(x > 0, select(y > 0, 1, 2), 3)"));
 }
 
 TEST(Parse, PrintThenParseRoundTripsRandomExpressions) {

@@ -361,9 +361,12 @@ class LatexPrinter {
 // shows its terms' signs as its own (a - -1 * x is written a + 1 * x).
 Expression without_neutral_text(const Expression& e, const PrintOptions& o) {
   using Frag = std::vector<Node>;
-  // The value of a literal: a constant, or a parameter printed as its value.
+  // The value of a literal: a constant, or a parameter printed as its value, under any number of
+  // negations (the text folds them: - -0 is written 0).
   const auto literal = [&](const Frag& f) -> std::optional<double> {
-    if (f.size() == 2 && f[1].op == Op::Neg && f[0].op == Op::Const) return -f[0].value;
+    if (f.size() > 1 && f[0].op == Op::Const &&
+        std::all_of(f.begin() + 1, f.end(), [](const Node& n) { return n.op == Op::Neg; }))
+      return f.size() % 2 == 0 ? -f[0].value : f[0].value;
     if (f.size() != 1) return std::nullopt;
     return literal_of(f[0], e, o);
   };
