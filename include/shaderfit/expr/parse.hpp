@@ -12,14 +12,17 @@
 // [A-Za-z_][A-Za-z0-9_]*. A minus sign directly before a number literal makes a negative constant
 // (`-0.5`).
 //
-// `select(X cmp Y, b, c)` with cmp one of >= > <= < is the one comparison of the grammar (an
-// error anywhere else) and becomes the operator select(a, b, c) = a >= 0 ? b : c:
+// `select(X cmp Y, b, c)` with cmp one of >= > <= <, or C's `X cmp Y ? b : c` (lowest in
+// precedence, nesting to the right; the comparison may stand in parentheses), is the one
+// comparison of the grammar (an error anywhere else) and becomes the operator
+// select(a, b, c) = a >= 0 ? b : c:
 //   select(X >= Y, b, c) -> select(X - Y, b, c)     select(X <= Y, b, c) -> select(Y - X, b, c)
 //   select(X > Y, b, c)  -> select(Y - X, c, b)     select(X < Y, b, c)  -> select(X - Y, c, b)
 // where a literal zero for the subtrahend is dropped (X >= 0: a = X) and one for the minuend makes
 // a negation (0 >= Y: a = -Y). The forms agree with the comparisons except where the difference
 // is NaN (X = Y = +-inf; and > and < take b for a NaN operand). The printer writes a select as
-// `select(a >= 0, b, c)`, which reads back to the same nodes.
+// `select(a >= 0, b, c)`, which reads back to the same nodes (for people, a difference as its
+// comparison: `select(x <= 0.5, b, c)`).
 //
 // Size limits, far above any formula a shader would use, so that nothing that walks a parsed
 // formula recursively (the parser itself, the printers, simplify, the cost model) can run out of
