@@ -46,4 +46,21 @@ std::vector<nlohmann::json> RankGroup::exchange(
   return out;
 }
 
+std::vector<nlohmann::json> RankGroup::gather(const nlohmann::json& mine) {
+  if (!leader()) {
+    (void)exchange({{0, mine}}, {});
+    return {};
+  }
+  std::vector<int> from;
+  for (int r = 1; r < size(); ++r) from.push_back(r);
+  std::vector<nlohmann::json> out = exchange({}, from);
+  out.insert(out.begin(), mine);
+  return out;
+}
+
+std::vector<std::string> RankGroup::all_gather_bytes(std::string_view mine) {
+  bytes_sent_ += mine.size();
+  return comm_->all_gather(mine);
+}
+
 }  // namespace shaderfit::search_detail

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <nlohmann/json.hpp>
 #include <utility>
 #include <vector>
@@ -33,6 +35,11 @@ class RankGroup {
   nlohmann::json broadcast(const nlohmann::json& value, int root);
   std::vector<nlohmann::json> exchange(const std::vector<std::pair<int, nlohmann::json>>& sends,
                                        const std::vector<int>& from);
+  // Every rank's `mine` at rank 0, in rank order (rank 0's own first); the others get an empty
+  // list. A reduction's first half: what each rank sends does not grow with the ranks.
+  std::vector<nlohmann::json> gather(const nlohmann::json& mine);
+  // all_gather of raw bytes, for bulk data (the enumeration's classes).
+  std::vector<std::string> all_gather_bytes(std::string_view mine);
 
   // The bytes this rank has sent (its payloads).
   [[nodiscard]] std::uint64_t bytes_sent() const { return bytes_sent_; }

@@ -164,4 +164,10 @@ void ClassStore::commit() {
   std::fill(pending_table_.begin(), pending_table_.end(), 0);
 }
 
+void ClassStore::drop_pending() {
+  size_ = committed_;
+  hashes_.resize(committed_);
+  std::fill(pending_table_.begin(), pending_table_.end(), 0);
+}
+
 }  // namespace shaderfit::search_detail

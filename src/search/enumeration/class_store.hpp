@@ -82,6 +82,9 @@ class ClassStore {
   float* allocate_block(std::size_t columns);
   // Ends a batch: the pending classes become committed. No batch may be running.
   void commit();
+  // Forgets the pending classes (their columns stay where they are, for the caller to insert
+  // again). No batch may be running.
+  void drop_pending();
 
  private:
   [[nodiscard]] std::int64_t probe(const std::vector<std::uint64_t>& table, const float* column,

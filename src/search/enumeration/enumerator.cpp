@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <mutex>
 #include <thread>
 
@@ -32,6 +33,9 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
   materialized_.assign(levels, false);
   elite_levels_.resize(levels);
   add_leaves();
+  prior_candidates_ = ctx.candidates.load();
+  round_base_ = prior_candidates_;
+  joint_classes_ = store_->size();
 }
 
 Enumerator::~Enumerator() = default;
@@ -156,6 +160,15 @@ bool Enumerator::fusable(const ClassRecord& r) const {
 
 bool Enumerator::enumeration_should_stop() {
   if (ctx_.should_stop() || exhausted_.load(std::memory_order_relaxed)) return true;
+  const std::optional<std::int64_t>& budget = ctx_.options.max_candidates;
+  if (ctx_.ranks.distributed() && budget) {
+    // A round's share of what is left of the budget: the other ranks evaluate about as many
+    // candidates as this one in it (the ranks then agree on the count, and go on).
+    const std::uint64_t now = ctx_.candidates.load(std::memory_order_relaxed);
+    const auto ranks = static_cast<std::uint64_t>(ctx_.ranks.size());
+    if (ranks * (now - round_base_) >= static_cast<std::uint64_t>(*budget) - round_base_)
+      return true;
+  }
   // CPU seconds per thread cannot exceed wall seconds: the process clock (a system call) is read
   // only once the wall clock has passed the share.
   const std::chrono::duration<double> wall = std::chrono::steady_clock::now() - wall_start_;
@@ -169,9 +182,9 @@ void Enumerator::run() {
   const int max_cost = ctx_.options.max_enumeration_cost;
   const bool deferred_fusion = costs_->eager_fusion();
   for (int level = cost_completed_ + 1; level <= max_cost; ++level) {
-    if (enumeration_should_stop()) break;
+    if (enumeration_over()) break;
     if (deferred_fusion && level >= 2) materialize_fused(level - 1);
-    if (enumeration_should_stop()) break;
+    if (enumeration_over()) break;
     // The batch that completes a level also runs the next level's steps whose operands all lie
     // below the level (they need nothing more): their first tiles ahead of the level's own,
     // their others after. So a cheap formula of the next level is not held up by the largest
@@ -192,8 +205,15 @@ void Enumerator::run() {
     const bool complete = run_batch(steps, false);
     prune_elite(level);
     if (complete) cost_completed_ = level;
-    if (ctx_.stopped() || exhausted_.load(std::memory_order_relaxed)) break;
+    if (ctx_.ranks.distributed() ? joint_end_
+                                 : ctx_.stopped() || exhausted_.load(std::memory_order_relaxed))
+      break;
   }
+}
+
+bool Enumerator::enumeration_over() {
+  // Across ranks only what the ranks agreed on: each rank makes the same collective calls.
+  return ctx_.ranks.distributed() ? joint_end_ : enumeration_should_stop();
 }
 
 void Enumerator::materialize_fused(int level) {
@@ -215,8 +235,19 @@ void Enumerator::materialize_fused(int level) {
 bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
   std::size_t complete = 0;
   const std::vector<Tile> tiles = make_tiles(steps, &complete);
+  if (tiles.empty()) return true;
+  if (ctx_.ranks.distributed())
+    return run_batch_across_ranks(steps, tiles, complete, materialize);
+  const bool whole = run_tiles(steps, tiles, materialize) >= complete;
+  finish_improvements(materialize);
+  store_->commit();
+  return whole;
+}
+
+std::size_t Enumerator::run_tiles(const std::vector<Step>& steps, std::span<const Tile> tiles,
+                                  bool materialize) {
   const std::size_t n = tiles.size();
-  if (n == 0) return true;
+  if (n == 0) return 0;
   const auto threads = static_cast<std::size_t>(ctx_.threads);
   std::vector<std::unique_ptr<TileOutput>> outputs(n);
   std::unique_ptr<std::atomic<bool>[]> ready(new std::atomic<bool>[n]);
@@ -271,15 +302,14 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
       const Tile& t = tiles[i];
       process_tile(steps[t.step], t, *out);
       ctx_.candidates.fetch_add(out->evaluated, std::memory_order_relaxed);
+      own_evaluated_.fetch_add(out->evaluated, std::memory_order_relaxed);
       ctx_.node_evaluations.fetch_add(out->evaluated * screen_rows_, std::memory_order_relaxed);
       outputs[i] = std::move(out);
       ready[i].store(true, std::memory_order_release);
     }
   };
   parallel_for(threads, 1, worker, static_cast<int>(threads));
-  finish_improvements(materialize);
-  store_->commit();
-  return merged.load() >= complete;
+  return merged.load();
 }
 
 void Enumerator::merge(TileOutput& out, bool materialize) {
@@ -373,6 +403,7 @@ void Enumerator::finish_improvements(bool materialize) {
   }
   if (!materialize) {
     for (const Improvement& d : deferred_) {
+      if (!d.offer) continue;
       consider_for_front(d.id, d.stats, d.record.cost);
       if (d.fused.leaf >= 0) consider_fused_for_front(d.id, d.fused, d.record.cost);
     }

@@ -35,10 +35,17 @@ class Enumerator {
   void run();
 
   [[nodiscard]] int cost_completed() const { return cost_completed_; }
-  [[nodiscard]] std::uint64_t classes() const { return store_->size(); }
+  // Across ranks: every rank's classes (those of an unfinished batch counted where they were
+  // made, so two ranks' equivalent ones count twice).
+  [[nodiscard]] std::uint64_t classes() const {
+    return ctx_.ranks.distributed() ? joint_classes_ : store_->size();
+  }
   // Up to `count` formulas with the lowest screen loss, spread over the cost levels: seeds for
   // the evolution.
   [[nodiscard]] std::vector<Expression> seeds(std::size_t count) const;
+  // Across ranks, after run(): every rank's front members join rank 0's front, and rank 0
+  // returns the seeds of all ranks' best classes (the others return none).
+  std::vector<Expression> gather_at_leader(std::size_t count);
 
   // Public for the step generator (enum_steps.cpp).
   struct Variant {
@@ -78,6 +85,20 @@ class Enumerator {
   // fused sums into classes (already offered to the front). Returns whether the batch's own
   // level is complete (false when the enumeration stopped before).
   bool run_batch(const std::vector<Step>& steps, bool materialize);
+  // Computes and merges `tiles` in order on this rank's threads; returns how many were merged
+  // (fewer when the enumeration stopped).
+  std::size_t run_tiles(const std::vector<Step>& steps, std::span<const Tile> tiles,
+                        bool materialize);
+  // Across ranks (enum_ranks.cpp, docs/distributed.md): tile i of a batch is rank i mod R's,
+  // computed in rounds of kRoundTiles per thread; after each round the ranks agree on the counts
+  // and on whether to stop (agree returns true to stop; `complete`: this rank merged its share of
+  // the batch's level; `done`: all its tiles). A batch all ranks finished is replicated: every rank's new classes in rank
+  // order, each computed again from its recipe, so that all hold the same classes.
+  bool run_batch_across_ranks(const std::vector<Step>& steps, const std::vector<Tile>& tiles,
+                              std::size_t complete, bool materialize);
+  bool agree(bool complete, bool done, bool* level_complete, bool* all_done);
+  void replicate(bool materialize);
+  bool enumeration_over();
   void materialize_fused(int level);
   void process_tile(const Step& step, const Tile& tile, TileOutput& out) const;
   int emit(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,
@@ -137,6 +158,7 @@ class Enumerator {
     ColumnStats stats;
     ClassRecord record;
     FusedBest fused;
+    bool offer = true;  // to this rank's front (another rank's find: offered there)
   };
   std::vector<Improvement> deferred_;
   std::vector<std::pair<std::uint32_t, int>> moved_;  // (class, its former level)
@@ -149,6 +171,14 @@ class Enumerator {
   // the work (wall time would cut it short).
   double time_share_s_ = 0;
   double cpu_start_s_ = 0;
+  // Across ranks: the candidates this rank counted before the enumeration and those it
+  // evaluated since; the joint count at the last agreement; whether the ranks agreed to stop;
+  // every rank's classes.
+  std::uint64_t prior_candidates_ = 0;
+  std::atomic<std::uint64_t> own_evaluated_{0};
+  std::uint64_t round_base_ = 0;
+  bool joint_end_ = false;
+  std::uint64_t joint_classes_ = 0;
 };
 
 // The formula of class `id` (negated when `negate`), over `variables`. A Var leaf k stands for

@@ -151,7 +151,7 @@ void share_enumeration(search_detail::SearchContext& ctx, SearchSummary* s,
   seeds->clear();
   for (const json& e : j.at("seeds")) seeds->push_back(search_detail::exact_expression_from(e));
   ctx.candidates.store(j.at("candidates").get<std::uint64_t>());
-  ctx.node_evaluations.store(0);  // rank 0 counts the enumeration's work
+  // The node evaluations stay each rank's own: they are summed at the end.
   s->distinct_candidates = j.at("distinct").get<std::uint64_t>();
   s->enumeration_cost_completed = j.at("cost_completed").get<int>();
   ctx.resume_clock(search_detail::exact_number_from(j.at("elapsed")) - ctx.elapsed());
@@ -236,7 +236,8 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     // Afresh, or from a checkpoint taken during the enumeration: the enumeration runs again
     // (with count stops it finds the same classes), then the checkpoint's front joins.
     // The start formulas first, so that they seed the evolution whatever the enumeration finds.
-    // Across ranks rank 0 does this part alone, and the others take what it left.
+    // Across ranks rank 0 does this part alone, except the enumeration, which the ranks share
+    // (its front and seeds join rank 0's); then the others take what rank 0 has.
     std::vector<Expression> seeds;
     if (ctx.ranks.leader()) {
       seeds = search_detail::offer_start_formulas(ctx, starts);
@@ -267,13 +268,20 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
         seeds.insert(seeds.begin() + static_cast<std::ptrdiff_t>(starts.size()),
                      std::make_move_iterator(found.begin()), std::make_move_iterator(found.end()));
       }
+    }
+    if (options.enumerate) {
+      search_detail::Enumerator enumerator(ctx, rng);
+      enumerator.run();
+      s.distinct_candidates = enumerator.classes();
+      s.enumeration_cost_completed = enumerator.cost_completed();
+      std::vector<Expression> found = distributed
+                                          ? enumerator.gather_at_leader(options.population)
+                                          : enumerator.seeds(options.population);
+      if (options.evolve)
+        for (Expression& e : found) seeds.push_back(std::move(e));
+    }
+    if (ctx.ranks.leader()) {
       if (options.enumerate) {
-        search_detail::Enumerator enumerator(ctx, rng);
-        enumerator.run();
-        s.distinct_candidates = enumerator.classes();
-        s.enumeration_cost_completed = enumerator.cost_completed();
-        if (options.evolve)
-          for (Expression& e : enumerator.seeds(options.population)) seeds.push_back(std::move(e));
         // An exact power sum where the data is one, or the polynomials of a one-input problem,
         // where the search goes on (a target the enumeration reached ends it first): seeds
         // after the user's starts.
