@@ -262,9 +262,10 @@ double best_at(const SearchSummary& s, double cost) {
   return best;
 }
 
-// Across ranks each rank enumerates its share of every batch; the levels every rank finished are
-// shared, so that their classes are those of one process (up to which of two equivalent recipes
-// of one cost is kept), and the front is as good at every cost.
+// Across ranks each rank enumerates its part of every batch, and a level is shared once it is
+// needed whole (its classes deduplicated then); the last level's classes stay with their ranks
+// (counted where they were made), so the work is about one process's and the front is as good
+// at every cost.
 TEST(Distributed, EnumerationAcrossRanksIsAsGoodAsOneProcess) {
   const SearchProblem problem = test::fresnel_seed_problem();
   SearchOptions o = short_search();
@@ -275,11 +276,9 @@ TEST(Distributed, EnumerationAcrossRanksIsAsGoodAsOneProcess) {
   run_search(o, problem, &one);
   for (int ranks : {2, 3}) {
     const SearchSummary many = run_on_ranks(ranks, o, problem);
-    EXPECT_NEAR(static_cast<double>(many.distinct_candidates),
-                static_cast<double>(one.distinct_candidates), 0.01 * one.distinct_candidates)
-        << ranks << " ranks";
+    EXPECT_GE(many.distinct_candidates, one.distinct_candidates) << ranks << " ranks";
     EXPECT_NEAR(static_cast<double>(many.candidates), static_cast<double>(one.candidates),
-                0.02 * static_cast<double>(one.candidates))
+                0.05 * static_cast<double>(one.candidates))
         << ranks << " ranks";
     EXPECT_EQ(many.enumeration_cost_completed, 3);
     for (const FrontMember& m : one.front)

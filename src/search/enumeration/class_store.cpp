@@ -164,10 +164,9 @@ void ClassStore::commit() {
   std::fill(pending_table_.begin(), pending_table_.end(), 0);
 }
 
-void ClassStore::drop_pending() {
-  size_ = committed_;
-  hashes_.resize(committed_);
-  std::fill(pending_table_.begin(), pending_table_.end(), 0);
+std::size_t ClassStore::columns_left() const {
+  const std::size_t used = column_arena_used_.load(std::memory_order_relaxed);
+  return used >= column_arena_columns_ ? 0 : column_arena_columns_ - used;
 }
 
 }  // namespace shaderfit::search_detail

@@ -57,6 +57,8 @@ class ClassStore {
   [[nodiscard]] bool full() const { return size_ >= capacity_; }
   [[nodiscard]] const float* column(std::uint32_t id) const { return columns_[id]; }
   [[nodiscard]] const ClassRecord& record(std::uint32_t id) const { return records_[id]; }
+  // The hash of the class's column as it was inserted (equivalent columns share it).
+  [[nodiscard]] std::uint64_t hash(std::uint32_t id) const { return hashes_[id]; }
 
   // A committed class equivalent to `column` (up to sign), or -1. Safe from any thread.
   [[nodiscard]] std::int64_t find_committed(const float* column, const ColumnStats& stats) const;
@@ -82,9 +84,8 @@ class ClassStore {
   float* allocate_block(std::size_t columns);
   // Ends a batch: the pending classes become committed. No batch may be running.
   void commit();
-  // Forgets the pending classes (their columns stay where they are, for the caller to insert
-  // again). No batch may be running.
-  void drop_pending();
+  // Columns the arena still has room for.
+  [[nodiscard]] std::size_t columns_left() const;
 
  private:
   [[nodiscard]] std::int64_t probe(const std::vector<std::uint64_t>& table, const float* column,

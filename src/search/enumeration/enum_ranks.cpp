@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstring>
 #include <string>
+#include <unordered_map>
 
 #include "search/enumeration/enum_costs.hpp"
 #include "search/enumeration/enum_tile.hpp"
@@ -47,17 +48,46 @@ struct RoundReport {
   std::uint8_t done;         // it merged all its tiles of the batch
 };
 
+// A class as one rank tells the others of it: its recipe (operands named by their place among
+// the shared classes) and its key.
+struct SharedClass {
+  ClassRecord record;
+  std::uint64_t hash;
+};
+
+bool has_operand_a(const ClassRecord& r) {
+  return r.kind != EKind::Var && r.kind != EKind::Literal;
+}
+bool has_operand_b(const ClassRecord& r) {
+  return has_operand_a(r) && r.kind != EKind::Unary && r.kind != EKind::IPow;
+}
+
 }  // namespace
+
+bool Enumerator::step_over_shared(const Step& s) const {
+  for (std::size_t k = 0; k < level_ids_.size(); ++k) {
+    if (shared_[k]) continue;
+    for (const std::span<const std::uint32_t> list : {s.a, s.b})
+      if (!list.empty() &&
+          (list.data() == level_ids_[k].data() || list.data() == fusable_ids_[k].data()))
+        return false;
+  }
+  return true;
+}
 
 bool Enumerator::run_batch_across_ranks(const std::vector<Step>& steps,
                                         const std::vector<Tile>& tiles, std::size_t complete,
                                         bool materialize) {
   const auto ranks = static_cast<std::size_t>(ctx_.ranks.size());
   const auto me = static_cast<std::size_t>(ctx_.ranks.rank());
-  // Tile i is rank i mod R's: every rank gets the same mix of steps and of the batch's order.
+  std::vector<bool> dealt(steps.size());
+  for (std::size_t s = 0; s < steps.size(); ++s) dealt[s] = step_over_shared(steps[s]);
+  // The tiles of steps over shared levels (the same on every rank, in the same order) are dealt
+  // out; those over this rank's part of a level are all its own.
   std::vector<Tile> own;
-  std::size_t own_complete = 0;
-  for (std::size_t i = me; i < tiles.size(); i += ranks) {
+  std::size_t own_complete = 0, next_dealt = 0;
+  for (std::size_t i = 0; i < tiles.size(); ++i) {
+    if (dealt[tiles[i].step] && next_dealt++ % ranks != me) continue;
     own.push_back(tiles[i]);
     if (i < complete) ++own_complete;
   }
@@ -65,7 +95,7 @@ bool Enumerator::run_batch_across_ranks(const std::vector<Step>& steps,
   std::size_t merged = 0;
   bool level_complete = false;
   // Rounds until every rank has merged all its tiles or the ranks agree to stop. A round that
-  // ends early (a count budget's share of it spent) leaves its tiles to the next.
+  // ends early (its share of a count budget spent) leaves its tiles to the next.
   while (true) {
     const std::size_t end = std::min(own.size(), merged + per_round);
     if (merged < end && !enumeration_should_stop())
@@ -75,25 +105,22 @@ bool Enumerator::run_batch_across_ranks(const std::vector<Step>& steps,
     if (agree(merged >= own_complete, merged == own.size(), &level_complete, &all_done)) break;
     if (all_done) break;
   }
-  if (!joint_end_) {
-    replicate(materialize);
-    joint_classes_ = store_->size();
-  }
   finish_improvements(materialize);
   store_->commit();
   return level_complete;
 }
+
 bool Enumerator::agree(bool complete, bool done, bool* level_complete, bool* all_done) {
   RoundReport mine{};
   mine.candidates = prior_candidates_ + own_evaluated_.load();
-  mine.classes = store_->size() - store_->committed();
+  mine.classes = store_->size() - shared_ids_.size();
   mine.stop = ctx_.stopped() ? static_cast<std::int32_t>(ctx_.stop_reason()) : -1;
   mine.exhausted = exhausted_.load() ? 1 : 0;
   mine.complete = complete ? 1 : 0;
   mine.done = done ? 1 : 0;
   std::string bytes;
   put(bytes, mine);
-  std::uint64_t candidates = 0, classes = store_->committed();
+  std::uint64_t candidates = 0, classes = shared_ids_.size();
   bool exhausted = false, all_complete = true, every_done = true;
   std::int32_t stop = -1;
   for (const std::string& b : ctx_.ranks.all_gather_bytes(bytes)) {
@@ -108,7 +135,7 @@ bool Enumerator::agree(bool complete, bool done, bool* level_complete, bool* all
   }
   ctx_.candidates.store(candidates);
   round_base_ = candidates;
-  // The ranks' classes together fill the store (each holds only its own until they are shared).
+  // The ranks' classes together fill the store (each holds its own part and the shared levels).
   if (classes >= ctx_.options.max_classes) exhausted = true;
   joint_classes_ = std::min<std::uint64_t>(classes, ctx_.options.max_classes);
   if (stop >= 0) ctx_.stop(static_cast<Termination>(stop));  // keeps a reason of its own
@@ -119,130 +146,126 @@ bool Enumerator::agree(bool complete, bool done, bool* level_complete, bool* all
   return joint_end_;
 }
 
-void Enumerator::replicate(bool materialize) {
-  const std::uint32_t first = store_->committed();
-  const std::uint32_t own_count = store_->size() - first;
-  // This rank's new classes (their final recipes) and its cheaper recipes for committed ones.
+void Enumerator::share_levels_for(int level) {
+  const int shared_below = costs_->leaf + 3;
+  for (int k = 0; k < level && !joint_end_; ++k)
+    if (k <= level - 2 || k < shared_below) share_level(k);
+}
+
+void Enumerator::share_level(int level) {
+  const auto L = static_cast<std::size_t>(level);
+  if (shared_[L]) return;
+  shared_index_.resize(store_->size(), kNotShared);
+  // This rank's classes of the level with their keys, their operands named by their place among
+  // the shared classes or (kOwnRef) by their place in this list (a fused sum m + c of the same
+  // level as m).
+  constexpr std::uint32_t kOwnRef = 0x80000000u;
+  const std::vector<std::uint32_t> own = level_ids_[L];
+  std::unordered_map<std::uint32_t, std::uint32_t> place;
+  for (std::size_t i = 0; i < own.size(); ++i) place.emplace(own[i], static_cast<std::uint32_t>(i));
+  const auto name = [&](std::uint32_t id) {
+    if (shared_index_[id] != kNotShared) return shared_index_[id];
+    const auto p = place.find(id);
+    if (p == place.end())
+      throw Error("internal: a class of cost " + std::to_string(level) +
+                      " refers to a class not shared yet",
+                  {"SearchOptions::communicator"});
+    return kOwnRef | p->second;
+  };
   std::string mine;
-  put(mine, own_count);
-  for (std::uint32_t id = first; id < store_->size(); ++id) put(mine, store_->record(id));
-  put(mine, static_cast<std::uint32_t>(deferred_.size()));
-  for (const Improvement& d : deferred_) {
-    put(mine, d.id);
-    put(mine, d.record);
+  put(mine, static_cast<std::uint64_t>(own.size()));
+  put(mine, static_cast<std::uint64_t>(store_->size()));
+  put(mine, static_cast<std::uint64_t>(store_->columns_left()));
+  for (const std::uint32_t id : own) {
+    ClassRecord r = store_->record(id);
+    if (has_operand_a(r)) r.a = name(r.a);
+    if (has_operand_b(r)) r.b = name(r.b);
+    put(mine, SharedClass{r, store_->hash(id)});
   }
   const std::vector<std::string> all = ctx_.ranks.all_gather_bytes(mine);
-
-  // Forget the new classes, to insert every rank's in rank order.
-  std::vector<const float*> own_columns(own_count);
-  for (std::uint32_t i = 0; i < own_count; ++i) own_columns[i] = store_->column(first + i);
-  store_->drop_pending();
-  const auto pending = [first](std::uint32_t id) { return id >= first; };
-  for (auto& ids : level_ids_) std::erase_if(ids, pending);
-  for (auto& ids : fusable_ids_) std::erase_if(ids, pending);
-  std::vector<Improvement> own_deferred = std::move(deferred_);
-  deferred_.clear();
-  moved_.clear();
-  improved_.clear();
-
+  struct Part {
+    std::uint64_t count, size, left;
+    std::size_t at;
+  };
+  std::vector<Part> parts;
+  std::uint64_t total = 0;
+  for (const std::string& msg : all) {
+    Part p{};
+    p.count = take<std::uint64_t>(msg, &p.at);
+    p.size = take<std::uint64_t>(msg, &p.at);
+    p.left = take<std::uint64_t>(msg, &p.at);
+    if (msg.size() != p.at + p.count * sizeof(SharedClass))
+      throw Error("a rank sent a malformed level", {"SearchOptions::communicator"});
+    total += p.count;
+    parts.push_back(p);
+  }
+  // Every rank must have room for the others' classes: when one has not, the enumeration ends.
+  for (const Part& p : parts) {
+    const std::uint64_t others = total - p.count;
+    if (p.size + others > ctx_.options.max_classes || others > p.left) {
+      exhausted_.store(true);
+      joint_end_ = true;
+      return;
+    }
+  }
+  // In rank order; a class whose key (its column's hash and sign) a shared class has already is
+  // that class (decided on the keys the ranks sent, so every rank decides alike).
   const auto me = static_cast<std::size_t>(ctx_.ranks.rank());
   const std::size_t rows = screen_rows_;
-  std::vector<float> scratch(rows);
-  const auto compute = [&](const ClassRecord& r, float* out) {
-    const bool unary = r.kind == EKind::Unary || r.kind == EKind::IPow;
-    compute_column(r.kind, r.op, r.k, store_->column(r.a), unary ? nullptr : store_->column(r.b),
-                   r.has(ClassRecord::kNegA), r.has(ClassRecord::kNegB), out, rows);
-  };
-  // Where each of this rank's classes went (its elite entries name them), and whether that
-  // class holds the negated column.
-  std::vector<std::int64_t> own_new(own_count, -1);
-  std::vector<bool> own_flipped(own_count, false);
-  for (std::size_t q = 0; q < all.size(); ++q) {
-    const std::string& msg = all[q];
-    std::size_t at = 0;
-    const auto count = take<std::uint32_t>(msg, &at);
-    for (std::uint32_t i = 0; i < count; ++i) {
-      const auto rec = take<ClassRecord>(msg, &at);
-      if (rec.a >= first || (rec.kind != EKind::Unary && rec.kind != EKind::IPow &&
-                             rec.kind != EKind::Var && rec.kind != EKind::Literal &&
-                             rec.b >= first))
-        throw Error("a rank sent a class of uncommitted operands", {"communicator"});
-      const float* column = nullptr;
+  std::vector<float> column(rows);
+  std::vector<std::uint32_t> list, fusable, at_place;
+  for (std::size_t q = 0; q < parts.size(); ++q) {
+    Part& p = parts[q];
+    at_place.assign(p.count, 0);
+    for (std::uint64_t i = 0; i < p.count; ++i) {
+      const auto c = take<SharedClass>(all[q], &p.at);
+      ClassRecord r = c.record;
+      const bool negative = r.has(ClassRecord::kCanonicalNeg);
+      if (const auto k = shared_keys_.find(c.hash);
+          k != shared_keys_.end() && shared_negative_[k->second] == negative) {
+        at_place[i] = k->second;
+        if (q == me) shared_index_[own[i]] = k->second;
+        continue;
+      }
+      std::uint32_t id = 0;
       if (q == me) {
-        column = own_columns[i];
+        id = own[i];
       } else {
-        compute(rec, scratch.data());
-        column = scratch.data();
-      }
-      ColumnStats st;
-      column_key(column, &st);
-      if (const std::int64_t p = store_->find_pending(column, st); p >= 0) {
-        const auto id = static_cast<std::uint32_t>(p);
-        const int old = store_->record(id).cost;
-        if (old > rec.cost) {  // a cheaper recipe from a later rank
-          const float* kept = column;
-          if (q != me) {
-            float* room = store_->allocate_block(1);
-            if (room == nullptr) {
-              exhausted_.store(true);
-              continue;
-            }
-            std::copy(column, column + rows, room);
-            kept = room;
+        const auto local = [&](std::uint32_t n) {
+          if ((n & kOwnRef) != 0) {
+            const std::uint32_t j = n & ~kOwnRef;
+            if (j >= i) throw Error("a rank sent a class of unknown operands",
+                                    {"SearchOptions::communicator"});
+            return shared_ids_[at_place[j]];
           }
-          store_->improve(id, kept, st, rec);
-          moved_.emplace_back(id, old);
-        }
-        if (q == me) {
-          own_new[i] = id;
-          own_flipped[i] = st.canonical_neg != store_->record(id).has(ClassRecord::kCanonicalNeg);
-        }
-        continue;
+          if (n >= shared_ids_.size())
+            throw Error("a rank sent a class of unknown operands", {"SearchOptions::communicator"});
+          return shared_ids_[n];
+        };
+        if (has_operand_a(r)) r.a = local(r.a);
+        if (has_operand_b(r)) r.b = local(r.b);
+        compute_column(r.kind, r.op, r.k, store_->column(r.a),
+                       has_operand_b(r) ? store_->column(r.b) : nullptr,
+                       r.has(ClassRecord::kNegA), r.has(ClassRecord::kNegB), column.data(), rows);
+        ColumnStats st;
+        column_key(column.data(), &st);
+        id = store_->insert_copy(column.data(), st, r);
+        shared_index_.resize(store_->size(), kNotShared);
       }
-      if (store_->full()) {  // every rank fills its store at the same class
-        exhausted_.store(true);
-        joint_end_ = true;
-        continue;
-      }
-      const std::uint32_t id =
-          q == me ? store_->insert(column, st, rec) : store_->insert_copy(column, st, rec);
-      level_ids_[rec.cost].push_back(id);
-      if (rec.has(ClassRecord::kFusable)) fusable_ids_[rec.cost].push_back(id);
-      if (q == me) own_new[i] = id;
-    }
-    const auto improvements = take<std::uint32_t>(msg, &at);
-    for (std::uint32_t j = 0; j < improvements; ++j) {
-      const auto id = take<std::uint32_t>(msg, &at);
-      const auto rec = take<ClassRecord>(msg, &at);
-      if (id >= first) throw Error("a rank improved an uncommitted class", {"communicator"});
-      if (store_->record(id).cost <= rec.cost || !improved_.insert(id).second) continue;
-      if (q == me) {
-        deferred_.push_back(own_deferred[j]);
-        continue;
-      }
-      float* room = store_->allocate_block(1);
-      if (room == nullptr) {
-        exhausted_.store(true);
-        continue;
-      }
-      compute(rec, room);
-      ColumnStats st;
-      column_key(room, &st);
-      deferred_.push_back({id, room, st, rec, FusedBest{}, false});
+      const auto index = static_cast<std::uint32_t>(shared_ids_.size());
+      at_place[i] = index;
+      shared_index_[id] = index;
+      shared_ids_.push_back(id);
+      shared_negative_.push_back(negative);
+      shared_keys_.emplace(c.hash, index);
+      list.push_back(id);
+      if (r.has(ClassRecord::kFusable)) fusable.push_back(id);
     }
   }
-  // This rank's best classes, under their new ids.
-  for (auto& level : elite_levels_) {
-    std::erase_if(level, [&](Elite& e) {
-      if (e.id < first) return false;
-      const std::int64_t to = own_new[e.id - first];
-      if (to < 0) return true;
-      e.negate = e.negate != own_flipped[e.id - first];
-      e.id = static_cast<std::uint32_t>(to);
-      return false;
-    });
-  }
-  (void)materialize;
+  level_ids_[L] = std::move(list);
+  fusable_ids_[L] = std::move(fusable);
+  shared_[L] = true;
+  store_->commit();
 }
 
 std::vector<Expression> Enumerator::gather_at_leader(std::size_t count) {

@@ -36,6 +36,15 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
   prior_candidates_ = ctx.candidates.load();
   round_base_ = prior_candidates_;
   joint_classes_ = store_->size();
+  // The leaves and literals, the same on every rank, are shared from the start.
+  shared_.assign(levels, false);
+  for (int k = 0; k <= cost_completed_; ++k) shared_[static_cast<std::size_t>(k)] = true;
+  for (std::uint32_t id = 0; id < store_->size(); ++id) {
+    shared_index_.push_back(id);
+    shared_ids_.push_back(id);
+    shared_negative_.push_back(store_->record(id).has(ClassRecord::kCanonicalNeg));
+    shared_keys_.emplace(store_->hash(id), id);
+  }
 }
 
 Enumerator::~Enumerator() = default;
@@ -184,6 +193,7 @@ void Enumerator::run() {
   for (int level = cost_completed_ + 1; level <= max_cost; ++level) {
     if (enumeration_over()) break;
     if (deferred_fusion && level >= 2) materialize_fused(level - 1);
+    if (ctx_.ranks.distributed()) share_levels_for(level);
     if (enumeration_over()) break;
     // The batch that completes a level also runs the next level's steps whose operands all lie
     // below the level (they need nothing more): their first tiles ahead of the level's own,
@@ -220,7 +230,8 @@ void Enumerator::materialize_fused(int level) {
   const auto L = static_cast<std::size_t>(level);
   if (materialized_[L]) return;
   materialized_[L] = true;
-  if (fusable_ids_[L].empty() || fused_leaf_ids_.empty()) return;
+  // Across ranks every rank takes part in the batch, with its part of the level's products.
+  if (fused_leaf_ids_.empty() || (fusable_ids_[L].empty() && !ctx_.ranks.distributed())) return;
   Step s;
   s.kind = EKind::FusedAdd;
   s.a = fusable_ids_[L];
@@ -235,9 +246,10 @@ void Enumerator::materialize_fused(int level) {
 bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
   std::size_t complete = 0;
   const std::vector<Tile> tiles = make_tiles(steps, &complete);
-  if (tiles.empty()) return true;
+  // Across ranks every rank takes part, whatever its share (its part of a level may be empty).
   if (ctx_.ranks.distributed())
     return run_batch_across_ranks(steps, tiles, complete, materialize);
+  if (tiles.empty()) return true;
   const bool whole = run_tiles(steps, tiles, materialize) >= complete;
   finish_improvements(materialize);
   store_->commit();

@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
@@ -89,15 +90,22 @@ class Enumerator {
   // (fewer when the enumeration stopped).
   std::size_t run_tiles(const std::vector<Step>& steps, std::span<const Tile> tiles,
                         bool materialize);
-  // Across ranks (enum_ranks.cpp, docs/distributed.md): tile i of a batch is rank i mod R's,
-  // computed in rounds of kRoundTiles per thread; after each round the ranks agree on the counts
-  // and on whether to stop (agree returns true to stop; `complete`: this rank merged its share of
-  // the batch's level; `done`: all its tiles). A batch all ranks finished is replicated: every rank's new classes in rank
-  // order, each computed again from its recipe, so that all hold the same classes.
+  // Across ranks (enum_ranks.cpp, docs/distributed.md). A level's classes stay with the rank
+  // that made them until the level is shared, once, before the first batch that needs it as the
+  // lower operand of a step (a level below kSharedBelow, the leaves' level plus 3, as soon as it
+  // is complete: a step may pair two of its classes). A step over shared levels only has its
+  // tiles dealt out to the ranks (tile i of them to rank i mod R); a step over a level not yet
+  // shared runs whole on every rank, over that rank's part of the level. The tiles run in rounds
+  // of kRoundTiles per thread, after each of which the ranks agree on the count and on whether
+  // to stop (agree returns true to stop; `complete`: this rank merged its part of the batch's
+  // level; `done`: all its tiles).
   bool run_batch_across_ranks(const std::vector<Step>& steps, const std::vector<Tile>& tiles,
                               std::size_t complete, bool materialize);
   bool agree(bool complete, bool done, bool* level_complete, bool* all_done);
-  void replicate(bool materialize);
+  // Shares every level the batch of `level` needs shared (see above).
+  void share_levels_for(int level);
+  void share_level(int level);
+  [[nodiscard]] bool step_over_shared(const Step& s) const;
   bool enumeration_over();
   void materialize_fused(int level);
   void process_tile(const Step& step, const Tile& tile, TileOutput& out) const;
@@ -179,6 +187,14 @@ class Enumerator {
   std::uint64_t round_base_ = 0;
   bool joint_end_ = false;
   std::uint64_t joint_classes_ = 0;
+  // The shared levels, and the shared classes' ids: the same list on every rank, in the ranks'
+  // order (a class's place in it is its name in messages); and the place of each class in it.
+  std::vector<bool> shared_;
+  std::vector<std::uint32_t> shared_ids_;
+  std::vector<std::uint32_t> shared_index_;  // per class id; kNotShared for a rank's own
+  std::vector<bool> shared_negative_;         // per place: its key's sign
+  std::unordered_map<std::uint64_t, std::uint32_t> shared_keys_;  // hash -> place
+  static constexpr std::uint32_t kNotShared = 0xffffffffu;
 };
 
 // The formula of class `id` (negated when `negate`), over `variables`. A Var leaf k stands for
