@@ -4,6 +4,8 @@
 // every batch they all finished (the new classes replicated once per batch, as recipes), and
 // join their fronts and best classes at rank 0 at the end.
 #include <algorithm>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <unordered_map>
@@ -53,6 +55,7 @@ struct RoundReport {
 struct SharedClass {
   ClassRecord record;
   std::uint64_t hash;
+  std::uint64_t found_at;
 };
 
 bool has_operand_a(const ClassRecord& r) {
@@ -85,12 +88,15 @@ bool Enumerator::run_batch_across_ranks(const std::vector<Step>& steps,
   // The tiles of steps over shared levels (the same on every rank, in the same order) are dealt
   // out; those over this rank's part of a level are all its own.
   std::vector<Tile> own;
+  std::vector<std::uint32_t> positions;
   std::size_t own_complete = 0, next_dealt = 0;
   for (std::size_t i = 0; i < tiles.size(); ++i) {
     if (dealt[tiles[i].step] && next_dealt++ % ranks != me) continue;
     own.push_back(tiles[i]);
+    positions.push_back(static_cast<std::uint32_t>(i));
     if (i < complete) ++own_complete;
   }
+  ++batches_;
   const std::size_t per_round = kRoundTiles * static_cast<std::size_t>(ctx_.threads);
   std::size_t merged = 0;
   bool level_complete = false;
@@ -100,11 +106,13 @@ bool Enumerator::run_batch_across_ranks(const std::vector<Step>& steps,
     const std::size_t end = std::min(own.size(), merged + per_round);
     if (merged < end && !enumeration_should_stop())
       merged += run_tiles(steps, std::span<const Tile>(own).subspan(merged, end - merged),
-                          materialize);
+                          materialize,
+                          std::span<const std::uint32_t>(positions).subspan(merged, end - merged));
     bool all_done = false;
     if (agree(merged >= own_complete, merged == own.size(), &level_complete, &all_done)) break;
     if (all_done) break;
   }
+  if (std::getenv("SF_DEBUG")) fprintf(stderr, "rank %d level %d mat %d tiles %zu own %zu merged %zu cand %lu own_eval %lu t %.3f\n", ctx_.ranks.rank(), steps.empty()?-1:steps[0].level, (int)materialize, tiles.size(), own.size(), merged, (unsigned long)ctx_.candidates.load(), (unsigned long)own_evaluated_.load(), ctx_.elapsed());
   finish_improvements(materialize);
   store_->commit();
   return level_complete;
@@ -135,9 +143,8 @@ bool Enumerator::agree(bool complete, bool done, bool* level_complete, bool* all
   }
   ctx_.candidates.store(candidates);
   round_base_ = candidates;
-  // The ranks' classes together fill the store (each holds its own part and the shared levels).
-  if (classes >= ctx_.options.max_classes) exhausted = true;
-  joint_classes_ = std::min<std::uint64_t>(classes, ctx_.options.max_classes);
+  // Each rank's store holds the shared levels and its own part (options.max_classes each).
+  joint_classes_ = classes;
   if (stop >= 0) ctx_.stop(static_cast<Termination>(stop));  // keeps a reason of its own
   if (exhausted) exhausted_.store(true);
   *level_complete = all_complete;
@@ -180,7 +187,7 @@ void Enumerator::share_level(int level) {
     ClassRecord r = store_->record(id);
     if (has_operand_a(r)) r.a = name(r.a);
     if (has_operand_b(r)) r.b = name(r.b);
-    put(mine, SharedClass{r, store_->hash(id)});
+    put(mine, SharedClass{r, store_->hash(id), id < found_at_.size() ? found_at_[id] : 0});
   }
   const std::vector<std::string> all = ctx_.ranks.all_gather_bytes(mine);
   struct Part {
@@ -208,59 +215,102 @@ void Enumerator::share_level(int level) {
       return;
     }
   }
-  // In rank order; a class whose key (its column's hash and sign) a shared class has already is
-  // that class (decided on the keys the ranks sent, so every rank decides alike).
+  // In the order they were found (ranks' order among equals), as one process lists a level; a
+  // class whose key (its column's hash and sign) a shared class has already is that class
+  // (decided on the keys the ranks sent, so that every rank decides alike).
+  struct Entry {
+    std::uint64_t found_at;
+    std::uint32_t rank, index;
+  };
+  std::vector<std::vector<SharedClass>> sent(parts.size());
+  std::vector<Entry> order;
+  for (std::size_t q = 0; q < parts.size(); ++q) {
+    for (std::uint64_t i = 0; i < parts[q].count; ++i) {
+      sent[q].push_back(take<SharedClass>(all[q], &parts[q].at));
+      order.push_back({sent[q].back().found_at, static_cast<std::uint32_t>(q),
+                       static_cast<std::uint32_t>(i)});
+    }
+  }
+  std::sort(order.begin(), order.end(), [](const Entry& x, const Entry& y) {
+    return x.found_at != y.found_at ? x.found_at < y.found_at
+           : x.rank != y.rank       ? x.rank < y.rank
+                                    : x.index < y.index;
+  });
   const auto me = static_cast<std::size_t>(ctx_.ranks.rank());
   const std::size_t rows = screen_rows_;
   std::vector<float> column(rows);
-  std::vector<std::uint32_t> list, fusable, at_place;
-  for (std::size_t q = 0; q < parts.size(); ++q) {
-    Part& p = parts[q];
-    at_place.assign(p.count, 0);
-    for (std::uint64_t i = 0; i < p.count; ++i) {
-      const auto c = take<SharedClass>(all[q], &p.at);
-      ClassRecord r = c.record;
-      const bool negative = r.has(ClassRecord::kCanonicalNeg);
-      if (const auto k = shared_keys_.find(c.hash);
-          k != shared_keys_.end() && shared_negative_[k->second] == negative) {
-        at_place[i] = k->second;
-        if (q == me) shared_index_[own[i]] = k->second;
+  std::vector<std::uint32_t> list, fusable;
+  std::vector<std::vector<std::uint32_t>> at_place(parts.size());
+  for (std::size_t q = 0; q < parts.size(); ++q) at_place[q].assign(parts[q].count, kNotShared);
+  // A class listed before the class of its level it is made from (a fused sum m + c of an m
+  // improved later) waits for it.
+  const auto ready = [&](const Entry& e) {
+    const ClassRecord& r = sent[e.rank][e.index].record;
+    for (const bool b : {false, true}) {
+      if (b ? !has_operand_b(r) : !has_operand_a(r)) continue;
+      const std::uint32_t n = b ? r.b : r.a;
+      if ((n & kOwnRef) != 0 && ((n & ~kOwnRef) >= at_place[e.rank].size() ||
+                                 at_place[e.rank][n & ~kOwnRef] == kNotShared))
+        return false;
+    }
+    return true;
+  };
+  std::vector<Entry> waiting;
+  for (std::size_t next = 0; next < order.size() || !waiting.empty();) {
+    Entry e{};
+    if (const auto w = std::find_if(waiting.begin(), waiting.end(), ready); w != waiting.end()) {
+      e = *w;
+      waiting.erase(w);
+    } else if (next < order.size()) {
+      e = order[next++];
+      if (!ready(e)) {
+        waiting.push_back(e);
         continue;
       }
-      std::uint32_t id = 0;
-      if (q == me) {
-        id = own[i];
-      } else {
-        const auto local = [&](std::uint32_t n) {
-          if ((n & kOwnRef) != 0) {
-            const std::uint32_t j = n & ~kOwnRef;
-            if (j >= i) throw Error("a rank sent a class of unknown operands",
-                                    {"SearchOptions::communicator"});
-            return shared_ids_[at_place[j]];
-          }
-          if (n >= shared_ids_.size())
-            throw Error("a rank sent a class of unknown operands", {"SearchOptions::communicator"});
-          return shared_ids_[n];
-        };
-        if (has_operand_a(r)) r.a = local(r.a);
-        if (has_operand_b(r)) r.b = local(r.b);
-        compute_column(r.kind, r.op, r.k, store_->column(r.a),
-                       has_operand_b(r) ? store_->column(r.b) : nullptr,
-                       r.has(ClassRecord::kNegA), r.has(ClassRecord::kNegB), column.data(), rows);
-        ColumnStats st;
-        column_key(column.data(), &st);
-        id = store_->insert_copy(column.data(), st, r);
-        shared_index_.resize(store_->size(), kNotShared);
-      }
-      const auto index = static_cast<std::uint32_t>(shared_ids_.size());
-      at_place[i] = index;
-      shared_index_[id] = index;
-      shared_ids_.push_back(id);
-      shared_negative_.push_back(negative);
-      shared_keys_.emplace(c.hash, index);
-      list.push_back(id);
-      if (r.has(ClassRecord::kFusable)) fusable.push_back(id);
+    } else {
+      throw Error("a rank sent a class of unknown operands", {"SearchOptions::communicator"});
     }
+    const SharedClass& c = sent[e.rank][e.index];
+    ClassRecord r = c.record;
+    const bool negative = r.has(ClassRecord::kCanonicalNeg);
+    if (const auto k = shared_keys_.find(c.hash);
+        k != shared_keys_.end() && shared_negative_[k->second] == negative) {
+      at_place[e.rank][e.index] = k->second;
+      if (e.rank == me) shared_index_[own[e.index]] = k->second;
+      continue;
+    }
+    std::uint32_t id = 0;
+    if (e.rank == me) {
+      id = own[e.index];
+    } else {
+      const auto local = [&](std::uint32_t n) {
+        const std::uint32_t k =
+            (n & kOwnRef) != 0
+                ? ((n & ~kOwnRef) < at_place[e.rank].size() ? at_place[e.rank][n & ~kOwnRef]
+                                                            : kNotShared)
+                : n;
+        if (k >= shared_ids_.size())
+          throw Error("a rank sent a class of unknown operands", {"SearchOptions::communicator"});
+        return shared_ids_[k];
+      };
+      if (has_operand_a(r)) r.a = local(r.a);
+      if (has_operand_b(r)) r.b = local(r.b);
+      compute_column(r.kind, r.op, r.k, store_->column(r.a),
+                     has_operand_b(r) ? store_->column(r.b) : nullptr, r.has(ClassRecord::kNegA),
+                     r.has(ClassRecord::kNegB), column.data(), rows);
+      ColumnStats st;
+      column_key(column.data(), &st);
+      id = store_->insert_copy(column.data(), st, r);
+      shared_index_.resize(store_->size(), kNotShared);
+    }
+    const auto index = static_cast<std::uint32_t>(shared_ids_.size());
+    at_place[e.rank][e.index] = index;
+    shared_index_[id] = index;
+    shared_ids_.push_back(id);
+    shared_negative_.push_back(negative);
+    shared_keys_.emplace(c.hash, index);
+    list.push_back(id);
+    if (r.has(ClassRecord::kFusable)) fusable.push_back(id);
   }
   level_ids_[L] = std::move(list);
   fusable_ids_[L] = std::move(fusable);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <mutex>
@@ -250,14 +252,16 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
   if (ctx_.ranks.distributed())
     return run_batch_across_ranks(steps, tiles, complete, materialize);
   if (tiles.empty()) return true;
-  const bool whole = run_tiles(steps, tiles, materialize) >= complete;
+  const std::size_t mm = run_tiles(steps, tiles, materialize);
+  if (std::getenv("SF_DEBUG")) fprintf(stderr, "one level %d merged %zu of %zu t %.3f\n", steps[0].level, mm, tiles.size(), ctx_.elapsed());
+  const bool whole = mm >= complete;
   finish_improvements(materialize);
   store_->commit();
   return whole;
 }
 
 std::size_t Enumerator::run_tiles(const std::vector<Step>& steps, std::span<const Tile> tiles,
-                                  bool materialize) {
+                                  bool materialize, std::span<const std::uint32_t> positions) {
   const std::size_t n = tiles.size();
   if (n == 0) return 0;
   const auto threads = static_cast<std::size_t>(ctx_.threads);
@@ -275,7 +279,8 @@ std::size_t Enumerator::run_tiles(const std::vector<Step>& steps, std::span<cons
     std::size_t m = merged.load(std::memory_order_relaxed);
     while (m < n && ready[m].load(std::memory_order_acquire) &&
            !exhausted_.load(std::memory_order_relaxed)) {
-      merge(*outputs[m], materialize);
+      merge(*outputs[m], materialize,
+            positions.empty() ? 0 : batches_ << 40 | std::uint64_t{positions[m]} << 16);
       {
         std::lock_guard pl(pool_mutex);
         pool.push_back(std::move(outputs[m]));
@@ -324,7 +329,8 @@ std::size_t Enumerator::run_tiles(const std::vector<Step>& steps, std::span<cons
   return merged.load();
 }
 
-void Enumerator::merge(TileOutput& out, bool materialize) {
+void Enumerator::merge(TileOutput& out, bool materialize, std::uint64_t found_at) {
+  const bool track = ctx_.ranks.distributed();
   // The pending table and the columns it points to are larger than the cache: each survivor's
   // table slot is fetched 2k survivors ahead, and the column it names k ahead.
   constexpr std::size_t k = 8;
@@ -345,7 +351,7 @@ void Enumerator::merge(TileOutput& out, bool materialize) {
         out.spare.push_back(const_cast<float*>(col));
         continue;
       }
-      deferred_.push_back({id, col, st, rec, out.fused[i]});
+      deferred_.push_back({id, col, st, rec, out.fused[i], found_at + i});
       continue;
     }
     if (const std::int64_t p = store_->find_pending(col, st); p >= 0) {
@@ -357,6 +363,7 @@ void Enumerator::merge(TileOutput& out, bool materialize) {
       }
       store_->improve(id, col, st, rec);  // a class of the next level, made earlier this batch
       moved_.emplace_back(id, old);
+      if (track) found_at_[id] = found_at + i;
       if (materialize) continue;
       consider_for_front(id, st, level);
       if (out.fused[i].leaf >= 0) consider_fused_for_front(id, out.fused[i], level);
@@ -367,6 +374,10 @@ void Enumerator::merge(TileOutput& out, bool materialize) {
       break;
     }
     const std::uint32_t id = store_->insert(col, st, rec);
+    if (track) {
+      found_at_.resize(store_->size(), 0);
+      found_at_[id] = found_at + i;
+    }
     level_ids_[L].push_back(id);
     if (rec.has(ClassRecord::kFusable)) fusable_ids_[L].push_back(id);
     if (materialize) {
@@ -384,6 +395,7 @@ void Enumerator::finish_improvements(bool materialize) {
   for (const Improvement& d : deferred_) {
     moved_.emplace_back(d.id, store_->record(d.id).cost);
     store_->improve(d.id, d.column, d.stats, d.record);
+    if (d.id < found_at_.size()) found_at_[d.id] = d.found_at;
   }
   if (!moved_.empty()) {
     // Move each improved class to its new level's lists. A product whose new level's fused sums
@@ -415,7 +427,6 @@ void Enumerator::finish_improvements(bool materialize) {
   }
   if (!materialize) {
     for (const Improvement& d : deferred_) {
-      if (!d.offer) continue;
       consider_for_front(d.id, d.stats, d.record.cost);
       if (d.fused.leaf >= 0) consider_fused_for_front(d.id, d.fused, d.record.cost);
     }

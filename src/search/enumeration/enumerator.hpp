@@ -88,8 +88,9 @@ class Enumerator {
   bool run_batch(const std::vector<Step>& steps, bool materialize);
   // Computes and merges `tiles` in order on this rank's threads; returns how many were merged
   // (fewer when the enumeration stopped).
+  // `positions`, across ranks: each tile's place in its batch (for found_at_).
   std::size_t run_tiles(const std::vector<Step>& steps, std::span<const Tile> tiles,
-                        bool materialize);
+                        bool materialize, std::span<const std::uint32_t> positions = {});
   // Across ranks (enum_ranks.cpp, docs/distributed.md). A level's classes stay with the rank
   // that made them until the level is shared, once, before the first batch that needs it as the
   // lower operand of a step (a level below kSharedBelow, the leaves' level plus 3, as soon as it
@@ -112,7 +113,7 @@ class Enumerator {
   int emit(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,
            TileOutput& out) const;
   FusedBest screen_fused_sums(const float* m, TileOutput& out) const;
-  void merge(TileOutput& out, bool materialize);
+  void merge(TileOutput& out, bool materialize, std::uint64_t found_at);
   // After a batch: applies the cheaper recipes found for committed classes, moves improved
   // classes to their new level lists, and offers them to the front.
   void finish_improvements(bool materialize);
@@ -166,7 +167,7 @@ class Enumerator {
     ColumnStats stats;
     ClassRecord record;
     FusedBest fused;
-    bool offer = true;  // to this rank's front (another rank's find: offered there)
+    std::uint64_t found_at = 0;  // across ranks (found_at_)
   };
   std::vector<Improvement> deferred_;
   std::vector<std::pair<std::uint32_t, int>> moved_;  // (class, its former level)
@@ -194,6 +195,10 @@ class Enumerator {
   std::vector<std::uint32_t> shared_index_;  // per class id; kNotShared for a rank's own
   std::vector<bool> shared_negative_;         // per place: its key's sign
   std::unordered_map<std::uint64_t, std::uint32_t> shared_keys_;  // hash -> place
+  // Per class, where it was found: (batch, tile's place in the batch, survivor); a shared
+  // level lists the ranks' classes in this order, as one process would have made them.
+  std::vector<std::uint64_t> found_at_;
+  std::uint64_t batches_ = 0;
   static constexpr std::uint32_t kNotShared = 0xffffffffu;
 };
 
