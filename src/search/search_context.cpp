@@ -179,7 +179,8 @@ bool SearchContext::finite_everywhere(const Expression& e) {
   return true;
 }
 
-bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin) {
+bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin,
+                          std::vector<FrontMember>* entered) {
   FrontMember m;
   m.cost = formula_cost(e, options);
   m.loss = loss_estimate;
@@ -208,7 +209,13 @@ bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin
   m.time_s = elapsed();
   m.origin = origin;
   const double cost = m.cost, loss = m.loss;
-  if (!front.offer(std::move(m))) return false;
+  if (entered != nullptr) {
+    FrontMember copy = m;
+    if (!front.offer(std::move(m))) return false;
+    entered->push_back(std::move(copy));
+  } else if (!front.offer(std::move(m))) {
+    return false;
+  }
   if (options.stop_at && loss <= options.stop_at->max_loss && cost <= options.stop_at->max_cost) {
     stop(Termination::TargetReached);
   }

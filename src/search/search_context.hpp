@@ -102,7 +102,9 @@ class SearchContext {
   // of an equivalent form, e.g. before simplification) only pre-selects: a formula that may
   // enter is scored again as it will be shown, and never enters when its loss is not finite or
   // it is not finite_everywhere.
-  bool offer(Expression e, double loss_estimate, SearchPhase origin);
+  // `entered`, when given, receives a copy of the member when it enters.
+  bool offer(Expression e, double loss_estimate, SearchPhase origin,
+             std::vector<FrontMember>* entered = nullptr);
   // Whether e and every subexpression of it is finite on every row (weight-0 rows included),
   // in float64. GLSL leaves x / 0, logs of 0 or less, square roots of negatives and whatever
   // is computed from an infinity or a NaN unspecified (and min, max, saturate and rcp can turn

@@ -10,6 +10,7 @@
 #include "search/exact_json.hpp"
 #include "search/evolution/nsga2.hpp"
 #include "search/evolution/rewrites.hpp"
+#include "shaderfit/search/front_member.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/simplify.hpp"
@@ -500,7 +501,7 @@ void Evolution::migrate() {
   }
 }
 
-Evolution::Joint Evolution::synchronize(bool cut) {
+Evolution::Joint Evolution::gather_found(bool cut) {
   const SearchOptions& o = ctx_.options;
   nlohmann::json islands = nlohmann::json::array();
   for (std::size_t i : owned_) {
@@ -509,18 +510,11 @@ Evolution::Joint Evolution::synchronize(bool cut) {
       found.push_back({exact_expression_json(c.expr), metrics_json(c.metrics), c.generation});
     islands.push_back({i, islands_[i].evaluated, found});
   }
-  nlohmann::json mine = {{"islands", islands},
-                         {"interrupted", o.interrupt != nullptr && o.interrupt->load()},
-                         {"cut", cut}};
-  if (ctx_.ranks.leader()) {
-    const double now = ctx_.elapsed();
-    mine["time_up"] = now >= o.time_limit_s;
-    mine["polish"] = !polished_ && now >= kPolishAt * o.time_limit_s;
-    mine["checkpoint"] = ctx_.checkpointer != nullptr && ctx_.checkpointer->due();
-  }
+  const nlohmann::json mine = {{"islands", islands},
+                               {"interrupted", o.interrupt != nullptr && o.interrupt->load()},
+                               {"cut", cut}};
   Joint joint;
-  const std::vector<nlohmann::json> all = ctx_.ranks.all_gather(mine);
-  for (const nlohmann::json& r : all) {
+  for (const nlohmann::json& r : ctx_.ranks.gather(mine)) {  // empty on the others
     for (const nlohmann::json& is : r.at("islands")) {
       const auto i = exact_integer_from<std::size_t>(is.at(0), "island");
       if (i >= islands_.size()) throw BadExactJson("an island out of range");
@@ -534,9 +528,36 @@ Evolution::Joint Evolution::synchronize(bool cut) {
     joint.interrupted = joint.interrupted || r.at("interrupted").get<bool>();
     joint.cut = joint.cut || r.at("cut").get<bool>();
   }
-  joint.time_up = all.front().at("time_up").get<bool>();
-  joint.polish = all.front().at("polish").get<bool>();
-  joint.checkpoint = all.front().at("checkpoint").get<bool>();
+  if (ctx_.ranks.leader()) {
+    const double now = ctx_.elapsed();
+    joint.time_up = now >= o.time_limit_s;
+    joint.polish = !polished_ && now >= kPolishAt * o.time_limit_s;
+    joint.checkpoint = ctx_.checkpointer != nullptr && ctx_.checkpointer->due();
+  }
+  return joint;
+}
+
+Evolution::Joint Evolution::share_entrants(Joint joint, const std::vector<FrontMember>& entered,
+                                           std::uint64_t* evaluated) {
+  nlohmann::json mine;
+  if (ctx_.ranks.leader()) {
+    nlohmann::json members = nlohmann::json::array();
+    for (const FrontMember& m : entered) members.push_back(front_member_json(m, FrontJson::Exact));
+    mine = {{"entered", members},
+            {"evaluated", *evaluated},
+            {"votes",
+             {joint.time_up, joint.interrupted, joint.polish, joint.checkpoint, joint.cut}},
+            {"target", ctx_.stopped() && ctx_.stop_reason() == Termination::TargetReached}};
+  }
+  const nlohmann::json all = ctx_.ranks.broadcast(mine, 0);
+  if (ctx_.ranks.leader()) return joint;
+  for (const nlohmann::json& m : all.at("entered"))
+    ctx_.front.offer(front_member_from_json(m, ctx_.problem.input_names, {}, "rank 0").member);
+  *evaluated = exact_integer_from<std::uint64_t>(all.at("evaluated"), "evaluated");
+  const nlohmann::json& v = all.at("votes");
+  joint = {v.at(0).get<bool>(), v.at(1).get<bool>(), v.at(2).get<bool>(), v.at(3).get<bool>(),
+           v.at(4).get<bool>()};
+  if (all.at("target").get<bool>()) ctx_.stop(Termination::TargetReached);
   return joint;
 }
 
@@ -550,7 +571,7 @@ EvolutionState Evolution::gathered_state() {
   s.generations = generations_;
   s.polished = polished_;
   s.islands.resize(islands_.size());
-  for (const nlohmann::json& r : ctx_.ranks.all_gather(mine))
+  for (const nlohmann::json& r : ctx_.ranks.gather(mine))
     for (const nlohmann::json& is : r) {
       const auto i = exact_integer_from<std::size_t>(is.at(0), "island");
       if (i >= islands_.size()) throw BadExactJson("an island out of range");
@@ -609,8 +630,9 @@ void Evolution::evolve() {
     // One process synchronises its islands after every generation; ranks every interval.
     if (!distributed || generations_ % interval == 0) {
       Joint joint;
-      if (distributed) joint = synchronize(cut);
-      // Offered at this synchronisation point in the order (generation, island).
+      if (distributed) joint = gather_found(cut);
+      // Offered at this synchronisation point in the order (generation, island); across ranks by
+      // rank 0, which then sends the others what entered.
       std::vector<Candidate*> found;
       std::uint64_t evaluated = 0;
       for (Island& is : islands_) {
@@ -621,14 +643,19 @@ void Evolution::evolve() {
       std::stable_sort(found.begin(), found.end(), [](const Candidate* a, const Candidate* b) {
         return a->generation < b->generation;
       });
-      for (Candidate* c : found) {
-        Expression tidy = simplify(c->expr);
-        ctx_.offer(formula_cost(tidy, ctx_.options) <= formula_cost(c->expr, ctx_.options)
-                       ? tidy
-                       : c->expr,
-                   loss_value(ctx_.options.loss, c->metrics), SearchPhase::Evolution);
+      std::vector<FrontMember> entered;
+      if (ctx_.ranks.leader()) {
+        for (Candidate* c : found) {
+          Expression tidy = simplify(c->expr);
+          ctx_.offer(formula_cost(tidy, ctx_.options) <= formula_cost(c->expr, ctx_.options)
+                         ? tidy
+                         : c->expr,
+                     loss_value(ctx_.options.loss, c->metrics), SearchPhase::Evolution,
+                     distributed ? &entered : nullptr);
+        }
       }
       for (Island& is : islands_) is.found.clear();
+      if (distributed) joint = share_entrants(joint, entered, &evaluated);
       // The front's parts, for the mutations (the same on every rank: the front is).
       const std::vector<FrontMember> members = ctx_.front.members();
       std::vector<const Expression*> parts;

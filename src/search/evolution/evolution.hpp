@@ -126,10 +126,16 @@ class Evolution {
   // Every kRestartEvery generations one island (in turn) starts again: the front's cheaper half
   // and random formulas, so that a population stuck on one shape makes room for others.
   void restart_island();
-  // Distributed: every rank's islands' found candidates and evaluation counts to every rank (so
-  // that each offers the same candidates in island order), with the votes of Joint.
-  Joint synchronize(bool cut);
-  // Distributed: the state of every island, from the ranks that own them (collective).
+  // Distributed, a reduction in two halves: every rank's islands' found candidates, evaluation
+  // counts and votes go to rank 0 (gather_found), which offers them to its front in island
+  // order and sends back only what entered, the total count and the joint decision
+  // (share_entrants; the others offer those members to their fronts, which stay rank 0's).
+  // Neither half's bytes per rank grow with the number of ranks.
+  Joint gather_found(bool cut);
+  Joint share_entrants(Joint joint, const std::vector<FrontMember>& entered,
+                       std::uint64_t* evaluated);
+  // Distributed: the state of every island at rank 0, from the ranks that own them (collective;
+  // the others get an empty state).
   EvolutionState gathered_state();
   [[nodiscard]] bool owns(std::size_t island) const;
   [[nodiscard]] bool racing() const { return race_.size() > 0; }
