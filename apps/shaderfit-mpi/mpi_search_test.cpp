@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <thread>
 #include <vector>
 
@@ -49,12 +50,12 @@ const std::string kShort = " --max-enumeration-cost 2 --time 120";
 
 TEST(MpiSearch, SeedTaskIsReproducibleAndFindsTheSeedFormula) {
   REQUIRE_MPIRUN();
-  // The enumeration up to cost 4 finds the seed's r0 + (x - r0) x^4 (MSE 3.5227e-4 on this data)
-  // or better; then 40,000 candidates of evolution run on both ranks.
+  // The enumeration up to cost 4 across the ranks finds the seed's r0 + (x - r0) x^4 (MSE
+  // 3.5227e-4 on this data) or better; then 40,000 candidates of evolution run on both ranks.
   const fs::path counted = scratch("enumeration.json");
-  const Outcome e =
-      run(std::string(SHADERFIT_CLI_PATH) + kSeedSearch +
-          " --max-enumeration-cost 4 --strategy enumerate --time 120 --json " + counted.string());
+  const Outcome e = run(mpirun(2) + kSeedSearch +
+                        " --max-enumeration-cost 4 --strategy enumerate --time 120 --json " +
+                        counted.string());
   ASSERT_EQ(e.status, 0) << e.output;
   const auto enumerated = read_json(counted)["summary"]["candidates"].get<std::int64_t>();
   const std::string budget =
@@ -120,6 +121,41 @@ TEST(MpiSearch, ResumedRunEndsAsTheUninterruptedOne) {
   EXPECT_EQ(read_json(resumed)["summary"]["candidates"], read_json(whole)["summary"]["candidates"]);
   EXPECT_EQ(read_json(resumed)["summary"]["generations"],
             read_json(whole)["summary"]["generations"]);
+}
+
+// A checkpoint written by 2 ranks resumes in one process (shaderfit itself) and on 2 ranks
+// again: the run goes on from the checkpoint's front and generation, and says how it was written.
+TEST(MpiSearch, ACheckpointOfTwoRanksResumesOnOneAndOnTwo) {
+  REQUIRE_MPIRUN();
+  const fs::path ckpt = scratch("two.ckpt");
+  const fs::path first = scratch("two_first.json");
+  const Outcome a = run(mpirun(2) + kSeedSearch + kShort + " --evals 20000 --checkpoint " +
+                        ckpt.string() + " --checkpoint-every 0 --json " + first.string());
+  ASSERT_EQ(a.status, 0) << a.output;
+  const nlohmann::json before = read_json(first);
+  for (const auto& [name, command] :
+       {std::pair{"one process", std::string(SHADERFIT_CLI_PATH)},
+        std::pair{"two ranks", mpirun(2)}}) {
+    const fs::path out = scratch(std::string("resumed_") + name[0] + ".json");
+    const Outcome r = run(command + kSeedSearch + kShort + " --evals 40000 --resume " +
+                          ckpt.string() + " --json " + out.string());
+    ASSERT_EQ(r.status, 0) << name << ": " << r.output;
+    const nlohmann::json after = read_json(out);
+    EXPECT_GT(after["summary"]["generations"].get<int>(),
+              before["summary"]["generations"].get<int>())
+        << name;
+    EXPECT_GE(after["summary"]["candidates"].get<double>(), 40000) << name;
+    // Every member the checkpoint's front had is matched or bettered at its cost.
+    for (const auto& m : before["front"]) {
+      bool covered = false;
+      for (const auto& n : after["front"])
+        covered = covered || (n["cost"].get<double>() <= m["cost"].get<double>() &&
+                              n["loss"].get<double>() <= m["loss"].get<double>() * (1 + 1e-9));
+      EXPECT_TRUE(covered) << name << ": " << m["formula"];
+    }
+    if (std::string(name) == "one process")
+      EXPECT_NE(r.output.find("written by 2 ranks"), std::string::npos) << r.output;
+  }
 }
 
 TEST(MpiSearch, ARankThatDiesLeavesTheLastCheckpointWhole) {

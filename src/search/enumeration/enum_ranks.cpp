@@ -4,8 +4,6 @@
 // every batch they all finished (the new classes replicated once per batch, as recipes), and
 // join their fronts and best classes at rank 0 at the end.
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <unordered_map>
@@ -112,7 +110,6 @@ bool Enumerator::run_batch_across_ranks(const std::vector<Step>& steps,
     if (agree(merged >= own_complete, merged == own.size(), &level_complete, &all_done)) break;
     if (all_done) break;
   }
-  if (std::getenv("SF_DEBUG")) fprintf(stderr, "rank %d level %d mat %d tiles %zu own %zu merged %zu cand %lu own_eval %lu t %.3f\n", ctx_.ranks.rank(), steps.empty()?-1:steps[0].level, (int)materialize, tiles.size(), own.size(), merged, (unsigned long)ctx_.candidates.load(), (unsigned long)own_evaluated_.load(), ctx_.elapsed());
   finish_improvements(materialize);
   store_->commit();
   return level_complete;

@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <mutex>
@@ -252,9 +250,7 @@ bool Enumerator::run_batch(const std::vector<Step>& steps, bool materialize) {
   if (ctx_.ranks.distributed())
     return run_batch_across_ranks(steps, tiles, complete, materialize);
   if (tiles.empty()) return true;
-  const std::size_t mm = run_tiles(steps, tiles, materialize);
-  if (std::getenv("SF_DEBUG")) fprintf(stderr, "one level %d merged %zu of %zu t %.3f\n", steps[0].level, mm, tiles.size(), ctx_.elapsed());
-  const bool whole = mm >= complete;
+  const bool whole = run_tiles(steps, tiles, materialize) >= complete;
   finish_improvements(materialize);
   store_->commit();
   return whole;
