@@ -1,6 +1,7 @@
 #include "search/evolution/evolution.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -57,6 +58,9 @@ constexpr std::uint64_t kRestartEvery = 50;
 constexpr double kPolishAt = 0.9;
 constexpr int kPolishIterations = 100;
 constexpr int kPolishPasses = 100;
+// Across ranks, islands are dealt again when the busiest rank took this much more than the mean
+// since the last synchronisation.
+constexpr double kRebalanceAbove = 1.1;
 
 nlohmann::json metrics_json(const ErrorMetrics& m) {
   return {m.rows,
@@ -165,6 +169,7 @@ Evolution::Evolution(SearchContext& ctx, Rng& rng) : ctx_(ctx) {
         race_rows(ctx.problem.target, std::move(rest), rng, &scale);
     race_ = RowSample(ctx.problem, race, scale);
   }
+  for (std::size_t i = 0; i < islands_.size(); ++i) owner_.push_back(ctx.ranks.owner(i));
   for (std::size_t i = 0; i < islands_.size(); ++i)
     if (owns(i)) owned_.push_back(i);
   if (ctx.device == ComputeDevice::Cuda)
@@ -204,7 +209,7 @@ SavedIsland Evolution::saved_island(const Island& island) {
 }
 
 bool Evolution::owns(std::size_t island) const {
-  return ctx_.ranks.owner(island) == ctx_.ranks.rank();
+  return owner_[island] == ctx_.ranks.rank();
 }
 
 bool Evolution::out_of_time() const {
@@ -471,12 +476,12 @@ void Evolution::migrate() {
         nlohmann::json people = nlohmann::json::array();
         for (const Individual& ind : emigrants[i])
           people.push_back(saved_individual_json(saved(ind)));
-        nlohmann::json& message = sends[ctx_.ranks.owner(to)];
+        nlohmann::json& message = sends[owner_[to]];
         if (message.is_null()) message = nlohmann::json::array();
         message.push_back({i, people});
       }
       const std::size_t source = (i + n - 1) % n;
-      if (!owns(source)) from.insert(ctx_.ranks.owner(source));
+      if (!owns(source)) from.insert(owner_[source]);
     }
     const std::vector<nlohmann::json> received = ctx_.ranks.exchange(
         {sends.begin(), sends.end()}, std::vector<int>(from.begin(), from.end()));
@@ -508,7 +513,7 @@ Evolution::Joint Evolution::gather_found(bool cut) {
     nlohmann::json found = nlohmann::json::array();
     for (const Candidate& c : islands_[i].found)
       found.push_back({exact_expression_json(c.expr), metrics_json(c.metrics), c.generation});
-    islands.push_back({i, islands_[i].evaluated, found});
+    islands.push_back({i, islands_[i].evaluated, found, exact_number(islands_[i].busy_s)});
   }
   const nlohmann::json mine = {{"islands", islands},
                                {"interrupted", o.interrupt != nullptr && o.interrupt->load()},
@@ -520,6 +525,7 @@ Evolution::Joint Evolution::gather_found(bool cut) {
       if (i >= islands_.size()) throw BadExactJson("an island out of range");
       Island& island = islands_[i];
       island.evaluated = exact_integer_from<std::uint64_t>(is.at(1), "evaluated");
+      island.busy_s = exact_number_from(is.at(3));
       island.found.clear();
       for (const nlohmann::json& c : is.at(2))
         island.found.push_back({exact_expression_from(c.at(0)), metrics_from(c.at(1)),
@@ -547,9 +553,18 @@ Evolution::Joint Evolution::share_entrants(Joint joint, const std::vector<FrontM
             {"evaluated", *evaluated},
             {"votes",
              {joint.time_up, joint.interrupted, joint.polish, joint.checkpoint, joint.cut}},
-            {"target", ctx_.stopped() && ctx_.stop_reason() == Termination::TargetReached}};
+            {"target", ctx_.stopped() && ctx_.stop_reason() == Termination::TargetReached},
+            {"owners", balanced_owners()}};
   }
   const nlohmann::json all = ctx_.ranks.broadcast(mine, 0);
+  std::vector<int> owners;
+  for (const nlohmann::json& r : all.at("owners")) {
+    owners.push_back(exact_integer_from<int>(r, "owner"));
+    if (owners.back() < 0 || owners.back() >= ctx_.ranks.size())
+      throw BadExactJson("an island's owner out of range");
+  }
+  if (owners.size() != islands_.size()) throw BadExactJson("owners of other islands");
+  move_islands(owners);
   if (ctx_.ranks.leader()) return joint;
   for (const nlohmann::json& m : all.at("entered"))
     ctx_.front.offer(front_member_from_json(m, ctx_.problem.input_names, {}, "rank 0").member);
@@ -559,6 +574,71 @@ Evolution::Joint Evolution::share_entrants(Joint joint, const std::vector<FrontM
            v.at(4).get<bool>()};
   if (all.at("target").get<bool>()) ctx_.stop(Termination::TargetReached);
   return joint;
+}
+
+std::vector<int> Evolution::balanced_owners() const {
+  const auto ranks = static_cast<std::size_t>(ctx_.ranks.size());
+  std::vector<double> load(ranks, 0.0);
+  double total = 0;
+  for (std::size_t i = 0; i < islands_.size(); ++i) {
+    load[static_cast<std::size_t>(owner_[i])] += islands_[i].busy_s;
+    total += islands_[i].busy_s;
+  }
+  const double mean = total / static_cast<double>(ranks);
+  if (!(total > 0) || *std::max_element(load.begin(), load.end()) <= kRebalanceAbove * mean)
+    return owner_;
+  std::vector<std::size_t> order(islands_.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return islands_[a].busy_s > islands_[b].busy_s;
+  });
+  std::vector<int> owners(islands_.size());
+  std::vector<std::size_t> count(ranks, 0);
+  std::fill(load.begin(), load.end(), 0.0);
+  for (const std::size_t i : order) {
+    // The least loaded rank (every rank keeps at least one island: the emptiest first).
+    std::size_t best = 0;
+    for (std::size_t r = 1; r < ranks; ++r)
+      if ((count[r] == 0) != (count[best] == 0) ? count[r] == 0 : load[r] < load[best]) best = r;
+    owners[i] = static_cast<int>(best);
+    load[best] += islands_[i].busy_s;
+    ++count[best];
+  }
+  return owners;
+}
+
+void Evolution::move_islands(const std::vector<int>& owners) {
+  if (owners == owner_) return;
+  const int me = ctx_.ranks.rank();
+  std::map<int, nlohmann::json> sends;
+  std::set<int> from;
+  for (std::size_t i = 0; i < islands_.size(); ++i) {
+    if (owners[i] == owner_[i]) continue;
+    if (owner_[i] == me) {
+      nlohmann::json& message = sends[owners[i]];
+      if (message.is_null()) message = nlohmann::json::array();
+      message.push_back({i, saved_island_json(saved_island(islands_[i]))});
+      islands_[i].population.clear();
+    } else if (owners[i] == me) {
+      from.insert(owner_[i]);
+    }
+  }
+  const std::vector<nlohmann::json> received = ctx_.ranks.exchange(
+      {sends.begin(), sends.end()}, std::vector<int>(from.begin(), from.end()));
+  for (const nlohmann::json& message : received)
+    for (const nlohmann::json& moved : message) {
+      const auto i = exact_integer_from<std::size_t>(moved.at(0), "island");
+      if (i >= islands_.size() || owners[i] != me) throw BadExactJson("an island not this rank's");
+      const SavedIsland saved = saved_island_from(moved.at(1));
+      Island& island = islands_[i];
+      rng_from_text(saved.rng, &island.rng);
+      island.population.clear();
+      for (const SavedIndividual& ind : saved.population) island.population.push_back(restored(ind));
+    }
+  owner_ = owners;
+  owned_.clear();
+  for (std::size_t i = 0; i < islands_.size(); ++i)
+    if (owns(i)) owned_.push_back(i);
 }
 
 EvolutionState Evolution::gathered_state() {
@@ -656,6 +736,7 @@ void Evolution::evolve() {
       }
       for (Island& is : islands_) is.found.clear();
       if (distributed) joint = share_entrants(joint, entered, &evaluated);
+      for (Island& is : islands_) is.busy_s = 0;
       // The front's parts, for the mutations (the same on every rank: the front is).
       const std::vector<FrontMember> members = ctx_.front.members();
       std::vector<const Expression*> parts;
@@ -680,20 +761,26 @@ void Evolution::evolve() {
         if (checkpoints != nullptr) checkpoints->at_boundary(s);
       }
     }
-    // The front the islands rank against: the synchronised one and, across ranks, this rank's
-    // finds since (one process has none waiting).
+    // The front an island ranks against: the synchronised one and, across ranks, its own finds
+    // since (one process has none waiting). Not the other islands' finds: an island evolves the
+    // same wherever it is (balanced_owners).
     Snapshot front;
     for (const FrontMember& m : ctx_.front.members()) front.emplace_back(m.cost, m.loss);
-    for (const Island& is : islands_)
-      for (const Candidate& c : is.found)
-        front.emplace_back(formula_cost(c.expr, ctx_.options),
-                           loss_value(ctx_.options.loss, c.metrics));
     std::vector<char> complete(owned_.size(), 1);
     parallel_for(
         owned_.size(), 1,
         [&](std::size_t b, std::size_t e) {
-          for (std::size_t k = b; k < e; ++k)
-            complete[k] = generation(islands_[owned_[k]], front) ? 1 : 0;
+          for (std::size_t k = b; k < e; ++k) {
+            Island& island = islands_[owned_[k]];
+            Snapshot own = front;
+            for (const Candidate& c : island.found)
+              own.emplace_back(formula_cost(c.expr, ctx_.options),
+                               loss_value(ctx_.options.loss, c.metrics));
+            const auto start = std::chrono::steady_clock::now();
+            complete[k] = generation(island, own) ? 1 : 0;
+            island.busy_s +=
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+          }
         },
         static_cast<int>(threads));
     cut = std::find(complete.begin(), complete.end(), 0) != complete.end();

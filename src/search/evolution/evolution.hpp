@@ -64,6 +64,7 @@ class Evolution {
     std::vector<Individual> population;
     std::vector<Candidate> found;
     std::uint64_t evaluated = 0;
+    double busy_s = 0;  // across ranks: seconds spent evolving it since the last synchronisation
   };
   // With a reference that lowers into the operators: the fit rows as a problem, for the
   // cost-lowering rewrites (rewrites.hpp) that a quarter of the local mutants are.
@@ -134,6 +135,14 @@ class Evolution {
   Joint gather_found(bool cut);
   Joint share_entrants(Joint joint, const std::vector<FrontMember>& entered,
                        std::uint64_t* evaluated);
+  // Rank 0, at a synchronisation: islands dealt again by the time each took since the last one
+  // (the longest first, each to the rank with the least work so far) when the busiest rank's
+  // share exceeds the mean by kRebalanceAbove; the current owners otherwise. An island evolves
+  // the same on any rank (it ranks against the synchronised front and its own finds), so this
+  // changes where, never what.
+  [[nodiscard]] std::vector<int> balanced_owners() const;
+  // Every rank: sends the islands it gives up to their new owners and takes its new ones.
+  void move_islands(const std::vector<int>& owners);
   // Distributed: the state of every island at rank 0, from the ranks that own them (collective;
   // the others get an empty state).
   EvolutionState gathered_state();
@@ -153,6 +162,7 @@ class Evolution {
   RowSample race_;
   std::vector<Island> islands_;
   std::vector<std::size_t> owned_;  // the islands this rank evolves (all in one process)
+  std::vector<int> owner_;           // per island, the rank that evolves it
   std::uint64_t generations_ = 0;
   bool polished_ = false;
   std::unique_ptr<GpuEvaluator> gpu_;  // the fit rows on the GPU, when ctx.device is Cuda
