@@ -1,42 +1,73 @@
 #!/usr/bin/env python3
-"""Searches across MPI ranks against one process, measured side by side in one run
-(docs/distributed.md): 1 rank x 1 thread, 1 rank x 2 threads and 2 ranks x 1 thread, interleaved
-(A B C A B C ...) on the seed task.
+"""One search across MPI ranks against one process, side by side in one run (docs/distributed.md,
+"Measured"): 2 ranks x 1 thread against 1 rank x 1 thread, interleaved (A B A B ...), medians of
+--reps seeds.
 
-For each configuration, medians over --reps runs of:
   candidates/s      a --time T search (enumeration, then evolution): summary candidates / total
-  evolution cand/s  a --time T search with --strategy evolve: the part the ranks share out
-  time to target    --stop-loss <seed formula's MSE> --stop-cost 4: the search's total_time_s
-and for 2 ranks the bytes every rank sent per generation (summary bytes_sent / ranks /
-generations), with the ratios to 1 rank x 1 thread.
+                    time, on the seed task and on the four-input problem below
+  evolution cand/s  the same with --strategy evolve (the islands' part)
+  time to target    the four-input problem, I.34.8 of AI-Feynman (omega = q v B / p, 2,000 rows
+                    drawn as bench/feynman/run.py draws them), --time 60 with --stop-loss 20.5
+                    --stop-cost 3 (an MSE a fifth of the target's variance, at 3 instructions):
+                    the search's total_time_s
+  equal work        count-budgeted searches (--evals N) of both: at each cost of the one-rank
+                    front, the 2-rank front's best loss at that cost or below, as a ratio
+  bytes             summary bytes_per_rank (sent, received) per synchronisation of the evolution
+                    (--strategy evolve, 2 islands per rank, every 10 generations) on 2 and 4 ranks
+                    (4 oversubscribed on a 2-core machine, for twice the time)
 
     python3 bench/mpi/scaling.py --build build/release --time 10 --reps 3
 """
 
 import argparse
+import csv
 import json
 import os
 import statistics
 import subprocess
+import sys
+import tempfile
+from pathlib import Path
 
-SEED_MSE = 3.5226917573287524e-4  # r0 + (x - r0) x^4 on fresnel-seed, data seed 1
-SEARCH = ["search", "--dataset", "fresnel-seed", "--inputs", "r0,x", "--target", "R", "--quiet",
-          "--json", "-"]
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "bench" / "feynman"))
+
+SEED_TASK = ["--dataset", "fresnel-seed", "--inputs", "r0,x", "--target", "R"]
+TARGET = ["--stop-loss", "20.5", "--stop-cost", "3"]
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_btl_vader_single_copy_mechanism="none")
 
 
-def command(build, ranks, threads, extra):
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_btl_vader_single_copy_mechanism="none")
+def four_input_problem(work: Path) -> list:
+    import run as feynman  # bench/feynman/run.py
+    eq = {e["number"]: e for e in feynman.load_equations(feynman.DEFAULT_EQUATIONS)}[34]
+    columns, y = feynman.draw(eq, np.random.default_rng(1000 + 34), 2000, 0.0)
+    path = work / "feynman_34.csv"
+    names = list(columns.keys())
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(names + [eq["output"]])
+        for i in range(len(y)):
+            w.writerow([repr(float(columns[k][i])) for k in names] + [repr(float(y[i]))])
+    return ["--data", str(path), "--target", eq["output"]]
+
+
+def summary(build, ranks, problem, extra):
+    common = ["search"] + problem + ["--threads", "1", "--quiet", "--json", "-"] + extra
     if ranks == 1:
-        return [f"{build}/shaderfit"] + SEARCH + ["--threads", str(threads)] + extra, env
-    return (["mpirun", "-np", str(ranks), f"{build}/shaderfit-mpi"] + SEARCH +
-            ["--threads", str(threads)] + extra, env)
+        cmd = [f"{build}/shaderfit"] + common
+    else:
+        cmd = (["mpirun", "--oversubscribe", "-np", str(ranks), f"{build}/shaderfit-mpi"] +
+               common)
+    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=ENV)
+    return json.loads(out.stdout)
 
 
-def summary(build, ranks, threads, extra):
-    cmd, env = command(build, ranks, threads, extra)
-    out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=env)
-    return json.loads(out.stdout)["summary"]
+def best_at(front, cost):
+    losses = [m["loss"] for m in front if m["cost"] <= cost]
+    return min(losses) if losses else float("inf")
 
 
 def main():
@@ -44,39 +75,58 @@ def main():
     ap.add_argument("--build", default="build/release")
     ap.add_argument("--time", type=float, default=10.0)
     ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--evals", type=int, default=3_000_000, help="the equal-work budget")
     args = ap.parse_args()
-    configs = [("1 rank x 1 thread", 1, 1), ("1 rank x 2 threads", 1, 2),
-               ("2 ranks x 1 thread", 2, 1)]
-    t = ["--time", repr(args.time)]
-    rows = {name: {"cps": [], "evo": [], "ttt": [], "bytes": []} for name, _, _ in configs}
-    for rep in range(args.reps):
-        for name, ranks, threads in configs:
-            s = summary(args.build, ranks, threads, t + ["--seed", str(rep + 1)])
-            rows[name]["cps"].append(s["candidates"] / s["total_time_s"])
-            if s["generations"] > 0:
-                rows[name]["bytes"].append(s["bytes_sent"] / s["ranks"] / s["generations"])
-            s = summary(args.build, ranks, threads,
-                        t + ["--seed", str(rep + 1), "--strategy", "evolve"])
-            rows[name]["evo"].append(s["candidates"] / s["evolution_time_s"])
-            s = summary(args.build, ranks, threads,
-                        ["--time", "30", "--seed", str(rep + 1), "--stop-loss", repr(SEED_MSE),
-                         "--stop-cost", "4"])
-            assert s["termination"] == "target reached", s
-            rows[name]["ttt"].append(s["total_time_s"])
     med = statistics.median
-    base = rows[configs[0][0]]
-    print(f"seed task, {args.reps} runs per configuration (seeds 1-{args.reps}), --time "
-          f"{args.time:g}, interleaved; medians, and ratios to 1 rank x 1 thread:")
-    print(f"  {'':<20} {'candidates/s':>14} {'ratio':>6} {'evolution cand/s':>17} {'ratio':>6} "
-          f"{'time to target':>15} {'ratio':>6}")
-    for name, _, _ in configs:
-        r = rows[name]
-        print(f"  {name:<20} {med(r['cps']):14.4g} {med(r['cps']) / med(base['cps']):6.2f} "
-              f"{med(r['evo']):17.4g} {med(r['evo']) / med(base['evo']):6.2f} "
-              f"{med(r['ttt']) * 1e3:12.2f} ms {med(r['ttt']) / med(base['ttt']):6.2f}")
-    b = rows["2 ranks x 1 thread"]["bytes"]
-    if b:
-        print(f"  2 ranks: {med(b):.0f} bytes sent per rank per generation (median of runs)")
+    t = ["--time", repr(args.time)]
+    with tempfile.TemporaryDirectory() as tmp:
+        four = four_input_problem(Path(tmp))
+        rows = {r: {k: [] for k in ("cps_seed", "cps_four", "evo", "ttt")} for r in (1, 2)}
+        ratios = []
+        for rep in range(args.reps):
+            seed = ["--seed", str(rep + 1)]
+            runs = {}
+            for ranks in (1, 2):  # interleaved
+                s = summary(args.build, ranks, SEED_TASK, t + seed)["summary"]
+                rows[ranks]["cps_seed"].append(s["candidates"] / s["total_time_s"])
+                s = summary(args.build, ranks, four, t + seed)["summary"]
+                rows[ranks]["cps_four"].append(s["candidates"] / s["total_time_s"])
+                s = summary(args.build, ranks, SEED_TASK, t + seed + ["--strategy", "evolve"])
+                s = s["summary"]
+                rows[ranks]["evo"].append(s["candidates"] / s["evolution_time_s"])
+                s = summary(args.build, ranks, four, ["--time", "60"] + seed + TARGET)["summary"]
+                assert s["termination"] == "target reached", s
+                rows[ranks]["ttt"].append(s["total_time_s"])
+                runs[ranks] = summary(args.build, ranks, four,
+                                      ["--time", "600", "--evals", str(args.evals)] + seed)
+            for m in runs[1]["front"]:
+                ratios.append(best_at(runs[2]["front"], m["cost"]) / max(m["loss"], 1e-300))
+        print(f"{args.reps} seeds, interleaved; medians, 2 ranks x 1 thread against 1 rank x 1 "
+              f"thread (ratio 2 / 1):")
+        for key, name, unit in (("cps_seed", f"candidates/s, seed task, --time {args.time:g}", ""),
+                                ("cps_four", f"candidates/s, I.34.8, --time {args.time:g}", ""),
+                                ("evo", "evolution cand/s, seed task (--strategy evolve)", ""),
+                                ("ttt", "time to target, I.34.8 (mse <= 20.5 at cost <= 3)", " s")):
+            a, b = med(rows[1][key]), med(rows[2][key])
+            print(f"  {name:<52} {a:12.4g}{unit} {b:12.4g}{unit}  ratio {b / a:5.2f}")
+        worse = [r for r in ratios if r > 1 + 1e-9]
+        print(f"  equal work (--evals {args.evals}, I.34.8): at {len(ratios) - len(worse)} of "
+              f"{len(ratios)} costs of the one-rank fronts the 2-rank front is as good or better; "
+              f"worst ratio {max(ratios):.3g}, median {med(ratios):.3g}")
+        print("  bytes per synchronisation of the evolution (--strategy evolve, 2 islands per "
+              "rank), sent / received:")
+        for ranks in (2, 4):
+            islands = ["--islands", str(2 * ranks)]
+            # As many generations per rank whatever the number of ranks on the machine's cores.
+            longer = ["--time", repr(args.time * max(1, ranks / (os.cpu_count() or 1)))]
+            s = summary(args.build, ranks, SEED_TASK,
+                        longer + ["--seed", "1", "--strategy", "evolve"] + islands)["summary"]
+            syncs = max(1, s["generations"] // 10)
+            per = s["bytes_per_rank"]
+            others = per[1:]
+            print(f"    {ranks} ranks ({syncs} synchronisations): each other rank "
+                  f"{med(p[0] for p in others) / syncs:.0f} / {med(p[1] for p in others) / syncs:.0f}"
+                  f" (median), rank 0 {per[0][0] / syncs:.0f} / {per[0][1] / syncs:.0f}")
 
 
 if __name__ == "__main__":

@@ -62,6 +62,7 @@ std::string search_json(const SearchSummary& s, const SearchOptions& o, const Se
                 {"dropped_notes", s.dropped_notes},
                 {"ranks", s.ranks},
                 {"bytes_sent", s.bytes_sent},
+                {"bytes_per_rank", s.bytes_per_rank},
                 {"symmetry",
                  s.symmetry ? json{{"input", s.symmetry->input_name},
                                    {"kind", symmetry_kind_name(s.symmetry->kind)},

@@ -21,7 +21,11 @@ std::vector<nlohmann::json> RankGroup::all_gather(const nlohmann::json& mine) {
   const std::string bytes = encode(mine);
   bytes_sent_ += bytes.size();
   std::vector<nlohmann::json> out;
-  for (const std::string& b : comm_->all_gather(bytes)) out.push_back(decode(b));
+  const std::vector<std::string> all = comm_->all_gather(bytes);
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    if (static_cast<int>(r) != rank()) bytes_received_ += all[r].size();
+    out.push_back(decode(all[r]));
+  }
   return out;
 }
 
@@ -31,7 +35,9 @@ nlohmann::json RankGroup::broadcast(const nlohmann::json& value, int root) {
     bytes = encode(value);
     bytes_sent_ += bytes.size();
   }
-  return decode(comm_->broadcast(bytes, root));
+  const std::string got = comm_->broadcast(bytes, root);
+  if (rank() != root) bytes_received_ += got.size();
+  return decode(got);
 }
 
 std::vector<nlohmann::json> RankGroup::exchange(
@@ -42,7 +48,10 @@ std::vector<nlohmann::json> RankGroup::exchange(
     bytes_sent_ += encoded.back().second.size();
   }
   std::vector<nlohmann::json> out;
-  for (const std::string& b : comm_->exchange(encoded, from)) out.push_back(decode(b));
+  for (const std::string& b : comm_->exchange(encoded, from)) {
+    bytes_received_ += b.size();
+    out.push_back(decode(b));
+  }
   return out;
 }
 
@@ -60,7 +69,10 @@ std::vector<nlohmann::json> RankGroup::gather(const nlohmann::json& mine) {
 
 std::vector<std::string> RankGroup::all_gather_bytes(std::string_view mine) {
   bytes_sent_ += mine.size();
-  return comm_->all_gather(mine);
+  std::vector<std::string> all = comm_->all_gather(mine);
+  for (std::size_t r = 0; r < all.size(); ++r)
+    if (static_cast<int>(r) != rank()) bytes_received_ += all[r].size();
+  return all;
 }
 
 }  // namespace shaderfit::search_detail

@@ -41,12 +41,13 @@ class RankGroup {
   // all_gather of raw bytes, for bulk data (the enumeration's classes).
   std::vector<std::string> all_gather_bytes(std::string_view mine);
 
-  // The bytes this rank has sent (its payloads).
+  // The bytes this rank has sent and received (payloads; an all-gather's own part not received).
   [[nodiscard]] std::uint64_t bytes_sent() const { return bytes_sent_; }
+  [[nodiscard]] std::uint64_t bytes_received() const { return bytes_received_; }
 
  private:
   Communicator* comm_;
-  std::uint64_t bytes_sent_ = 0;
+  std::uint64_t bytes_sent_ = 0, bytes_received_ = 0;
 };
 
 }  // namespace shaderfit::search_detail

@@ -98,6 +98,8 @@ struct SearchSummary {
   // of them sent (each rank's payloads, before MPI's own framing).
   int ranks = 1;
   std::uint64_t bytes_sent = 0;
+  // Per rank, in rank order: the bytes it sent and received (payloads); empty for one process.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> bytes_per_rank;
   // With a reference: members whose formula is NaN or infinite somewhere between the samples,
   // and with SearchOptions::certify those for which no finite bound was found (each dropped
   // from the front; dropped_notes says where, one line each), and the seconds spent checking

@@ -137,7 +137,8 @@ class Evolution {
                        std::uint64_t* evaluated);
   // Rank 0, at a synchronisation: islands dealt again by the time each took since the last one
   // (the longest first, each to the rank with the least work so far) when the busiest rank's
-  // share exceeds the mean by kRebalanceAbove; the current owners otherwise. An island evolves
+  // share exceeds the mean by kRebalanceAbove and the new deal lowers it (kRebalanceGain); the
+  // current owners otherwise. An island evolves
   // the same on any rank (it ranks against the synchronised front and its own finds), so this
   // changes where, never what.
   [[nodiscard]] std::vector<int> balanced_owners() const;

@@ -311,11 +311,14 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
   if (distributed) {
     // Every rank's bytes sent and work, summed; then the other ranks are done.
     const std::vector<nlohmann::json> counts =
-        ctx.ranks.all_gather({ctx.ranks.bytes_sent(), ctx.node_evaluations.load()});
+        ctx.ranks.gather({ctx.ranks.bytes_sent(), ctx.node_evaluations.load(),
+                          ctx.ranks.bytes_received()});
     s.ranks = ctx.ranks.size();
     std::uint64_t others = 0;
     for (std::size_t r = 0; r < counts.size(); ++r) {
       s.bytes_sent += counts[r].at(0).get<std::uint64_t>();
+      s.bytes_per_rank.emplace_back(counts[r].at(0).get<std::uint64_t>(),
+                                    counts[r].at(2).get<std::uint64_t>());
       if (r != 0) others += counts[r].at(1).get<std::uint64_t>();
     }
     ctx.node_evaluations.fetch_add(others);
