@@ -10,8 +10,9 @@
                     drawn as bench/feynman/run.py draws them), --time 60 with --stop-loss 20.5
                     --stop-cost 3 (an MSE a fifth of the target's variance, at 3 instructions):
                     the search's total_time_s
-  equal work        count-budgeted searches (--evals N) of both: at each cost of the one-rank
-                    front, the 2-rank front's best loss at that cost or below, as a ratio
+  equal work        count-budgeted searches (--evals N) of both on the four-input problem: their
+                    candidates/s, and at each cost of the one-rank front the 2-rank front's best
+                    loss at that cost or below, as a ratio
   bytes             summary bytes_per_rank (sent, received) per synchronisation of the evolution
                     (--strategy evolve, 2 islands per rank, every 10 generations) on 2 and 4 ranks
                     (4 oversubscribed on a 2-core machine, for twice the time)
@@ -81,7 +82,8 @@ def main():
     t = ["--time", repr(args.time)]
     with tempfile.TemporaryDirectory() as tmp:
         four = four_input_problem(Path(tmp))
-        rows = {r: {k: [] for k in ("cps_seed", "cps_four", "evo", "ttt")} for r in (1, 2)}
+        rows = {r: {k: [] for k in ("cps_seed", "cps_four", "evo", "ttt", "cps_work")}
+                for r in (1, 2)}
         ratios = []
         for rep in range(args.reps):
             seed = ["--seed", str(rep + 1)]
@@ -99,6 +101,8 @@ def main():
                 rows[ranks]["ttt"].append(s["total_time_s"])
                 runs[ranks] = summary(args.build, ranks, four,
                                       ["--time", "600", "--evals", str(args.evals)] + seed)
+                s = runs[ranks]["summary"]
+                rows[ranks]["cps_work"].append(s["candidates"] / s["total_time_s"])
             for m in runs[1]["front"]:
                 ratios.append(best_at(runs[2]["front"], m["cost"]) / max(m["loss"], 1e-300))
         print(f"{args.reps} seeds, interleaved; medians, 2 ranks x 1 thread against 1 rank x 1 "
@@ -106,7 +110,8 @@ def main():
         for key, name, unit in (("cps_seed", f"candidates/s, seed task, --time {args.time:g}", ""),
                                 ("cps_four", f"candidates/s, I.34.8, --time {args.time:g}", ""),
                                 ("evo", "evolution cand/s, seed task (--strategy evolve)", ""),
-                                ("ttt", "time to target, I.34.8 (mse <= 20.5 at cost <= 3)", " s")):
+                                ("ttt", "time to target, I.34.8 (mse <= 20.5 at cost <= 3)", " s"),
+                                ("cps_work", f"candidates/s, I.34.8, --evals {args.evals}", "")):
             a, b = med(rows[1][key]), med(rows[2][key])
             print(f"  {name:<52} {a:12.4g}{unit} {b:12.4g}{unit}  ratio {b / a:5.2f}")
         worse = [r for r in ratios if r > 1 + 1e-9]

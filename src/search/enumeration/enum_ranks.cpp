@@ -1,8 +1,7 @@
 // The enumeration across the ranks of a distributed search (docs/distributed.md, "How the work
-// is split"): each rank computes its share of every batch's tiles with no exchange while it
-// works; the ranks agree on counts and stops after every round, hold the same classes after
-// every batch they all finished (the new classes replicated once per batch, as recipes), and
-// join their fronts and best classes at rank 0 at the end.
+// is split"): each rank computes its part of every batch with no exchange while it works; the
+// ranks agree on counts and stops after every round, share a level once (as recipes) when a
+// batch needs it whole, and join their fronts and best classes at rank 0 at the end.
 #include <algorithm>
 #include <cstring>
 #include <string>
@@ -31,7 +30,8 @@ void put(std::string& out, const T& v) {
 
 template <typename T>
 T take(const std::string& in, std::size_t* at) {
-  if (*at + sizeof(T) > in.size()) throw Error("a rank sent a short message", {"communicator"});
+  if (*at + sizeof(T) > in.size())
+    throw Error("a rank sent a short message", {"SearchOptions::communicator"});
   T v;
   std::memcpy(&v, in.data() + *at, sizeof(T));
   *at += sizeof(T);
@@ -41,7 +41,7 @@ T take(const std::string& in, std::size_t* at) {
 // What a rank reports after a round.
 struct RoundReport {
   std::uint64_t candidates;  // counted by this rank so far (before the enumeration included)
-  std::uint64_t classes;     // this rank's classes not yet replicated
+  std::uint64_t classes;     // this rank's classes not yet shared
   std::int32_t stop;         // its Termination when it stopped the search, or -1
   std::uint8_t exhausted;    // its store is full or its share of the time is spent
   std::uint8_t complete;     // it merged its share of the batch's level
