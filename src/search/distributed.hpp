@@ -21,7 +21,7 @@ class RankGroup {
   [[nodiscard]] bool distributed() const { return comm_ != nullptr && comm_->size() > 1; }
   [[nodiscard]] int rank() const { return distributed() ? comm_->rank() : 0; }
   [[nodiscard]] int size() const { return distributed() ? comm_->size() : 1; }
-  // Rank 0: enumerates, writes checkpoints and reports.
+  // Rank 0: keeps the front, runs the start formulas, writes checkpoints and reports.
   [[nodiscard]] bool leader() const { return rank() == 0; }
   // The rank that evolves island `island`: round robin. The islands that receive the front's
   // members as seeds (the first ones) are the slowest to evolve, so blocks of consecutive

@@ -143,9 +143,10 @@ struct SearchOptions {
   // the front found so far.
   const std::atomic<bool>* interrupt = nullptr;
   // When set (and of more than one rank), the search runs across the ranks, each calling
-  // run_search with the same data and options (docs/distributed.md): rank 0 enumerates, the
-  // evolution's islands are shared out in blocks (islands >= ranks), and rank 0's summary holds
-  // the result: under a count budget and a seed, the same on the same number of ranks.
+  // run_search with the same data and options (docs/distributed.md): the enumeration's work and
+  // the evolution's islands (islands >= ranks) are shared out, the front is kept at rank 0, and
+  // rank 0's summary holds the result: under a count budget and a seed, the same on the same
+  // number of ranks.
   // Only rank 0 writes checkpoints and calls on_new_member and on_progress.
   Communicator* communicator = nullptr;
 
