@@ -180,20 +180,14 @@ std::vector<Expression> Enumerator::seeds(std::size_t count) const {
     std::sort(lv.begin(), lv.end());
     if (!lv.empty()) levels.push_back(std::move(lv));
   }
-  std::vector<Expression> out;
-  for (std::size_t rank = 0; out.size() < count; ++rank) {
-    bool any = false;
-    for (const auto& lv : levels) {
-      if (rank >= lv.size() || out.size() >= count) continue;
-      any = true;
-      const std::uint32_t id = lv[rank].id;
-      if (store_->record(id).kind == EKind::Literal) continue;
-      out.push_back(build_class_expression(*store_, id, lv[rank].negate, ctx_.problem.input_names,
-                                           ctx_.options.literals, ctx_.terminals));
-    }
-    if (!any) break;
-  }
-  return out;
+  std::vector<std::size_t> sizes;
+  for (const auto& lv : levels) sizes.push_back(lv.size());
+  return pick_seeds(sizes, count, [&](std::size_t level, std::size_t k) -> std::optional<Expression> {
+    const Elite& e = levels[level][k];
+    if (store_->record(e.id).kind == EKind::Literal) return std::nullopt;
+    return build_class_expression(*store_, e.id, e.negate, ctx_.problem.input_names,
+                                  ctx_.options.literals, ctx_.terminals);
+  });
 }
 
 }  // namespace shaderfit::search_detail

@@ -354,7 +354,6 @@ std::vector<Expression> Enumerator::gather_at_leader(std::size_t count) {
       for (const json& e : lv[level])
         levels[level].emplace_back(exact_number_from(e.at(0)), &e.at(1));
   }
-  std::vector<Expression> out;
   std::vector<std::vector<Expression>> picked;
   for (auto& lv : levels) {
     std::stable_sort(lv.begin(), lv.end(),
@@ -374,16 +373,12 @@ std::vector<Expression> Enumerator::gather_at_leader(std::size_t count) {
     }
     if (!distinct.empty()) picked.push_back(std::move(distinct));
   }
-  for (std::size_t k = 0; out.size() < count; ++k) {
-    bool any = false;
-    for (const auto& lv : picked) {
-      if (k >= lv.size() || out.size() >= count) continue;
-      any = true;
-      if (!lv[k].empty()) out.push_back(lv[k]);
-    }
-    if (!any) break;
-  }
-  return out;
+  std::vector<std::size_t> sizes;
+  for (const auto& lv : picked) sizes.push_back(lv.size());
+  return pick_seeds(sizes, count, [&](std::size_t level, std::size_t k) -> std::optional<Expression> {
+    if (picked[level][k].empty()) return std::nullopt;
+    return picked[level][k];
+  });
 }
 
 }  // namespace shaderfit::search_detail

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <unordered_map>
 #include <unordered_set>
@@ -201,6 +202,25 @@ class Enumerator {
   std::uint64_t batches_ = 0;
   static constexpr std::uint32_t kNotShared = 0xffffffffu;
 };
+
+// Seeds from per-level lists, best first: the best of each level, then the second of each ...,
+// until `count`; `take(level, k)` gives the k-th entry's formula, or nothing for one that holds
+// its place but is never a seed (a literal).
+template <typename Take>
+std::vector<Expression> pick_seeds(const std::vector<std::size_t>& sizes, std::size_t count,
+                                   Take take) {
+  std::vector<Expression> out;
+  for (std::size_t k = 0; out.size() < count; ++k) {
+    bool any = false;
+    for (std::size_t level = 0; level < sizes.size(); ++level) {
+      if (k >= sizes[level] || out.size() >= count) continue;
+      any = true;
+      if (std::optional<Expression> e = take(level, k)) out.push_back(std::move(*e));
+    }
+    if (!any) break;
+  }
+  return out;
+}
 
 // The formula of class `id` (negated when `negate`), over `variables`. A Var leaf k stands for
 // input k, or for terminals[k - variables.size()] past the inputs (uniform_terminals.hpp).
