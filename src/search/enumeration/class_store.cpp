@@ -23,11 +23,22 @@ void* map_arena(std::size_t bytes) {
   return p;
 }
 
+constexpr std::size_t kFirstSlots = 1024;
+
 std::size_t table_size_for(std::size_t entries) {
-  std::size_t n = 1024;
+  std::size_t n = kFirstSlots;
   while (n < 4 * entries) n *= 2;  // at most a quarter full: short probes
   return n;
 }
+
+// The pending table is kept at most half full.
+std::size_t pending_reserve_for(std::size_t entries) {
+  std::size_t n = kFirstSlots;
+  while (n < 2 * entries) n *= 2;
+  return n;
+}
+
+std::size_t lines(std::size_t bytes) { return (bytes + 63) / 64 * 64; }
 
 }  // namespace
 
@@ -41,26 +52,39 @@ ClassRecord make_record(EKind kind, std::uint16_t cost) {
 
 ClassStore::ClassStore(std::size_t screen_rows, std::size_t capacity, std::size_t verify_rows)
     : rows_(screen_rows), verify_rows_(std::min(verify_rows, screen_rows)), capacity_(capacity) {
-  // One reservation: the column pointers, the records, then the columns themselves (with room
-  // for the candidates that a merge drops after their worker kept them).
-  const std::size_t pointer_bytes = (capacity * sizeof(const float*) + 63) / 64 * 64;
-  const std::size_t record_bytes = (capacity * sizeof(ClassRecord) + 63) / 64 * 64;
+  // One reservation: the column pointers, the records, the hashes, the two tables at their
+  // largest, then the columns themselves (with room for the candidates that a merge drops after
+  // their worker kept them). Only what is used is ever touched.
+  const std::size_t pointer_bytes = lines(capacity * sizeof(const float*));
+  const std::size_t record_bytes = lines(capacity * sizeof(ClassRecord));
+  const std::size_t hash_bytes = lines(capacity * sizeof(std::uint64_t));
+  const std::size_t committed_slots = table_size_for(capacity);
+  const std::size_t pending_slots = pending_reserve_for(capacity);
+  const std::size_t table_bytes = (committed_slots + pending_slots) * sizeof(std::uint64_t);
   column_arena_columns_ = capacity + capacity / 2 + 65536;
   const std::size_t column_bytes = column_arena_columns_ * rows_ * sizeof(float);
-  arena_bytes_ =
-      (pointer_bytes + record_bytes + column_bytes + kHugePage - 1) / kHugePage * kHugePage;
+  const std::size_t head = pointer_bytes + record_bytes + hash_bytes + table_bytes;
+  arena_bytes_ = (head + column_bytes + kHugePage - 1) / kHugePage * kHugePage;
   auto* base = static_cast<unsigned char*>(map_arena(arena_bytes_));
   arena_ = base;
   columns_ = reinterpret_cast<const float**>(base);
   records_ = reinterpret_cast<ClassRecord*>(base + pointer_bytes);
-  column_arena_ = reinterpret_cast<float*>(base + pointer_bytes + record_bytes);
-  committed_table_.assign(1024, 0);
-  pending_table_.assign(1024, 0);
+  hashes_ = reinterpret_cast<std::uint64_t*>(base + pointer_bytes + record_bytes);
+  auto* tables = hashes_ + hash_bytes / sizeof(std::uint64_t);
+  committed_table_ = cleared({tables, committed_slots}, kFirstSlots);
+  pending_table_ = cleared({tables + committed_slots, pending_slots}, kFirstSlots);
+  column_arena_ = reinterpret_cast<float*>(base + head);
+}
+
+std::span<std::uint64_t> ClassStore::cleared(std::span<std::uint64_t> table, std::size_t slots) {
+  std::span<std::uint64_t> used = table.first(std::min(slots, table.size()));
+  std::fill(used.begin(), used.end(), 0);
+  return used;
 }
 
 ClassStore::~ClassStore() { munmap(arena_, arena_bytes_); }
 
-std::int64_t ClassStore::probe(const std::vector<std::uint64_t>& table, const float* column,
+std::int64_t ClassStore::probe(std::span<const std::uint64_t> table, const float* column,
                                const ColumnStats& stats) const {
   // Everything the check needs is in the slot and the two columns: no record is read.
   const std::size_t mask = table.size() - 1;
@@ -90,7 +114,7 @@ std::int64_t ClassStore::find_pending(const float* column, const ColumnStats& st
   return probe(pending_table_, column, stats);
 }
 
-void ClassStore::place(std::vector<std::uint64_t>& table, std::uint32_t id) const {
+void ClassStore::place(std::span<std::uint64_t> table, std::uint32_t id) const {
   const std::uint64_t hash = hashes_[id];
   const std::uint64_t neg = records_[id].has(ClassRecord::kCanonicalNeg) ? 1 : 0;
   const std::size_t mask = table.size() - 1;
@@ -106,12 +130,12 @@ std::uint32_t ClassStore::insert(const float* column, const ColumnStats& stats,
   if (stats.canonical_neg) record.flags |= ClassRecord::kCanonicalNeg;
   records_[id] = record;
   columns_[id] = column;
-  hashes_.push_back(stats.hash);
+  hashes_[id] = stats.hash;
   const std::uint32_t pending = size_ - committed_;
-  if (pending_table_.size() < 2 * pending) {  // keep it at most half full
-    std::vector<std::uint64_t> bigger(2 * pending_table_.size(), 0);
-    for (std::uint32_t j = committed_; j + 1 < size_; ++j) place(bigger, j);
-    pending_table_.swap(bigger);
+  if (pending_table_.size() < 2 * pending) {  // keep it at most half full: grow in place
+    pending_table_ = cleared({pending_table_.data(), pending_reserve_for(capacity_)},
+                             2 * pending_table_.size());
+    for (std::uint32_t j = committed_; j + 1 < size_; ++j) place(pending_table_, j);
   }
   place(pending_table_, id);
   return id;
@@ -128,7 +152,7 @@ void ClassStore::improve(std::uint32_t id, const float* column, const ColumnStat
   columns_[id] = column;
   if (!sign_changed) return;
   // The slot records the stored column's canonical sign: flip it.
-  std::vector<std::uint64_t>& table = id >= committed_ ? pending_table_ : committed_table_;
+  const std::span<std::uint64_t> table = id >= committed_ ? pending_table_ : committed_table_;
   const std::size_t mask = table.size() - 1;
   for (std::size_t i = hashes_[id] & mask;; i = (i + 1) & mask) {
     if ((table[i] & 0xffffffffu) == std::uint64_t{id} + 1) {
@@ -154,7 +178,8 @@ float* ClassStore::allocate_block(std::size_t columns) {
 
 void ClassStore::commit() {
   if (committed_table_.size() < 2 * std::size_t{size_}) {  // over half full: rebuild bigger
-    committed_table_.assign(table_size_for(size_), 0);
+    committed_table_ = cleared({committed_table_.data(), table_size_for(capacity_)},
+                               table_size_for(size_));
     for (std::uint32_t j = 0; j < size_; ++j) place(committed_table_, j);
   } else {
     for (std::uint32_t j = committed_; j < size_; ++j) place(committed_table_, j);

@@ -3,7 +3,9 @@
 //
 // Columns live in one big arena of huge pages, handed out in blocks of many columns to the
 // workers (any thread may allocate_block), which write their survivors' columns there; the
-// serial merge then records where a new class's column is and never copies it.
+// serial merge then records where a new class's column is and never copies it. The hashes and
+// both hash tables live in the same reservation, each sized for the capacity: a table grows in
+// place, with no reallocation or copy, and its memory is touched once, in huge pages.
 // Work happens in batches. During a batch, worker threads read the committed classes (records,
 // columns, and the committed table, none of which change), while the one merging thread appends
 // new classes and indexes them in a small pending table. commit() between batches folds the
@@ -14,7 +16,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
-#include <vector>
+#include <span>
 
 #include "search/enumeration/enum_kernels.hpp"
 
@@ -88,10 +90,12 @@ class ClassStore {
   [[nodiscard]] std::size_t columns_left() const;
 
  private:
-  [[nodiscard]] std::int64_t probe(const std::vector<std::uint64_t>& table, const float* column,
+  [[nodiscard]] std::int64_t probe(std::span<const std::uint64_t> table, const float* column,
                                    const ColumnStats& stats) const;
   // Slot: (hash >> 33) << 33 | canonical sign << 32 | (id + 1); 0 is empty.
-  void place(std::vector<std::uint64_t>& table, std::uint32_t id) const;
+  void place(std::span<std::uint64_t> table, std::uint32_t id) const;
+  // The first `slots` slots of a table's reservation, zeroed (slots: a power of two).
+  static std::span<std::uint64_t> cleared(std::span<std::uint64_t> table, std::size_t slots);
 
   std::size_t rows_, verify_rows_, capacity_;
   const float** columns_ = nullptr;
@@ -101,8 +105,9 @@ class ClassStore {
   float* column_arena_ = nullptr;
   std::size_t column_arena_columns_ = 0;
   std::atomic<std::size_t> column_arena_used_{0};
-  std::vector<std::uint64_t> committed_table_, pending_table_;  // (fingerprint << 32) | (id + 1)
-  std::vector<std::uint64_t> hashes_;                           // per class, for rebuilding
+  // The tables in use: the first part of their reservations (slots as place() writes them).
+  std::span<std::uint64_t> committed_table_, pending_table_;
+  std::uint64_t* hashes_ = nullptr;  // per class, for rebuilding
   std::uint32_t size_ = 0, committed_ = 0;
 };
 

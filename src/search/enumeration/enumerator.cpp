@@ -36,6 +36,10 @@ Enumerator::Enumerator(SearchContext& ctx, Rng& rng)
   prior_candidates_ = ctx.candidates.load();
   round_base_ = prior_candidates_;
   joint_classes_ = store_->size();
+  if (ctx.ranks.distributed()) {  // per class: reserved, so that growing never copies them
+    found_at_.reserve(o.max_classes);
+    shared_index_.reserve(o.max_classes);
+  }
   // The leaves and literals, the same on every rank, are shared from the start.
   shared_.assign(levels, false);
   for (int k = 0; k <= cost_completed_; ++k) shared_[static_cast<std::size_t>(k)] = true;
