@@ -6,12 +6,13 @@
   candidates/s      a --time T search (enumeration, then evolution): summary candidates / total
                     time, on the seed task and on the four-input problem below. The count is
                     almost all the enumeration's, in its share of the time (a tenth), and the
-                    enumeration stores each new class (about 370 bytes): where the machine gives
+                    enumeration stores each new class (about 370 bytes). Where the machine gives
                     a process fresh memory slowly (a virtual machine that hands freed pages back
-                    to its host: about 3 ms per MB on the 2-core machine, measured by
-                    sys time), that share goes mostly to page faults. So the seed task is also
-                    run "warm": just after this script touched and freed --warm-mb of memory, so
-                    that the search's pages are ones the guest still holds, as on bare metal.
+                    to its host: 2 to 4 ms per MB on the 2-core machine), much of that share is
+                    spent in the kernel: the row "kernel s" is the searches' system time (all
+                    ranks), from getrusage. Each run starts after --settle seconds idle, so that
+                    both sides find the memory alike (pages a run frees stay the guest's for a
+                    few seconds).
   evolution cand/s  the same with --strategy evolve (the islands' part)
   time to target    the four-input problem, I.34.8 of AI-Feynman (omega = q v B / p, 2,000 rows
                     drawn as bench/feynman/run.py draws them), --time 60 with --stop-loss 20.5
@@ -31,10 +32,12 @@ import argparse
 import csv
 import json
 import os
+import resource
 import statistics
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numpy as np
@@ -62,25 +65,17 @@ def four_input_problem(work: Path) -> list:
     return ["--data", str(path), "--target", eq["output"]]
 
 
-def touch_then_exec(argv):
-    """`--touch-then-exec MB CMD...`: writes one byte per page of MB MiB, frees them and becomes
-    CMD, whose fresh pages are then ones the guest still holds."""
-    block = bytearray(int(argv[0]) << 20)
-    block[::4096] = b"\1" * len(range(0, len(block), 4096))
-    del block
-    os.execvp(argv[1], argv[1:])
-
-
-def summary(build, ranks, problem, extra, warm_mb=0):
+def summary(build, ranks, problem, extra, kernel=None):
     common = ["search"] + problem + ["--threads", "1", "--quiet", "--json", "-"] + extra
     if ranks == 1:
         cmd = [f"{build}/shaderfit"] + common
     else:
         cmd = (["mpirun", "--oversubscribe", "-np", str(ranks), f"{build}/shaderfit-mpi"] +
                common)
-    if warm_mb > 0:
-        cmd = [sys.executable, __file__, "--touch-then-exec", str(warm_mb)] + cmd
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime
     out = subprocess.run(cmd, capture_output=True, text=True, check=True, env=ENV)
+    if kernel is not None:
+        kernel.append(resource.getrusage(resource.RUSAGE_CHILDREN).ru_stime - before)
     return json.loads(out.stdout)
 
 
@@ -95,27 +90,31 @@ def main():
     ap.add_argument("--time", type=float, default=10.0)
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--evals", type=int, default=3_000_000, help="the equal-work budget")
-    ap.add_argument("--warm-mb", type=int, default=2000,
-                    help="memory touched before each warm run (MiB; 0: no warm rows)")
+    ap.add_argument("--settle", type=float, default=10.0,
+                    help="seconds idle before each time-limited run")
+    ap.add_argument("--only-rate", action="store_true",
+                    help="only the candidates/s rows of time-limited searches")
     args = ap.parse_args()
     med = statistics.median
     t = ["--time", repr(args.time)]
     with tempfile.TemporaryDirectory() as tmp:
         four = four_input_problem(Path(tmp))
-        rows = {r: {k: [] for k in ("cps_seed", "cps_warm", "cps_four", "evo", "ttt", "cps_work")}
+        keys = ("cps_seed", "sys_seed", "cps_four", "sys_four", "evo", "ttt", "cps_work")
+        rows = {r: {k: [] for k in keys}
                 for r in (1, 2)}
         ratios = []
         for rep in range(args.reps):
             seed = ["--seed", str(rep + 1)]
             runs = {}
             for ranks in (1, 2):  # interleaved
-                s = summary(args.build, ranks, SEED_TASK, t + seed)["summary"]
-                rows[ranks]["cps_seed"].append(s["candidates"] / s["total_time_s"])
-                if args.warm_mb > 0:
-                    s = summary(args.build, ranks, SEED_TASK, t + seed, args.warm_mb)["summary"]
-                    rows[ranks]["cps_warm"].append(s["candidates"] / s["total_time_s"])
-                s = summary(args.build, ranks, four, t + seed)["summary"]
-                rows[ranks]["cps_four"].append(s["candidates"] / s["total_time_s"])
+                for problem, rate, kernel in ((SEED_TASK, "cps_seed", "sys_seed"),
+                                              (four, "cps_four", "sys_four")):
+                    time.sleep(args.settle)
+                    s = summary(args.build, ranks, problem, t + seed, rows[ranks][kernel])
+                    rows[ranks][rate].append(s["summary"]["candidates"] /
+                                             s["summary"]["total_time_s"])
+                if args.only_rate:
+                    continue
                 s = summary(args.build, ranks, SEED_TASK, t + seed + ["--strategy", "evolve"])
                 s = s["summary"]
                 rows[ranks]["evo"].append(s["candidates"] / s["evolution_time_s"])
@@ -126,14 +125,15 @@ def main():
                                       ["--time", "600", "--evals", str(args.evals)] + seed)
                 s = runs[ranks]["summary"]
                 rows[ranks]["cps_work"].append(s["candidates"] / s["total_time_s"])
-            for m in runs[1]["front"]:
+            for m in runs.get(1, {"front": []})["front"]:
                 ratios.append(best_at(runs[2]["front"], m["cost"]) / max(m["loss"], 1e-300))
         print(f"{args.reps} seeds, interleaved; medians, 2 ranks x 1 thread against 1 rank x 1 "
               f"thread (ratio 2 / 1):")
+        kernel = "  kernel s (system time of the search, all ranks)"
         for key, name, unit in (("cps_seed", f"candidates/s, seed task, --time {args.time:g}", ""),
-                                ("cps_warm", f"  the same, warm ({args.warm_mb} MiB touched first)",
-                                 ""),
+                                ("sys_seed", kernel, " s"),
                                 ("cps_four", f"candidates/s, I.34.8, --time {args.time:g}", ""),
+                                ("sys_four", kernel, " s"),
                                 ("evo", "evolution cand/s, seed task (--strategy evolve)", ""),
                                 ("ttt", "time to target, I.34.8 (mse <= 20.5 at cost <= 3)", " s"),
                                 ("cps_work", f"candidates/s, I.34.8, --evals {args.evals}", "")):
@@ -141,6 +141,8 @@ def main():
                 continue
             a, b = med(rows[1][key]), med(rows[2][key])
             print(f"  {name:<52} {a:12.4g}{unit} {b:12.4g}{unit}  ratio {b / a:5.2f}")
+        if args.only_rate:
+            return
         worse = [r for r in ratios if r > 1 + 1e-9]
         print(f"  equal work (--evals {args.evals}, I.34.8): at {len(ratios) - len(worse)} of "
               f"{len(ratios)} costs of the one-rank fronts the 2-rank front is as good or better; "
@@ -162,6 +164,4 @@ def main():
 
 
 if __name__ == "__main__":
-    if len(sys.argv) > 2 and sys.argv[1] == "--touch-then-exec":
-        touch_then_exec(sys.argv[2:])
     main()

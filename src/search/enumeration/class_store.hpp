@@ -1,11 +1,11 @@
 // The distinct candidates of the enumeration ("classes": one per set of observationally
 // equivalent formulas) with their screen columns, and hash tables over those columns (internal).
 //
-// Columns live in one big arena of huge pages, handed out in blocks of many columns to the
+// Columns live in one big arena, handed out in blocks of many columns to the
 // workers (any thread may allocate_block), which write their survivors' columns there; the
 // serial merge then records where a new class's column is and never copies it. The hashes and
 // both hash tables live in the same reservation, each sized for the capacity: a table grows in
-// place, with no reallocation or copy, and its memory is touched once, in huge pages.
+// place, with no reallocation or copy, and its memory is touched once.
 // Work happens in batches. During a batch, worker threads read the committed classes (records,
 // columns, and the committed table, none of which change), while the one merging thread appends
 // new classes and indexes them in a small pending table. commit() between batches folds the
