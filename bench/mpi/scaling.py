@@ -100,8 +100,7 @@ def main():
     with tempfile.TemporaryDirectory() as tmp:
         four = four_input_problem(Path(tmp))
         keys = ("cps_seed", "sys_seed", "cps_four", "sys_four", "evo", "ttt", "cps_work")
-        rows = {r: {k: [] for k in keys}
-                for r in (1, 2)}
+        rows = {r: {k: [] for k in keys} for r in (1, 2)}
         ratios = []
         for rep in range(args.reps):
             seed = ["--seed", str(rep + 1)]
@@ -125,7 +124,7 @@ def main():
                                       ["--time", "600", "--evals", str(args.evals)] + seed)
                 s = runs[ranks]["summary"]
                 rows[ranks]["cps_work"].append(s["candidates"] / s["total_time_s"])
-            for m in runs.get(1, {"front": []})["front"]:
+            for m in runs[1]["front"] if runs else []:
                 ratios.append(best_at(runs[2]["front"], m["cost"]) / max(m["loss"], 1e-300))
         print(f"{args.reps} seeds, interleaved; medians, 2 ranks x 1 thread against 1 rank x 1 "
               f"thread (ratio 2 / 1):")
