@@ -151,7 +151,7 @@ bool Enumerator::agree(bool complete, bool done, bool* level_complete, bool* all
 }
 
 void Enumerator::share_levels_for(int level) {
-  const int shared_below = costs_->leaf + 3;
+  const int shared_below = costs_->leaf + 3;  // shared once complete (enumerator.hpp)
   for (int k = 0; k < level && !joint_end_; ++k)
     if (k <= level - 2 || k < shared_below) share_level(k);
 }

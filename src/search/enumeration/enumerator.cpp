@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <optional>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "core/cpu_clock.hpp"

@@ -94,8 +94,8 @@ class Enumerator {
                         bool materialize, std::span<const std::uint32_t> positions = {});
   // Across ranks (enum_ranks.cpp, docs/distributed.md). A level's classes stay with the rank
   // that made them until the level is shared, once, before the first batch that needs it as the
-  // lower operand of a step (a level below kSharedBelow, the leaves' level plus 3, as soon as it
-  // is complete: a step may pair two of its classes). A step over shared levels only has its
+  // lower operand of a step (a level below the leaves' level plus 3 as soon as it is
+  // complete: a step may pair two of its classes). A step over shared levels only has its
   // tiles dealt out to the ranks (tile i of them to rank i mod R); a step over a level not yet
   // shared runs whole on every rank, over that rank's part of the level. The tiles run in rounds
   // of kRoundTiles per thread, after each of which the ranks agree on the count and on whether

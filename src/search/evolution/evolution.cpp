@@ -11,12 +11,12 @@
 #include "search/exact_json.hpp"
 #include "search/evolution/nsga2.hpp"
 #include "search/evolution/rewrites.hpp"
-#include "shaderfit/search/front_member.hpp"
 #include "shaderfit/core/parallel.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/simplify.hpp"
 #include "shaderfit/fit/fit.hpp"
 #include "shaderfit/fit/linear.hpp"
+#include "shaderfit/search/front_member.hpp"
 
 namespace shaderfit::search_detail {
 
