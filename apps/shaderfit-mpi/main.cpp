@@ -4,9 +4,11 @@
 // A separate program so that shaderfit itself neither links MPI nor pays for starting it.
 #include <mpi.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
+#include <thread>
 
 #include "cli.hpp"  // apps/shaderfit/cli.hpp
 #include "mpi_communicator.hpp"
@@ -23,9 +25,14 @@ int main(int argc, char** argv) {
     status = shaderfit::cli::run_cli(argc, argv, leader ? std::cout : discarded,
                                      leader ? std::cerr : held, &world);
     if (status != 0) {
-      // A rank that failed alone (a file only rank 0 can read, say) says why; then every rank
-      // stops, as the others may be waiting for it.
-      if (!leader) std::cerr << "rank " << world.rank() << ": " << held.str() << std::flush;
+      // Every rank stops, as the others may be waiting for it. Bad options fail on every rank
+      // alike: the leader's line is the one said, so the others first give it time to abort
+      // them; a rank that failed alone (a file only rank 0 can read, say) then says why.
+      std::cerr.flush();
+      if (!leader) {
+        std::this_thread::sleep_for(std::chrono::seconds(2));
+        std::cerr << "rank " << world.rank() << ": " << held.str() << std::flush;
+      }
       MPI_Abort(MPI_COMM_WORLD, status);
     }
     // A rank died (batch: its entry was finished by another): MPI_Finalize would wait for it
