@@ -182,7 +182,7 @@ void run_curves(CurveArgs& a, Context& ctx) {
   const bool many = groups.size() > 1;
   for (auto& [name, rows] : groups) {
     std::sort(rows.begin(), rows.end(),
-              [&](std::size_t p, std::size_t q) { return xs[p] < xs[q]; });
+              [&](std::size_t i, std::size_t j) { return xs[i] < xs[j]; });
     auto series = [&](const std::string& label, const std::vector<double>& v, bool minus_target) {
       Series s;
       s.style = a.points ? Series::Style::Points : Series::Style::Lines;
