@@ -180,7 +180,9 @@ TEST(RdnaCheck, PublishedFormulas) {
   }
   for (const Processor& cpu : kProcessors) {
     const Agreement a = check(cpu, f, "published");
-    if (a.checked > 0) EXPECT_GE(a.agree * 100, a.checked * 95) << a.differs;
+    if (a.checked > 0) {
+      EXPECT_GE(a.agree * 100, a.checked * 95) << a.differs;
+    }
   }
 }
 
@@ -200,7 +202,9 @@ TEST(RdnaCheck, SearchFronts) {
   }
   for (const Processor& cpu : kProcessors) {
     const Agreement a = check(cpu, f, "search fronts");
-    if (a.checked > 0) EXPECT_GE(a.agree * 100, a.checked * 95) << a.differs;
+    if (a.checked > 0) {
+      EXPECT_GE(a.agree * 100, a.checked * 95) << a.differs;
+    }
   }
 }
 
@@ -217,7 +221,9 @@ TEST(RdnaCheck, TwoHundredRandomFormulas) {
     for (const Processor& cpu : kProcessors) {
       check(cpu, raw, name + " as generated");
       const Agreement a = check(cpu, simplified, name + " simplified");
-      if (a.checked > 0) EXPECT_GE(a.agree, 190) << a.differs;
+      if (a.checked > 0) {
+        EXPECT_GE(a.agree, 190) << a.differs;
+      }
     }
   }
 }

@@ -29,6 +29,22 @@ TEST(CostModel, SeedSassCountsWithInputCos) {
   EXPECT_EQ(instructions("r0 + (1 - r0 - s * c) * (1 - c)^4", v), 6);
 }
 
+// The folds that remove work (a clamp to one value, equal branches, x * 1, x + 0) hold for the
+// constants as stated, not for their float32 roundings: a formula scored in float64 with two
+// bounds a hair apart, scaled by 4e8, is not a constant, and must not cost as one.
+TEST(CostModel, FoldsTakeTheStatedConstants) {
+  EXPECT_EQ(instructions("min(max(exp2(x), 1), 1)"), 0);
+  EXPECT_GT(instructions("398429440 * min(max(exp2(x), 0.9999999896713022), 1.000000020657396)"
+                         " - 398429440"),
+            2);
+  EXPECT_EQ(instructions("select(x >= 0, 0.5, 0.5)"), 0);
+  EXPECT_GT(instructions("3.8477732e15 * select(x >= r0, 0.5, 0.50000000001)"), 0);
+  EXPECT_EQ(instructions("x * 1 + r0"), 1);
+  EXPECT_EQ(instructions("x * 1.0000000001 + r0"), 1);  // one FFMA either way
+  EXPECT_EQ(instructions("x * 1.0000000001"), 1);
+  EXPECT_EQ(instructions("x * 1"), 0);
+}
+
 TEST(CostModel, IntegerPowersBySquaring) {
   EXPECT_EQ(instructions("x^2"), 1);
   EXPECT_EQ(instructions("x^3"), 2);

@@ -20,6 +20,7 @@ struct Key {
   int a, b, c;  // operand id * 2 + neg, or -1
   int index;
   std::uint32_t bits;  // Const: float bits
+  std::uint64_t exact_bits;  // Const: the stated value's bits
 
   friend bool operator==(const Key&, const Key&) = default;
 };
@@ -30,7 +31,7 @@ struct KeyHash {
     for (std::uint64_t v :
          {static_cast<std::uint64_t>(k.a + 2), static_cast<std::uint64_t>(k.b + 2),
           static_cast<std::uint64_t>(k.c + 2), static_cast<std::uint64_t>(k.index + 1000),
-          std::uint64_t{k.bits}}) {
+          std::uint64_t{k.bits}, k.exact_bits}) {
       h ^= v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2);
     }
     return static_cast<std::size_t>(h);
@@ -56,13 +57,17 @@ class Builder {
   }
 
   // A literal of the expression: its float32 value, or in a half DAG its binary16 value.
-  DagRef literal(double v) { return constant(static_cast<float>(half_ ? round_to_half(v) : v)); }
+  DagRef literal(double v) {
+    return constant(static_cast<float>(half_ ? round_to_half(v) : v), v);
+  }
 
-  DagRef constant(float v) {
+  DagRef constant(float v) { return constant(v, v); }
+  DagRef constant(float v, double stated) {
     const bool neg = std::signbit(v);
     DagNode n;
     n.op = Op::Const;
     n.value = neg ? -v : v;
+    n.exact = neg ? -stated : stated;
     return {intern(n), neg};
   }
   DagRef leaf(Op op, int index) {
@@ -96,15 +101,16 @@ class Builder {
     if (is_const(a) && is_const(b))
       return fold([&](auto t) { return as(t, value(a)) * as(t, value(b)); });
     // x * 1 and x * -1 are x and -x exactly.
-    if (is_const(a) && !log_scale && std::fabs(value(a)) == 1.0f)
+    if (is_const(a) && !log_scale && std::fabs(exact(a)) == 1.0)
       return {b.id, b.neg != (value(a) < 0)};
-    if (is_const(b) && !log_scale && std::fabs(value(b)) == 1.0f)
+    if (is_const(b) && !log_scale && std::fabs(exact(b)) == 1.0)
       return {a.id, a.neg != (value(b) < 0)};
     if (fast_) {  // x * 0 = 0, x * (1 / x) = 1
       if (is_zero(a) || is_zero(b)) return constant(0.0f);
       for (const auto& [x, r] : {std::pair{a, b}, std::pair{b, a}}) {
         const DagNode& rn = dag_.node(r.id);
-        if (rn.op == Op::Rcp && rn.a.id == x.id) return constant(x.neg != r.neg != rn.a.neg ? -1.0f : 1.0f);
+        if (rn.op == Op::Rcp && rn.a.id == x.id)
+          return constant((x.neg != r.neg) != rn.a.neg ? -1.0f : 1.0f);
       }
     }
     const bool neg = a.neg != b.neg;
@@ -159,7 +165,7 @@ class Builder {
       if (!is_const(k) || inner.neg || (n.op != Op::Min && n.op != Op::Max) || n.op == op) continue;
       for (const DagRef& k2 : {n.a, n.b}) {
         if (!is_const(k2)) continue;
-        if ((op == Op::Min && value(k) <= value(k2)) || (op == Op::Max && value(k) >= value(k2)))
+        if ((op == Op::Min && exact(k) <= exact(k2)) || (op == Op::Max && exact(k) >= exact(k2)))
           return k;
       }
     }
@@ -238,7 +244,7 @@ class Builder {
   DagRef div(DagRef a, DagRef b) {
     if (is_const(a) && is_const(b))
       return fold([&](auto t) { return as(t, value(a)) / as(t, value(b)); });
-    if (is_const(a) && std::fabs(value(a)) == 1.0f) {
+    if (is_const(a) && std::fabs(exact(a)) == 1.0) {
       const DagRef r = unary(Op::Rcp, b);
       return value(a) < 0 ? negate(r) : r;
     }
@@ -263,9 +269,9 @@ class Builder {
       });
     }
     for (const auto& [k, other] : {std::pair{a, b}, std::pair{b, a}})
-      if (is_const(k) && std::fabs(value(k)) == 1.0f)
+      if (is_const(k) && std::fabs(exact(k)) == 1.0)
         return add(value(k) < 0 ? negate(other) : other, c);
-    if (is_const(c) && value(c) == 0.0f) return mul(a, b);
+    if (is_const(c) && exact(c) == 0.0) return mul(a, b);
     const bool neg = a.neg != b.neg;
     a.neg = b.neg = false;
     if (neg) c = negate(c);
@@ -295,9 +301,14 @@ class Builder {
     if (half_) return constant(static_cast<float>(round_to_half(f(0.0))));
     return constant(f(0.0f));
   }
-  [[nodiscard]] bool is_zero(DagRef r) const { return is_const(r) && value(r) == 0.0f; }
+  // The stated value, signed.
+  [[nodiscard]] double exact(DagRef r) const {
+    const double v = dag_.node(r.id).exact;
+    return r.neg ? -v : v;
+  }
+  [[nodiscard]] bool is_zero(DagRef r) const { return is_const(r) && exact(r) == 0.0; }
   [[nodiscard]] bool is_minus_zero(DagRef r) const {
-    return is_const(r) && value(r) == 0.0f && std::signbit(value(r));
+    return is_const(r) && exact(r) == 0.0 && std::signbit(exact(r));
   }
   int binary(Op op, DagRef a, DagRef b) {
     DagNode n;
@@ -316,7 +327,8 @@ class Builder {
                   code(sort ? n.a : n.b),
                   code(n.c),
                   n.index,
-                  std::bit_cast<std::uint32_t>(n.value)};
+                  std::bit_cast<std::uint32_t>(n.value),
+                  std::bit_cast<std::uint64_t>(n.exact)};
     auto [it, inserted] = ids_.try_emplace(key, static_cast<int>(dag_.nodes.size()));
     if (inserted) dag_.nodes.push_back(n);
     return it->second;

@@ -59,6 +59,11 @@ struct DagNode {
   Op op = Op::Const;
   DagRef a, b, c;
   float value = 0.0f;      // Const: the magnitude (>= 0 or NaN; a binary16 value in a half DAG)
+  // Const: the magnitude as the expression states it (a fold's: `value`). Literals that round
+  // alike are told apart by it, and it decides the folds that remove work (x * 1, x + 0,
+  // min(K1, max(K2, x))): a formula scored in float64 must not cost as if its constants were
+  // equal where only their float32 roundings are.
+  double exact = 0.0;
   int index = 0;           // Var, Param: index into the expression's tables
   bool log_scale = false;  // Mul: this is log2(x) * ln2, i.e. log(x)
 };
