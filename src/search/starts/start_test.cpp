@@ -87,10 +87,41 @@ TEST(StartFormulas, TheFrontHoldsTheRefitWithNoOtherStrategy) {
   o.threads = 1;
   SearchSummary s;
   run_search(o, p, &s);
-  ASSERT_EQ(s.front.size(), 1U);  // the refit dominates the written form (same cost)
-  EXPECT_EQ(s.front[0].origin, SearchPhase::Start);
-  EXPECT_NEAR(s.front[0].metrics.max_abs, 0.04502, 0.0005);
-  EXPECT_EQ(s.candidates, 2U);
+  // The best constant, and the refit, which dominates the written form (same cost).
+  ASSERT_EQ(s.front.size(), 2U);
+  EXPECT_EQ(s.front[0].cost, 0);
+  EXPECT_EQ(s.front[1].origin, SearchPhase::Start);
+  EXPECT_NEAR(s.front[1].metrics.max_abs, 0.04502, 0.0005);
+  EXPECT_EQ(s.candidates, 4U);
+}
+
+// The front starts at the best constant for the loss, which no literal or input comes near:
+// y = 7 + x^2 on [0, 1], the mean 7 1/3 for mse, the midrange 7.5 for max_abs.
+TEST(StartFormulas, TheFrontStartsAtTheBestConstant) {
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs.resize(1);
+  for (int i = 0; i <= 1000; ++i) {
+    const double x = i / 1000.0;
+    p.inputs[0].push_back(x);
+    p.target.push_back(7 + x * x);
+  }
+  for (const auto& [loss, best] : {std::pair{Loss::Mse, 7.0 + 1.0 / 3.0}, {Loss::MaxAbs, 7.5}}) {
+    SearchOptions o = test::seed_task_options();
+    o.loss = loss;
+    o.evolve = false;
+    o.threads = 1;
+    o.max_candidates = 20'000;
+    SearchSummary s;
+    run_search(o, p, &s);
+    ASSERT_FALSE(s.front.empty());
+    const FrontMember& cheapest = s.front.front();
+    EXPECT_EQ(cheapest.cost, 0) << cheapest.formula;
+    ASSERT_TRUE(cheapest.expression.variables.empty() ||
+                cheapest.formula.find('x') == std::string::npos)
+        << cheapest.formula;
+    EXPECT_NEAR(std::stod(cheapest.formula), best, 1e-3) << loss_name(loss);
+  }
 }
 
 }  // namespace
