@@ -7,6 +7,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "search/run/seed_problem_test_util.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/search/front/front_table.hpp"
 
@@ -14,15 +15,7 @@ namespace shaderfit::search_detail {
 namespace {
 
 SearchProblem ramp() {
-  SearchProblem p;
-  p.input_names = {"x"};
-  p.inputs.resize(1);
-  for (int i = 0; i <= 100; ++i) {
-    const double x = i / 100.0;
-    p.inputs[0].push_back(x);
-    p.target.push_back(x * x * x);
-  }
-  return p;
+  return test::unit_interval_problem(100, [](double x) { return x * x * x; });
 }
 
 FrontMember member(const char* text) {

@@ -1,5 +1,5 @@
 // Seed 001's Fresnel task as a search problem, for the search's tests and benchmarks: inputs r0
-// and x, target R of the fresnel-seed data drawn with `data_seed`.
+// and x, target R of the fresnel-seed data drawn with `data_seed`; and a one-input problem.
 #pragma once
 
 #include <cstdint>
@@ -19,6 +19,20 @@ inline SearchProblem fresnel_seed_problem(std::uint64_t data_seed = 1) {
   p.input_names = {"r0", "x"};
   p.inputs = {d.numeric("r0").values, d.numeric("x").values};
   p.target = d.numeric("R").values;
+  return p;
+}
+
+// y = f(x) at x = 0, 1/n, ..., 1: input x.
+template <class F>
+SearchProblem unit_interval_problem(int n, F f) {
+  SearchProblem p;
+  p.input_names = {"x"};
+  p.inputs.resize(1);
+  for (int i = 0; i <= n; ++i) {
+    const double x = static_cast<double>(i) / n;
+    p.inputs[0].push_back(x);
+    p.target.push_back(f(x));
+  }
   return p;
 }
 

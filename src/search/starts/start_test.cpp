@@ -98,14 +98,7 @@ TEST(StartFormulas, TheFrontHoldsTheRefitWithNoOtherStrategy) {
 // The front starts at the best constant for the loss, which no literal or input comes near:
 // y = 7 + x^2 on [0, 1], the mean 7 1/3 for mse, the midrange 7.5 for max_abs.
 TEST(StartFormulas, TheFrontStartsAtTheBestConstant) {
-  SearchProblem p;
-  p.input_names = {"x"};
-  p.inputs.resize(1);
-  for (int i = 0; i <= 1000; ++i) {
-    const double x = i / 1000.0;
-    p.inputs[0].push_back(x);
-    p.target.push_back(7 + x * x);
-  }
+  const SearchProblem p = test::unit_interval_problem(1000, [](double x) { return 7 + x * x; });
   for (const auto& [loss, best] : {std::pair{Loss::Mse, 7.0 + 1.0 / 3.0}, {Loss::MaxAbs, 7.5}}) {
     SearchOptions o = test::seed_task_options();
     o.loss = loss;
