@@ -240,11 +240,6 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
     // (its front and seeds join rank 0's); then the others take what rank 0 has.
     std::vector<Expression> seeds;
     if (ctx.ranks.leader()) {
-      // The best constant for the loss (the polynomial of degree 0) is the front's cost-0
-      // baseline, which the enumeration's literals and the evolution need not hit.
-      (void)search_detail::offer_start_formulas(
-          ctx, {search_detail::start_over_indexed_inputs("0.5", problem.input_names, "constant",
-                                                         SearchPhase::Polynomial)});
       seeds = search_detail::offer_start_formulas(ctx, starts);
       // Downward from the reference's own formula and the shading shapes fitted to the data
       // (search/starts/descent.hpp, shape_starts.hpp), before the enumeration so that a
@@ -334,6 +329,12 @@ void search_on(const SearchOptions& options, const SearchProblem& problem,
       return;
     }
   }
+  // The best constant for the loss (the polynomial of degree 0) is the front's cost-0
+  // baseline, which the enumeration's literals and the evolution need not hit. Offered last, so
+  // that what the search explores is as without it.
+  (void)search_detail::offer_start_formulas(
+      ctx, {search_detail::start_over_indexed_inputs("0.5", problem.input_names, "constant",
+                                                     SearchPhase::Polynomial)});
   // At most this share of the time budget goes to the final minimax polish.
   constexpr double kPolishShare = 0.05;
   if (ctx.stop_reason() != Termination::Interrupted)
