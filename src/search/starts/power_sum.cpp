@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <utility>
 
 #include "search/starts/row_sample.hpp"
 #include "shaderfit/fit/linear.hpp"
@@ -16,6 +18,23 @@ namespace {
 
 constexpr std::size_t kBeam = 32;
 constexpr double kSift = 1e-6;  // 1 - R^2 by the normal equations worth a refit on the rows
+// A transform t whose spread about its mean is below this share of its square is constant: the
+// rounding of float64 data leaves about 1e-32, a CSV of 7 digits 1e-14.
+constexpr double kConstantSpread = 1e-20;
+// The logarithm's columns include power products of three inputs while the columns stay this
+// few (6 inputs: 1,545), and one power product of any inputs is tried alone, among this many.
+constexpr std::size_t kLogColumns = 1600;
+constexpr std::size_t kWideMonomials = 20000;
+// The logarithm takes a term more than a sum: log2 sigma beside the three of
+// ((theta - theta1) / sigma)^2.
+constexpr std::size_t kLogTerms = kPowerSumTerms + 1;
+// The split of M and the sum by the log fit's exponents: at most 5 inputs in the sum, products of
+// up to 4 of them (2,101 columns).
+constexpr std::size_t kSplitInputs = 5;
+constexpr std::size_t kSplitPresent = 4;
+constexpr double kFactorExponents[] = {0.04, 0.1};
+// rational_sum tries (4 n + 1)^2 pairs of scales: 289 fits of about 30 columns for 4 inputs.
+constexpr std::size_t kRationalInputs = 4;
 constexpr int kExponents[] = {-2, -1, 1, 2};
 // An exponent of M this far from an integer is tried at both integers beside it, for the
 // kUnsureInputs inputs farthest.
@@ -46,23 +65,39 @@ double power_product(const std::vector<std::vector<double>>& x, const Powers& e,
   return v;
 }
 
-// [0] the constant, then the power products of one and of two inputs with exponents from
-// kExponents.
-std::vector<Powers> monomials(std::size_t n) {
+// The power products of n inputs with at most `most` of them present, each with an exponent
+// from kExponents, in order of how many are present ([0] the constant).
+std::vector<Powers> monomials(std::size_t n, std::size_t most) {
   std::vector<Powers> out = {Powers(n, 0.0)};
-  for (std::size_t i = 0; i < n; ++i)
-    for (int a : kExponents) {
-      Powers one(n, 0.0);
-      one[i] = a;
-      out.push_back(one);
-      for (std::size_t j = i + 1; j < n; ++j)
-        for (int b : kExponents) {
-          Powers two = one;
-          two[j] = b;
-          out.push_back(two);
+  std::size_t from = 0;
+  for (std::size_t present = 1; present <= std::min(most, n); ++present) {
+    const std::size_t to = out.size();
+    for (std::size_t i = from; i < to; ++i) {
+      // Extend by an input after the last present one, so each product is made once.
+      std::size_t first = 0;
+      for (std::size_t k = 0; k < n; ++k)
+        if (out[i][k] != 0) first = k + 1;
+      for (std::size_t k = first; k < n; ++k)
+        for (int a : kExponents) {
+          Powers next = out[i];
+          next[k] = a;
+          out.push_back(std::move(next));
         }
     }
+    from = to;
+  }
   return out;
+}
+
+// How many power products monomials(n, most) makes.
+std::size_t monomial_count(std::size_t n, std::size_t most) {
+  std::size_t count = 0, choose = 1, per = 1;  // C(n, j), 4^j
+  for (std::size_t j = 0; j <= std::min(most, n); ++j) {
+    count += choose * per;
+    choose = choose * (n - j) / (j + 1);
+    per *= std::size(kExponents);
+  }
+  return count;
 }
 
 // The columns one transform t is fitted by (the monomials, [0] the constant, and for the
@@ -114,14 +149,14 @@ class Columns {
   std::vector<std::vector<double>> gram_;
 };
 
-using Subset = std::array<std::size_t, kPowerSumTerms + 2>;  // one spare: a level's new column
+using Subset = std::array<std::size_t, kLogTerms + 2>;  // one spare: a level's new column
 
 // The Cholesky factor of the normal equations of the scaled columns `set` (the constant, index
 // 0, always among them) and the projection z of t on them: t's residual sum of squares is
 // t.t - z.z, and a column more extends both by one row.
 struct Factor {
-  std::array<std::array<double, kPowerSumTerms + 2>, kPowerSumTerms + 2> l{};
-  std::array<double, kPowerSumTerms + 2> z{};
+  std::array<std::array<double, kLogTerms + 2>, kLogTerms + 2> l{};
+  std::array<double, kLogTerms + 2> z{};
   std::size_t k = 0;
   double explained = 0;  // z.z
 };
@@ -175,8 +210,9 @@ Fit refit(const Columns& d, const std::vector<double>& t, const std::vector<std:
   return f;
 }
 
-// The fewest columns that explain t exactly (kPowerSumExact), by a beam search.
-std::optional<Fit> sparse_exact_fit(Columns& d, const std::vector<double>& t) {
+// The fewest columns, at most `terms` (no more than kLogTerms), that explain t exactly
+// (kPowerSumExact), by a beam search.
+std::optional<Fit> sparse_exact_fit(Columns& d, const std::vector<double>& t, std::size_t terms) {
   const std::size_t m = d.size();
   if (m > 0xfff) return std::nullopt;
   double tt = 0, mean = 0;
@@ -187,10 +223,13 @@ std::optional<Fit> sparse_exact_fit(Columns& d, const std::vector<double>& t) {
   mean /= static_cast<double>(t.size());
   // The sum of squares about the mean, for the normal equations' 1 - R^2.
   const double spread = tt - mean * mean * static_cast<double>(t.size());
+  // t constant to float64 rounding: y is the transform's power product alone (1 / (4 pi eps c^2)
+  // 2 I / r), a sum of no terms, which 1 - R^2 cannot judge.
+  if (spread <= kConstantSpread * tt && tt > 0) return Fit{{0}, {mean}, 0};
   if (!(spread > 0)) return std::nullopt;
-  // A subset is the constant and up to kPowerSumTerms columns, packed 12 bits each in
-  // ascending order into one key.
-  static_assert(kPowerSumTerms * 12 <= 64);
+  // A subset is the constant and up to `terms` columns, packed 12 bits each in ascending order
+  // into one key.
+  static_assert(kLogTerms * 12 <= 64);
   const auto unpack_into = [](std::uint64_t key, Subset& set) {
     std::size_t k = 1;
     set[0] = 0;
@@ -204,7 +243,7 @@ std::optional<Fit> sparse_exact_fit(Columns& d, const std::vector<double>& t) {
   };
   std::vector<std::uint64_t> beam = {0};
   std::vector<std::pair<double, std::uint64_t>> next;
-  for (std::size_t level = 1; level <= kPowerSumTerms; ++level) {
+  for (std::size_t level = 1; level <= terms; ++level) {
     next.clear();
     for (std::uint64_t key : beam) {
       Subset base{};
@@ -293,6 +332,237 @@ std::string sum_text(const Fit& f, const std::vector<std::string>& texts) {
   return "(" + (sum.empty() ? std::string("0") : sum) + ")";
 }
 
+std::string log_text(std::size_t k) { return "log2(abs(x" + std::to_string(k) + "))"; }
+
+// t by every column at once, refitted on the rows; where that is exact (kPowerSumExact), refitted
+// with the first `kept` columns and those others that have a part in it, or nullopt.
+std::optional<Fit> exact_full_fit(const std::vector<const std::vector<double>*>& columns,
+                                  const std::vector<double>& t, std::size_t kept) {
+  Columns d(columns, t);
+  std::vector<std::size_t> set(columns.size());
+  for (std::size_t c = 0; c < set.size(); ++c) set[c] = c;
+  Fit f = refit(d, t, set);
+  if (f.unexplained > kPowerSumExact) return std::nullopt;
+  // A column has a part when its share of t is above rounding (the QR leaves about 1e-13 on
+  // columns that have none).
+  double t_norm = 0;
+  for (double v : t) t_norm += v * v;
+  t_norm = std::sqrt(t_norm);
+  std::vector<std::size_t> needed;
+  for (std::size_t c = 0; c < set.size(); ++c) {
+    double norm = 0;
+    for (double v : *columns[c]) norm += v * v;
+    if (c < kept || std::abs(f.coefficients[c]) * std::sqrt(norm) > 1e-9 * t_norm)
+      needed.push_back(c);
+  }
+  f = refit(d, t, needed);
+  if (f.unexplained > kPowerSumExact) return std::nullopt;
+  return f;
+}
+
+// The power products D q(x), q a polynomial of degree 2 in the inputs (its constant included),
+// D = `scale`; each once, and the constant 1 left out when `with_one` is false.
+std::vector<Powers> scaled_quadratic(const Powers& scale, bool with_one) {
+  const std::size_t n = scale.size();
+  std::vector<Powers> out;
+  for (std::size_t i = 0; i <= n; ++i)
+    for (std::size_t j = i; j <= n; ++j) {
+      Powers m = scale;
+      if (i < n) m[i] += 1;
+      if (j < n) m[j] += 1;
+      const bool one = std::all_of(m.begin(), m.end(), [](double e) { return e == 0; });
+      if ((with_one || !one) && std::find(out.begin(), out.end(), m) == out.end())
+        out.push_back(std::move(m));
+    }
+  return out;
+}
+
+// 1 and every input to a power from kExponents: the scales D of scaled_quadratic.
+std::vector<Powers> single_powers(std::size_t n) {
+  std::vector<Powers> out = {Powers(n, 0.0)};
+  for (std::size_t k = 0; k < n; ++k)
+    for (int a : kExponents) {
+      out.emplace_back(n, 0.0);
+      out.back()[k] = a;
+    }
+  return out;
+}
+
+std::vector<double> product_column(const std::vector<std::vector<double>>& inputs,
+                                   const Powers& m) {
+  std::vector<double> v(inputs.empty() ? 0 : inputs[0].size());
+  for (std::size_t r = 0; r < v.size(); ++r) v[r] = power_product(inputs, m, r);
+  return v;
+}
+
+// log2 |y| = c0 + sum e_k log2 |x_k| + sum a_j m_j over the power products `products`, by
+// exact_full_fit (the constant always kept). The fit and its columns' texts ([0] the constant,
+// then the logarithms, then the products), or nullopt.
+std::optional<std::pair<Fit, std::vector<std::string>>> exact_logarithm(
+    const std::vector<std::vector<double>>& inputs, const std::vector<std::vector<double>>& logs2,
+    const std::vector<double>& t, const std::vector<Powers>& products) {
+  const std::size_t n = inputs.size(), rows = t.size();
+  std::vector<std::vector<double>> values = {std::vector<double>(rows, 1.0)};
+  for (const Powers& m : products) values.push_back(product_column(inputs, m));
+  std::vector<std::string> texts = {""};
+  std::vector<const std::vector<double>*> columns = {&values[0]};
+  for (std::size_t k = 0; k < n; ++k) {
+    columns.push_back(&logs2[k]);
+    texts.push_back(log_text(k));
+  }
+  for (std::size_t j = 0; j < products.size(); ++j) {
+    columns.push_back(&values[j + 1]);
+    texts.push_back(powers_text(products[j]));
+  }
+  std::optional<Fit> f = exact_full_fit(columns, t, 1);
+  if (!f) return std::nullopt;
+  return std::pair{std::move(*f), std::move(texts)};
+}
+
+// The logarithm with one power product of any inputs: log2 |y| = c0 + sum e_k log2 |x_k| + a m,
+// where m has as many inputs present as kWideMonomials allows (n0 exp(-m g x / (kb T)) has five;
+// the beam's columns have at most three). Every m is judged by how much of t's residual after the
+// logarithms it explains; the best is refitted on the rows with the logarithms, and those with no
+// part in it are dropped. The fit and its columns' texts ([0] the constant), or nullopt.
+std::optional<std::pair<Fit, std::vector<std::string>>> wide_logarithm(
+    const std::vector<std::vector<double>>& inputs, const std::vector<std::vector<double>>& logs2,
+    const std::vector<double>& t) {
+  const std::size_t n = inputs.size(), rows = t.size();
+  std::size_t most = 0;
+  while (most < n && monomial_count(n, most + 1) <= kWideMonomials) ++most;
+  // An orthonormal basis of the constant and the logarithms (modified Gram-Schmidt).
+  std::vector<std::vector<double>> basis;
+  const auto project_out = [&](std::vector<double>& v) {
+    for (const std::vector<double>& q : basis) {
+      double d = 0;
+      for (std::size_t r = 0; r < rows; ++r) d += q[r] * v[r];
+      for (std::size_t r = 0; r < rows; ++r) v[r] -= d * q[r];
+    }
+  };
+  const auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0;
+    for (std::size_t r = 0; r < rows; ++r) d += a[r] * b[r];
+    return d;
+  };
+  for (std::size_t c = 0; c <= n; ++c) {
+    std::vector<double> v = c == 0 ? std::vector<double>(rows, 1.0) : logs2[c - 1];
+    const double before = std::sqrt(dot(v, v));
+    project_out(v);
+    const double norm = std::sqrt(dot(v, v));
+    if (!(norm > 1e-9 * before)) continue;
+    for (double& x : v) x /= norm;
+    basis.push_back(std::move(v));
+  }
+  double mean = 0;
+  for (double v : t) mean += v;
+  mean /= static_cast<double>(rows);
+  double spread = 0;
+  for (double v : t) spread += (v - mean) * (v - mean);
+  std::vector<double> residual = t;
+  project_out(residual);
+  const double rr = dot(residual, residual);
+  if (!(spread > 0) || rr <= kPowerSumExact * spread) return std::nullopt;
+
+  // x_k^a for a in kExponents.
+  std::vector<std::array<std::vector<double>, std::size(kExponents)>> raised(n);
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t a = 0; a < std::size(kExponents); ++a) {
+      raised[k][a].resize(rows);
+      for (std::size_t r = 0; r < rows; ++r)
+        raised[k][a][r] = half_power(inputs[k][r], kExponents[a]);
+    }
+  double best_left = rr;
+  Powers best, current(n, 0.0);
+  std::vector<std::vector<double>> products(most + 1, std::vector<double>(rows, 1.0));
+  std::vector<double> m(rows);
+  // Extends the product of `present` inputs by each input from `first` on.
+  const auto visit = [&](const auto& self, std::size_t first, std::size_t present) -> void {
+    for (std::size_t k = first; k < n; ++k)
+      for (std::size_t a = 0; a < std::size(kExponents); ++a) {
+        std::vector<double>& p = products[present + 1];
+        for (std::size_t r = 0; r < rows; ++r) p[r] = products[present][r] * raised[k][a][r];
+        current[k] = kExponents[a];
+        m = p;
+        const double norm = std::sqrt(dot(m, m));
+        project_out(m);
+        const double mm = dot(m, m);
+        if (std::isfinite(mm) && mm > 1e-18 * norm * norm) {
+          const double rm = dot(residual, m);
+          const double left = rr - rm * rm / mm;
+          if (left < best_left) {
+            best_left = left;
+            best = current;
+          }
+        }
+        if (present + 1 < most) self(self, k + 1, present + 1);
+        current[k] = 0;
+      }
+  };
+  visit(visit, 0, 0);
+  if (best.empty() || best_left > kSift * spread) return std::nullopt;
+
+  return exact_logarithm(inputs, logs2, t, {best});
+}
+
+// log2 |y| = c0 + sum e_k log2 |x_k| + D q(x), q a polynomial of degree 2 in the inputs and D
+// 1 or one input to a power from kExponents, every coefficient fitted at once: a Gaussian
+// exp(-((theta - theta1) / sigma)^2 / 2) / sigma has four terms, whose parts the beam cannot
+// rank (each alone explains little). The fit of the fewest terms, or nullopt.
+std::optional<std::pair<Fit, std::vector<std::string>>> quadratic_logarithm(
+    const std::vector<std::vector<double>>& inputs, const std::vector<std::vector<double>>& logs2,
+    const std::vector<double>& t) {
+  std::optional<std::pair<Fit, std::vector<std::string>>> best;
+  for (const Powers& scale : single_powers(inputs.size())) {
+    auto f = exact_logarithm(inputs, logs2, t, scaled_quadratic(scale, false));
+    if (f && (!best || f->first.set.size() < best->first.set.size())) best = std::move(f);
+  }
+  return best;
+}
+
+// y = N / (1 + E), N = D1 q1(x) and E = D2 q2(x) as in scaled_quadratic (E without the constant),
+// fitted at once as the linear y = N - y E: (u + v) / (1 + u v / c^2), where the beam, choosing
+// the columns one by one, loses the denominator. For kRationalInputs inputs at most (the pairs of
+// scales grow as n^2). The formula of the fewest terms, or "".
+std::string rational_sum(const std::vector<std::vector<double>>& inputs,
+                         const std::vector<double>& y) {
+  const std::size_t n = inputs.size(), rows = y.size();
+  if (n > kRationalInputs) return "";
+  const std::vector<Powers> scales = single_powers(n);
+  std::size_t fewest = std::numeric_limits<std::size_t>::max();
+  std::string out;
+  for (const Powers& top : scales) {
+    const std::vector<Powers> numerator = scaled_quadratic(top, true);
+    std::vector<std::vector<double>> top_values;
+    for (const Powers& m : numerator) top_values.push_back(product_column(inputs, m));
+    for (const Powers& bottom : scales) {
+      const std::vector<Powers> denominator = scaled_quadratic(bottom, false);
+      std::vector<std::vector<double>> values = top_values;
+      for (const Powers& m : denominator) {
+        values.push_back(product_column(inputs, m));
+        for (std::size_t r = 0; r < rows; ++r) values.back()[r] *= -y[r];
+      }
+      std::vector<const std::vector<double>*> columns;
+      for (const std::vector<double>& v : values) columns.push_back(&v);
+      const std::optional<Fit> f = exact_full_fit(columns, y, 0);
+      if (!f || f->set.size() >= fewest) continue;
+      std::string num, den = "1";
+      for (std::size_t j = 0; j < f->set.size(); ++j) {
+        const std::size_t c = f->set[j];
+        const bool up = c < numerator.size();
+        const std::string term = "(" + number(f->coefficients[j]) + ") * (" +
+                                 powers_text(up ? numerator[c] : denominator[c - numerator.size()]) +
+                                 ")";
+        std::string& side = up ? num : den;
+        side += (side.empty() ? "" : " + ") + term;
+      }
+      if (num.empty()) continue;
+      fewest = f->set.size();
+      out = "(" + num + ") / (" + den + ")";
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
@@ -358,7 +628,10 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
     best = std::move(f);
     best_text = text;
   };
-  const std::vector<Powers> powers = monomials(n);
+  // The logarithm's columns are the sum's, and the products of three inputs where they are few.
+  const std::size_t log_most = monomial_count(n, 3) + n <= kLogColumns ? 3 : 2;
+  const std::vector<Powers> powers = monomials(n, log_most);
+  const std::size_t sum_columns = monomial_count(n, 2);
   std::vector<std::vector<double>> values(powers.size(), std::vector<double>(rows));
   std::vector<std::string> texts;
   for (std::size_t c = 0; c < powers.size(); ++c) {
@@ -366,10 +639,12 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
     texts.push_back(powers_text(powers[c]));
   }
   std::vector<const std::vector<double>*> all;
-  for (const std::vector<double>& v : values) all.push_back(&v);
+  for (std::size_t c = 0; c < sum_columns; ++c) all.push_back(&values[c]);
 
+  // Tries y = M g(t) for each power p, t a sum of the columns `cols` (their texts `col_texts`).
   std::vector<double> q(rows);
-  for (const Powers& m : quotients) {
+  const auto try_quotient = [&](const Powers& m, const std::vector<const std::vector<double>*>& cols,
+                                const std::vector<std::string>& col_texts) {
     for (std::size_t r = 0; r < rows; ++r) q[r] = s.target[r] / power_product(s.inputs, m, r);
     for (double p : kPowers) {
       // Even and half powers read |q|, so q must keep one sign; odd ones keep it.
@@ -380,11 +655,11 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
       std::vector<double> t(rows);
       for (std::size_t r = 0; r < rows; ++r) t[r] = half_power(sign * q[r], p);
       if (!std::all_of(t.begin(), t.end(), [](double v) { return std::isfinite(v); })) continue;
-      Columns d(all, t);
-      std::optional<Fit> f = sparse_exact_fit(d, t);
+      Columns d(cols, t);
+      std::optional<Fit> f = sparse_exact_fit(d, t, kPowerSumTerms);
       if (!f) continue;
       // y = sign M g(t), g undoing the power.
-      const std::string tq = sum_text(*f, texts);
+      const std::string tq = sum_text(*f, col_texts);
       std::string text;
       if (p == 1)
         text = tq;
@@ -401,6 +676,39 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
       if (!odd) text = number(sign) + " * " + text;
       consider(std::move(f), "(" + powers_text(m) + ") * (" + text + ")");
     }
+  };
+  for (const Powers& m : quotients) try_quotient(m, all, texts);
+
+  // An input whose exponent in the log fit is near an integer enters y as a factor of M, one far
+  // from integers enters the sum: M of the first kind alone, t a sum of products of up to
+  // kSplitPresent inputs of the second (mom / (kb T) (H + alpha M / (epsilon c^2)) has one of
+  // four), where those are 3 to kSplitInputs. "Near" at each of kFactorExponents: the fit on 256
+  // rows moves a factor's exponent by up to about 0.02, and an input of the sum may sit 0.1 from
+  // an integer.
+  std::vector<std::size_t> tried_inner;
+  for (const double near : kFactorExponents) {
+    if (best) break;
+    Powers outer(n, 0.0);
+    std::vector<std::size_t> inner;
+    for (std::size_t k = 0; k < n; ++k) {
+      if (std::abs(b[k + 1] - wholes[k]) <= near)
+        outer[k] = wholes[k];
+      else
+        inner.push_back(k);
+    }
+    if (inner.size() < 3 || inner.size() > kSplitInputs || inner == tried_inner) continue;
+    tried_inner = inner;
+    std::vector<std::vector<double>> split_values;
+    std::vector<std::string> split_texts;
+    for (const Powers& few : monomials(inner.size(), kSplitPresent)) {
+      Powers m(n, 0.0);
+      for (std::size_t i = 0; i < inner.size(); ++i) m[inner[i]] = few[i];
+      split_values.push_back(product_column(s.inputs, m));
+      split_texts.push_back(powers_text(m));
+    }
+    std::vector<const std::vector<double>*> split;
+    for (const std::vector<double>& v : split_values) split.push_back(&v);
+    try_quotient(outer, split, split_texts);
   }
   // The logarithm: log2 |y| = sum e_k log2 |x_k| + c0 + sum a_k m_k, so y = sign exp2(...):
   // exp(-(theta / sigma)^2 / 2) / sigma, whose M no rounding of the fit finds.
@@ -409,21 +717,33 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
     std::vector<double> t(rows);
     for (std::size_t r = 0; r < rows; ++r) t[r] = std::log2(sign * s.target[r]);
     std::vector<std::vector<double>> logs2(n, std::vector<double>(rows));
-    std::vector<const std::vector<double>*> with_logs = all;
+    std::vector<const std::vector<double>*> with_logs;
+    for (const std::vector<double>& v : values) with_logs.push_back(&v);
     std::vector<std::string> with_logs_texts = texts;
     for (std::size_t k = 0; k < n; ++k) {
       for (std::size_t r = 0; r < rows; ++r) logs2[k][r] = std::log2(std::abs(s.inputs[k][r]));
       with_logs.push_back(&logs2[k]);
-      with_logs_texts.push_back("log2(abs(x" + std::to_string(k) + "))");
+      with_logs_texts.push_back(log_text(k));
     }
     Columns d(with_logs, t);
-    std::optional<Fit> f = sparse_exact_fit(d, t);
+    std::optional<Fit> f = sparse_exact_fit(d, t, kLogTerms);
     if (f) {
       const std::string tq = sum_text(*f, with_logs_texts);
       consider(std::move(f), number(sign) + " * exp2" + tq);
+    } else if (!best) {
+      auto w = quadratic_logarithm(s.inputs, logs2, t);
+      if (!w) w = wide_logarithm(s.inputs, logs2, t);
+      if (w) {
+        const std::string tq = sum_text(w->first, w->second);
+        consider(std::move(w->first), number(sign) + " * exp2" + tq);
+      }
     }
   }
-  if (!best) return std::nullopt;
+  if (!best) {
+    const std::string rational = rational_sum(s.inputs, s.target);
+    if (!rational.empty()) return rational;
+    return std::nullopt;
+  }
   return best_text;
 }
 

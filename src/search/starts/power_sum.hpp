@@ -4,17 +4,24 @@
 //   y = M * t^(1/p),  t = c0 + sum a_k m_k,  p in {1, -1, 2, -2, 1/2, -1/2},
 //
 // or y = s exp2(c0 + sum e_k log2 |x_k| + sum a_k m_k) (s = +-1; a Gaussian over its width),
-// with at most kPowerSumTerms terms, where M is a power product of the inputs (exponents fitted
-// to log |y| and rounded to halves or to integers, the two farthest from integers also to the
-// integers either side; or M = 1) and each m a power product of at most two inputs with
-// exponents in {-2, -1, 1, 2}. rho / sqrt(1 - v^2 / c^2) (p = -2, M = rho, m1 = v^2 / c^2),
-// mom sqrt(Bx^2 + By^2 + Bz^2), sqrt(w^2 / c^2 - pi^2 / d^2) and w^4 / (w^2 - w0^2)^2 are such
-// sums; the evolution rarely assembles them (needles of cost 5 or more among formulas of 3 or
-// more inputs). The terms are chosen by a beam search over the normal equations (at most
-// kPowerSumRows rows, evenly spread) and the best subsets are refitted by QR on the rows; one
-// counts only when its 1 - R^2 in t is at most kPowerSumExact, so nothing is added where the
-// data is not such a sum (or is noisy). The formula found is offered to the front and seeds the
-// evolution, as a start formula does (origin SearchPhase::PowerSum).
+// with at most kPowerSumTerms terms (one more for the logarithm), where M is a power product of
+// the inputs (exponents fitted to log |y| and rounded to halves or to integers, the two farthest
+// from integers also to the integers either side; or M = 1) and each m a power product of at most
+// two inputs (three in the logarithm, where they are few) with exponents in {-2, -1, 1, 2}.
+// rho / sqrt(1 - v^2 / c^2) (p = -2, M = rho, m1 = v^2 / c^2), mom sqrt(Bx^2 + By^2 + Bz^2),
+// sqrt(w^2 / c^2 - pi^2 / d^2) and w^4 / (w^2 - w0^2)^2 are such sums, and so is a power product
+// alone (t constant); the evolution rarely assembles them (needles of cost 5 or more among
+// formulas of 3 or more inputs). The terms are chosen by a beam search over the normal equations
+// (at most kPowerSumRows rows, evenly spread) and the best subsets are refitted by QR on the
+// rows; one counts only when its 1 - R^2 in t is at most kPowerSumExact, so nothing is added
+// where the data is not such a sum (or is noisy). Where the beam finds nothing, three forms whose
+// terms it cannot choose one by one are fitted whole: the logarithm with D q(x), q a quadratic in
+// the inputs and D one input's power (a Gaussian with a mean), the logarithm with one power
+// product of any number of inputs (a Boltzmann factor exp(-m g x / (kb T))), and, for at most 4
+// inputs, y = N / (1 + E) with N and E such D q(x) (a velocity sum); and y = M t^(1/p) with M
+// made of the inputs whose log-fit exponents are integers and t of products of up to four of the
+// others (mom / (kb T) (H + alpha M / (epsilon c^2))). The formula found is offered
+// to the front and seeds the evolution, as a start formula does (origin SearchPhase::PowerSum).
 #pragma once
 
 #include <cstddef>

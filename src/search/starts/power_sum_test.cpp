@@ -65,6 +65,28 @@ TEST(PowerSum, FoundWhereTheTargetIsOne) {
            [](const V& x) {
              return std::exp(-x[1] * x[1] / (2 * x[0] * x[0])) / (2.5066282746310002 * x[0]);
            }},
+          // A power product alone: the transform is constant, a sum of no terms.
+          {{{0.5, 4}, {1, 3}, {2, 6}, {0.1, 1}},
+           [](const V& x) { return 0.3 * x[2] / (x[0] * x[1] * x[1] * x[3]); }},
+          // A Boltzmann factor: one power product of five inputs in the logarithm.
+          {{{1, 2}, {0.5, 1.5}, {1, 2}, {1, 3}, {2, 4}, {0.5, 1}},
+           [](const V& x) { return x[0] * std::exp(-x[1] * x[2] * x[5] / (x[3] * x[4])); }},
+          // A Gaussian with a mean: four terms in the logarithm.
+          {{{0.5, 2}, {-1, 1}, {-0.5, 0.5}},
+           [](const V& x) {
+             const double u = (x[1] - x[2]) / x[0];
+             return std::exp(-u * u / 2) / (2.5066282746310002 * x[0]);
+           }},
+          // M = x0 / (x1 x2) from the inputs whose log-fit exponents are integers, and a sum of
+          // a product of four others beside one input.
+          {{{1, 3}, {0.5, 2}, {1, 4}, {1, 2}, {0.5, 3}, {1, 5}, {2, 3}, {1, 2}},
+           [](const V& x) {
+             return x[0] / (x[1] * x[2]) *
+                    (x[3] + x[4] * x[7] / (x[5] * x[6] * x[6]));
+           }},
+          // A velocity sum: a sum over a sum, fitted as y = N - y E at once.
+          {{{0.1, 0.9}, {-0.5, 0.8}, {1, 1.5}},
+           [](const V& x) { return (x[0] + x[1]) / (1 + x[0] * x[1] / (x[2] * x[2])); }},
           // A negative target, with an input that takes both signs.
           {{{-2, 2}, {1, 3}, {1, 2}},
            [](const V& x) { return -std::sqrt(x[0] * x[0] + 2 * x[1] * x[2]); }},
@@ -122,14 +144,17 @@ TEST(PowerSum, SteepFunctions) {
 }
 
 TEST(PowerSum, TenInputsStayCheap) {
-  std::vector<std::pair<double, double>> box(10, {0.5, 2.0});
-  const SearchProblem p = drawn(
-      box, [](const V& x) { return std::exp(x[0] - x[9]) + x[1]; }, 100000);
-  const auto t0 = std::chrono::steady_clock::now();
-  EXPECT_FALSE(exact_power_sum(p).has_value());
-  const double ms =
-      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("power sum: %.1f ms for 10 inputs (no sum)\n", ms);
+  // 4 inputs try the most fits of the rational sum, 10 the most columns.
+  for (const std::size_t n : {4, 10}) {
+    std::vector<std::pair<double, double>> box(n, {0.5, 2.0});
+    const SearchProblem p = drawn(
+        box, [n](const V& x) { return std::exp(x[0] - x[n - 1]) + x[1]; }, 100000);
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_FALSE(exact_power_sum(p).has_value());
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("power sum: %.1f ms for %zu inputs (no sum)\n", ms, n);
+  }
 }
 
 }  // namespace
