@@ -632,11 +632,11 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
   const std::size_t log_most = monomial_count(n, 3) + n <= kLogColumns ? 3 : 2;
   const std::vector<Powers> powers = monomials(n, log_most);
   const std::size_t sum_columns = monomial_count(n, 2);
-  std::vector<std::vector<double>> values(powers.size(), std::vector<double>(rows));
+  std::vector<std::vector<double>> values;
   std::vector<std::string> texts;
-  for (std::size_t c = 0; c < powers.size(); ++c) {
-    for (std::size_t r = 0; r < rows; ++r) values[c][r] = power_product(s.inputs, powers[c], r);
-    texts.push_back(powers_text(powers[c]));
+  for (const Powers& m : powers) {
+    values.push_back(product_column(s.inputs, m));
+    texts.push_back(powers_text(m));
   }
   std::vector<const std::vector<double>*> all;
   for (std::size_t c = 0; c < sum_columns; ++c) all.push_back(&values[c]);
