@@ -10,6 +10,9 @@
 #include <utility>
 
 #include "search/starts/row_sample.hpp"
+#include "shaderfit/core/error.hpp"
+#include "shaderfit/eval/evaluate.hpp"
+#include "shaderfit/expr/parse.hpp"
 #include "shaderfit/fit/linear.hpp"
 
 namespace shaderfit::search_detail {
@@ -35,6 +38,14 @@ constexpr std::size_t kSplitPresent = 4;
 constexpr double kFactorExponents[] = {0.04, 0.1};
 // rational_sum tries (4 n + 1)^2 pairs of scales: 289 fits of about 30 columns for 4 inputs.
 constexpr std::size_t kRationalInputs = 4;
+// exponential_rational tries 3^n - 1 power products (242 for 5 inputs), refines an a where the
+// grid leaves a mean square relative error below kExponentialSift, and keeps a formula whose
+// relative error on every row is at most kExponentialExact.
+constexpr std::size_t kExponentialInputs = 5;
+constexpr double kExponentialSift = 1e-3;
+constexpr double kExponentialExact = 1e-9;
+// What any formula found must meet on every row (holds_on_rows).
+constexpr double kRowExact = 1e-9;
 constexpr int kExponents[] = {-2, -1, 1, 2};
 // An exponent of M this far from an integer is tried at both integers beside it, for the
 // kUnsureInputs inputs farthest.
@@ -563,6 +574,178 @@ std::string rational_sum(const std::vector<std::vector<double>>& inputs,
   return out;
 }
 
+// y = C M0 / h(E), E = exp2(a m), m a power product with exponents in {-1, 1} and M0 one with
+// exponents from the log fit, for h(E) in E - 1 (Planck, Bose-Einstein), E + 1 (Fermi-Dirac),
+// E + 1 / E (1 / cosh) and (E + 1) / (E - 1) (tanh, a halved): then y h(E) is the power product
+// C M0. For each m, a is found by a grid over a m's median and golden sections in log |a|, each
+// a judged by how far log |y h(E)| is from linear in the log |x_k|. For kExponentialInputs
+// inputs at most (the m are 3^n - 1). The formula, or "".
+std::string exponential_rational(const std::vector<std::vector<double>>& inputs,
+                                 const std::vector<double>& y) {
+  const std::size_t n = inputs.size(), rows = y.size();
+  if (n > kExponentialInputs) return "";
+  // An orthonormal basis of the constant and the log |x_k| (modified Gram-Schmidt), and the
+  // part of v outside it.
+  std::vector<std::vector<double>> basis;
+  const auto outside = [&](std::vector<double>& v) {
+    for (const std::vector<double>& q : basis) {
+      double d = 0;
+      for (std::size_t r = 0; r < rows; ++r) d += q[r] * v[r];
+      for (std::size_t r = 0; r < rows; ++r) v[r] -= d * q[r];
+    }
+    double left = 0;
+    for (double x : v) left += x * x;
+    return left;
+  };
+  for (std::size_t c = 0; c <= n; ++c) {
+    std::vector<double> v(rows, 1.0);
+    if (c > 0)
+      for (std::size_t r = 0; r < rows; ++r) v[r] = std::log(std::abs(inputs[c - 1][r]));
+    double before = 0;
+    for (double x : v) before += x * x;
+    const double norm = std::sqrt(outside(v));
+    if (!(norm > 1e-9 * std::sqrt(before))) continue;
+    for (double& x : v) x /= norm;
+    basis.push_back(std::move(v));
+  }
+  constexpr int kinds[] = {0, 1, 2, 3};
+  const auto h = [](int kind, double e) {
+    switch (kind) {
+      case 0: return e - 1;
+      case 1: return e + 1;
+      case 2: return e + 1 / e;
+      default: return (e + 1) / (e - 1);
+    }
+  };
+  std::vector<double> m(rows), z(rows);
+  // The mean square of log |y h(E)| outside the logs (the relative error of y by C M0 / h(E),
+  // squared), for E = exp2(a m) on each row in `powers`; kNoFit where y h(E) changes sign. Not
+  // 1 - R^2: y h(E) is constant where C M0 is.
+  constexpr double kNoFit = 1e300;
+  const auto unexplained_of = [&](int kind, const std::vector<double>& powers) {
+    bool positive = true, negative = true;
+    for (std::size_t r = 0; r < rows; ++r) {
+      const double v = y[r] * h(kind, powers[r]);
+      positive = positive && v > 0;
+      negative = negative && v < 0;
+      z[r] = std::log(std::abs(v));
+    }
+    if (!(positive || negative)) return kNoFit;
+    const double left = outside(z);
+    return std::isfinite(left) ? left / static_cast<double>(rows) : kNoFit;
+  };
+  std::vector<double> at(rows);
+  const auto unexplained = [&](int kind, double a) {
+    for (std::size_t r = 0; r < rows; ++r) at[r] = std::exp2(a * m[r]);
+    return unexplained_of(kind, at);
+  };
+  Powers e(n, 0.0);
+  std::string out;
+  // Each m with exponents in {-1, 0, 1}, counted in base 3.
+  std::size_t count = 1;
+  for (std::size_t k = 0; k < n; ++k) count *= 3;
+  for (std::size_t code = 1; code < count && out.empty(); ++code) {
+    std::size_t c = code;
+    for (std::size_t k = 0; k < n; ++k, c /= 3) e[k] = static_cast<double>(c % 3) - 1;
+    m = product_column(inputs, e);
+    std::vector<double> sorted = m;
+    std::nth_element(sorted.begin(), sorted.begin() + rows / 2, sorted.end());
+    const double median = std::abs(sorted[rows / 2]);
+    if (!(median > 0) || !std::isfinite(median)) continue;
+    // log2 (a median) from -6 to 6 by 1/2, either sign of a, for every h at once.
+    std::array<double, 4> best_a{}, best{kNoFit, kNoFit, kNoFit, kNoFit};
+    std::vector<double> powers(rows);
+    for (const double sign : {1.0, -1.0})
+      for (int g = -12; g <= 12; ++g) {
+        const double a = sign * std::exp2(g / 2.0) / median;
+        for (std::size_t r = 0; r < rows; ++r) powers[r] = std::exp2(a * m[r]);
+        for (const int kind : kinds) {
+          const double u = unexplained_of(kind, powers);
+          if (u < best[kind]) {
+            best[kind] = u;
+            best_a[kind] = a;
+          }
+        }
+      }
+    for (const int kind : kinds) {
+      if (!(best[kind] < kExponentialSift)) continue;
+      // Golden sections in log |a| within a step either side.
+      const double sign = best_a[kind] < 0 ? -1 : 1;
+      double lo = std::log2(std::abs(best_a[kind])) - 0.5, hi = lo + 1;
+      const double phi = 0.6180339887498949;
+      for (int i = 0; i < 100 && hi - lo > 1e-15; ++i) {
+        const double x1 = hi - phi * (hi - lo), x2 = lo + phi * (hi - lo);
+        if (unexplained(kind, sign * std::exp2(x1)) < unexplained(kind, sign * std::exp2(x2)))
+          hi = x2;
+        else
+          lo = x1;
+      }
+      const double a = sign * std::exp2((lo + hi) / 2);
+      if (!(unexplained(kind, a) <= kExponentialExact * kExponentialExact)) continue;
+      // C M0: the log fit's exponents rounded to integers, C refitted; exact or nothing.
+      std::vector<const double*> columns;
+      std::vector<std::vector<double>> logs(n + 1, std::vector<double>(rows, 1.0));
+      for (std::size_t k = 0; k < n; ++k)
+        for (std::size_t r = 0; r < rows; ++r) logs[k + 1][r] = std::log(std::abs(inputs[k][r]));
+      for (const auto& l : logs) columns.push_back(l.data());
+      std::vector<double> target(rows);
+      double zs = 0;
+      for (std::size_t r = 0; r < rows; ++r) {
+        const double v = y[r] * h(kind, std::exp2(a * m[r]));
+        target[r] = std::log(std::abs(v));
+        zs = v;
+      }
+      const std::vector<double> fit = solve_least_squares(columns, target);
+      Powers m0(n);
+      for (std::size_t k = 0; k < n; ++k) m0[k] = std::round(fit[k + 1]);
+      double log_c = 0, worst = 0;
+      for (std::size_t r = 0; r < rows; ++r) log_c += target[r] - std::log(power_product(inputs, m0, r));
+      log_c /= static_cast<double>(rows);
+      const double scale = (zs < 0 ? -1 : 1) * std::exp(log_c);
+      for (std::size_t r = 0; r < rows; ++r) {
+        const double g = scale * power_product(inputs, m0, r) / h(kind, std::exp2(a * m[r]));
+        worst = std::max(worst, std::abs(g / y[r] - 1));
+      }
+      if (!(worst <= kExponentialExact)) continue;
+      const std::string ex = "exp2(" + number(a) + " * " + powers_text(e) + ")";
+      const std::string top = number(scale) + " * (" + powers_text(m0) + ")";
+      switch (kind) {
+        case 0: out = top + " / (" + ex + " - 1)"; break;
+        case 1: out = top + " / (" + ex + " + 1)"; break;
+        case 2: out = top + " / (" + ex + " + 1 / " + ex + ")"; break;
+        default: out = top + " * (" + ex + " - 1) / (" + ex + " + 1)"; break;
+      }
+      break;
+    }
+  }
+  return out;
+}
+
+// Whether the formula `text` (inputs x0, x1, ...) gives y on every row of s to within
+// kRowExact of |y| + rms(y): 1 - R^2 <= 1e-12 in t does not say so where y spans decades (the
+// series 1 / x - 1 + x / 3 under a square root passes for 1 / (exp(x / (2 pi)) - 1) on
+// [0.08, 9], its error far above rounding where y is small).
+bool holds_on_rows(const std::string& text, const SearchProblem& s) {
+  ParseOptions po;
+  for (std::size_t k = 0; k < s.inputs.size(); ++k) po.variables.push_back("x" + std::to_string(k));
+  Expression e;
+  try {
+    e = parse_formula(text, po);
+  } catch (const Error&) {
+    return false;
+  }
+  double square = 0;
+  for (double v : s.target) square += v * v;
+  const double rms = std::sqrt(square / static_cast<double>(s.target.size()));
+  std::vector<double> row(s.inputs.size());
+  for (std::size_t r = 0; r < s.target.size(); ++r) {
+    for (std::size_t k = 0; k < row.size(); ++k) row[k] = s.inputs[k][r];
+    const double g = evaluate_scalar(e, row);
+    if (!(std::abs(g - s.target[r]) <= kRowExact * (std::abs(s.target[r]) + rms))) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
@@ -624,7 +807,7 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
   std::string best_text;
   // Keeps f, which writes y as `text`, when it has fewer terms than the best so far.
   const auto consider = [&](std::optional<Fit> f, const std::string& text) {
-    if (!f || (best && f->set.size() >= best->set.size())) return;
+    if (!f || (best && f->set.size() >= best->set.size()) || !holds_on_rows(text, s)) return;
     best = std::move(f);
     best_text = text;
   };
@@ -740,8 +923,9 @@ std::optional<std::string> exact_power_sum(const SearchProblem& problem) {
     }
   }
   if (!best) {
-    const std::string rational = rational_sum(s.inputs, s.target);
-    if (!rational.empty()) return rational;
+    std::string other = rational_sum(s.inputs, s.target);
+    if (other.empty() || !holds_on_rows(other, s)) other = exponential_rational(s.inputs, s.target);
+    if (!other.empty() && holds_on_rows(other, s)) return other;
     return std::nullopt;
   }
   return best_text;

@@ -14,13 +14,16 @@
 // formulas of 3 or more inputs). The terms are chosen by a beam search over the normal equations
 // (at most kPowerSumRows rows, evenly spread) and the best subsets are refitted by QR on the
 // rows; one counts only when its 1 - R^2 in t is at most kPowerSumExact, so nothing is added
-// where the data is not such a sum (or is noisy). Where the beam finds nothing, three forms whose
+// where the data is not such a sum (or is noisy). Where the beam finds nothing, other forms whose
 // terms it cannot choose one by one are fitted whole: the logarithm with D q(x), q a quadratic in
 // the inputs and D one input's power (a Gaussian with a mean), the logarithm with one power
 // product of any number of inputs (a Boltzmann factor exp(-m g x / (kb T))), and, for at most 4
 // inputs, y = N / (1 + E) with N and E such D q(x) (a velocity sum); and y = M t^(1/p) with M
 // made of the inputs whose log-fit exponents are integers and t of products of up to four of the
-// others (mom / (kb T) (H + alpha M / (epsilon c^2))). The formula found is offered
+// others (mom / (kb T) (H + alpha M / (epsilon c^2))); and, for at most 5 inputs, y = C M0 / h(E),
+// E = exp2(a m), h one of E - 1, E + 1, E + 1 / E, (E + 1) / (E - 1) (Planck's and Fermi's
+// denominators, 1 / cosh, tanh). Whatever is found must hold on every row to 1e-9 of |y| + rms(y)
+// as well. The formula found is offered
 // to the front and seeds the evolution, as a start formula does (origin SearchPhase::PowerSum).
 #pragma once
 

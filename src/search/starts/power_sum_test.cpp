@@ -87,6 +87,14 @@ TEST(PowerSum, FoundWhereTheTargetIsOne) {
           // A velocity sum: a sum over a sum, fitted as y = N - y E at once.
           {{{0.1, 0.9}, {-0.5, 0.8}, {1, 1.5}},
            [](const V& x) { return (x[0] + x[1]) / (1 + x[0] * x[1] / (x[2] * x[2])); }},
+          // Planck's law in frequency, a logistic and tanh: C M0 / h(exp2(a m)).
+          {{{1, 3}, {2, 4}, {0.5, 2}},
+           [](const V& x) {
+             return 0.7 * x[1] * x[1] * x[1] / x[2] / (std::exp(0.4 * x[1] / (x[0] * x[2])) - 1);
+           }},
+          {{{0, 2}, {1, 3}}, [](const V& x) { return x[1] / (1 + std::exp(-x[0])); }},
+          {{{0.2, 3}, {1, 2}, {1, 4}},
+           [](const V& x) { return x[1] * x[2] * std::tanh(x[0] * x[2] / x[1]); }},
           // A negative target, with an input that takes both signs.
           {{{-2, 2}, {1, 3}, {1, 2}},
            [](const V& x) { return -std::sqrt(x[0] * x[0] + 2 * x[1] * x[2]); }},
@@ -103,7 +111,7 @@ TEST(PowerSum, FoundWhereTheTargetIsOne) {
 TEST(PowerSum, NothingWhereItIsNot) {
   // Functions that are no such sum.
   EXPECT_FALSE(exact_power_sum(drawn({{0, 2}, {1, 3}}, [](const V& x) {
-                 return x[1] / (1 + std::exp(-x[0]));
+                 return x[1] / (1 + std::exp(-x[0]) + 0.5 * x[0]);
                })).has_value());
   EXPECT_FALSE(exact_power_sum(drawn({{1, 5}, {1, 5}, {1, 5}}, [](const V& x) {
                  return x[0] * x[1] * std::sin(x[2]);
