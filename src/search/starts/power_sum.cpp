@@ -430,6 +430,38 @@ std::optional<std::pair<Fit, std::vector<std::string>>> exact_logarithm(
   return std::pair{std::move(*f), std::move(texts)};
 }
 
+// An orthonormal basis of the constant and the logarithms of the inputs (modified Gram-Schmidt;
+// a logarithm that depends on the others is left out), for residuals after a fit on them.
+class LogBasis {
+ public:
+  explicit LogBasis(const std::vector<std::vector<double>>& logs) {
+    const std::size_t rows = logs.empty() ? 0 : logs[0].size();
+    for (std::size_t c = 0; c <= logs.size(); ++c) {
+      std::vector<double> v = c == 0 ? std::vector<double>(rows, 1.0) : logs[c - 1];
+      double before = 0;
+      for (double x : v) before += x * x;
+      const double norm = std::sqrt(outside(v));
+      if (!(norm > 1e-9 * std::sqrt(before))) continue;
+      for (double& x : v) x /= norm;
+      basis_.push_back(std::move(v));
+    }
+  }
+  // v less its projection on the basis; returns what is left's sum of squares.
+  double outside(std::vector<double>& v) const {
+    for (const std::vector<double>& q : basis_) {
+      double d = 0;
+      for (std::size_t r = 0; r < v.size(); ++r) d += q[r] * v[r];
+      for (std::size_t r = 0; r < v.size(); ++r) v[r] -= d * q[r];
+    }
+    double left = 0;
+    for (double x : v) left += x * x;
+    return left;
+  }
+
+ private:
+  std::vector<std::vector<double>> basis_;
+};
+
 // The logarithm with one power product of any inputs: log2 |y| = c0 + sum e_k log2 |x_k| + a m,
 // where m has as many inputs present as kWideMonomials allows (n0 exp(-m g x / (kb T)) has five;
 // the beam's columns have at most three). Every m is judged by how much of t's residual after the
@@ -441,29 +473,13 @@ std::optional<std::pair<Fit, std::vector<std::string>>> wide_logarithm(
   const std::size_t n = inputs.size(), rows = t.size();
   std::size_t most = 0;
   while (most < n && monomial_count(n, most + 1) <= kWideMonomials) ++most;
-  // An orthonormal basis of the constant and the logarithms (modified Gram-Schmidt).
-  std::vector<std::vector<double>> basis;
-  const auto project_out = [&](std::vector<double>& v) {
-    for (const std::vector<double>& q : basis) {
-      double d = 0;
-      for (std::size_t r = 0; r < rows; ++r) d += q[r] * v[r];
-      for (std::size_t r = 0; r < rows; ++r) v[r] -= d * q[r];
-    }
-  };
+  const LogBasis basis(logs2);
+  const auto project_out = [&](std::vector<double>& v) { basis.outside(v); };
   const auto dot = [&](const std::vector<double>& a, const std::vector<double>& b) {
     double d = 0;
     for (std::size_t r = 0; r < rows; ++r) d += a[r] * b[r];
     return d;
   };
-  for (std::size_t c = 0; c <= n; ++c) {
-    std::vector<double> v = c == 0 ? std::vector<double>(rows, 1.0) : logs2[c - 1];
-    const double before = std::sqrt(dot(v, v));
-    project_out(v);
-    const double norm = std::sqrt(dot(v, v));
-    if (!(norm > 1e-9 * before)) continue;
-    for (double& x : v) x /= norm;
-    basis.push_back(std::move(v));
-  }
   double mean = 0;
   for (double v : t) mean += v;
   mean /= static_cast<double>(rows);
@@ -584,30 +600,11 @@ std::string exponential_rational(const std::vector<std::vector<double>>& inputs,
                                  const std::vector<double>& y) {
   const std::size_t n = inputs.size(), rows = y.size();
   if (n > kExponentialInputs) return "";
-  // An orthonormal basis of the constant and the log |x_k| (modified Gram-Schmidt), and the
-  // part of v outside it.
-  std::vector<std::vector<double>> basis;
-  const auto outside = [&](std::vector<double>& v) {
-    for (const std::vector<double>& q : basis) {
-      double d = 0;
-      for (std::size_t r = 0; r < rows; ++r) d += q[r] * v[r];
-      for (std::size_t r = 0; r < rows; ++r) v[r] -= d * q[r];
-    }
-    double left = 0;
-    for (double x : v) left += x * x;
-    return left;
-  };
-  for (std::size_t c = 0; c <= n; ++c) {
-    std::vector<double> v(rows, 1.0);
-    if (c > 0)
-      for (std::size_t r = 0; r < rows; ++r) v[r] = std::log(std::abs(inputs[c - 1][r]));
-    double before = 0;
-    for (double x : v) before += x * x;
-    const double norm = std::sqrt(outside(v));
-    if (!(norm > 1e-9 * std::sqrt(before))) continue;
-    for (double& x : v) x /= norm;
-    basis.push_back(std::move(v));
-  }
+  std::vector<std::vector<double>> logs(n, std::vector<double>(rows));
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t r = 0; r < rows; ++r) logs[k][r] = std::log(std::abs(inputs[k][r]));
+  const LogBasis basis(logs);
+  const auto outside = [&](std::vector<double>& v) { return basis.outside(v); };
   constexpr int kinds[] = {0, 1, 2, 3};
   const auto h = [](int kind, double e) {
     switch (kind) {
@@ -683,10 +680,8 @@ std::string exponential_rational(const std::vector<std::vector<double>>& inputs,
       const double a = sign * std::exp2((lo + hi) / 2);
       if (!(unexplained(kind, a) <= kExponentialExact * kExponentialExact)) continue;
       // C M0: the log fit's exponents rounded to integers, C refitted; exact or nothing.
-      std::vector<const double*> columns;
-      std::vector<std::vector<double>> logs(n + 1, std::vector<double>(rows, 1.0));
-      for (std::size_t k = 0; k < n; ++k)
-        for (std::size_t r = 0; r < rows; ++r) logs[k + 1][r] = std::log(std::abs(inputs[k][r]));
+      const std::vector<double> ones(rows, 1.0);
+      std::vector<const double*> columns = {ones.data()};
       for (const auto& l : logs) columns.push_back(l.data());
       std::vector<double> target(rows);
       double zs = 0;
