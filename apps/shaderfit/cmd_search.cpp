@@ -143,13 +143,16 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
         options.evolution_operators.empty() ? "none"
                                             : operator_list_name(options.evolution_operators));
   // The reference's own formula: the front's first member, or one line on why it is not.
-  if (const reference::ProgramFormula own = reference_formula(problem); own.formula)
-    human << fmt::format(
-        "reference: {} {}{} as written, the front's first member; the search descends from it\n",
-        expression_cost(*own.formula, options.cost, options.uniform),
-        cost_target_name(options.cost), options.uniform.empty() ? "" : " per pixel");
-  else if (!own.why.empty())
+  if (const reference::ProgramFormula own = reference_formula(problem); own.formula) {
+    const std::string off = reference_off_front(options, problem);
+    human << fmt::format("reference: {} {}{} as written, {}; the search descends from it\n",
+                         expression_cost(*own.formula, options.cost, options.uniform),
+                         cost_target_name(options.cost),
+                         options.uniform.empty() ? "" : " per pixel",
+                         off.empty() ? "the front's first member" : "not on the front: " + off);
+  } else if (!own.why.empty()) {
     human << "reference: not on the front as written: " << own.why << "\n";
+  }
   ProgressBar bar(ctx, "search");
   if (!a.quiet) {
     options.on_new_member = [&](const FrontMember& m) {

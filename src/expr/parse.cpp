@@ -129,7 +129,8 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
     return expr_.nodes.size() - 1;
   }
 
-  // '^' takes an integer literal from -16 to 16 with at most one sign: x^4, x^-2.
+  // '^' takes an integer literal from -16 to 16 with at most one sign: x^4, x^-2; x^1 is x and
+  // x^0 is 1, as a person may write them.
   std::size_t power_of(std::size_t base, const Token& caret) override {
     int sign = 1;
     const int col = peek().column;
@@ -142,17 +143,18 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
               describe(k),
           k.kind == Token::End ? caret.column : k.column);
     }
-    emit_ipow(sign * k.number, col);
+    const double power = sign * k.number;
+    if (power < kMinIntegerPower || power > kMaxIntegerPower)
+      fail("integer exponent " + format_int(power) + " is out of range (allowed: -16..16)", col);
     next();
-    return base;
-  }
-
-  void emit_ipow(double k, int column) {
-    if (k < kMinIntegerPower || k > kMaxIntegerPower || k == 0 || k == 1) {
-      fail("integer exponent " + format_int(k) + " is out of range (allowed: -16..-1 and 2..16)",
-           column);
+    if (power == 0) {  // the base's nodes give way to the constant
+      expr_.nodes.resize(base);
+      depths_.resize(depths_.size() - 1);
+      emit(Node::constant(1.0));
+    } else if (power != 1) {
+      emit(Node::ipow(static_cast<int>(power)));
     }
-    emit(Node::ipow(static_cast<int>(k)));
+    return base;
   }
 
   static std::string format_int(double k) {

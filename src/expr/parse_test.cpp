@@ -63,6 +63,15 @@ TEST(Parse, PowWithIntegerLiteralIsIntegerPower) {
   EXPECT_EQ(neg.nodes.back().index, -2);
 }
 
+TEST(Parse, PowersOneAndZeroAreTheBaseAndOne) {
+  EXPECT_EQ(to_infix(parse_formula("x^1 + 2", vars({"x"}))), "x + 2");
+  const Expression zero = parse_formula("(x + 3)^0 * x", vars({"x"}));  // 1 * x
+  ASSERT_EQ(zero.size(), 3u);
+  EXPECT_EQ(zero.nodes[0].op, Op::Const);
+  EXPECT_EQ(zero.nodes[0].value, 1.0);
+  EXPECT_EQ(parse_formula("2 * sqrt(x)^-0", vars({"x"})).size(), 3u);  // 2 * 1
+}
+
 TEST(Parse, PrecedenceAndUnaryMinus) {
   auto p = [](const char* s) { return to_infix(parse_formula(s, vars({"x", "y", "cos_theta"}))); };
   EXPECT_EQ(p("1 - cos_theta"), "1 - cos_theta");
@@ -129,7 +138,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadFormula{"foo(x)", "unknown function 'foo'", 1},
         BadFormula{"sqrt(x, x)", "sqrt takes 1 argument, got 2", 1},
         BadFormula{"x ^ 2.5", "integer literal", 5}, BadFormula{"x^17", "out of range", 3},
-        BadFormula{"x ^ 1", "out of range", 5}, BadFormula{"", "empty formula", 1},
+        BadFormula{"x ^ -17", "out of range", 5}, BadFormula{"", "empty formula", 1},
         BadFormula{"x $ 2", "unexpected character '$'", 3}, BadFormula{"x )", "unexpected ')'", 3},
         BadFormula{"()", "empty parentheses", 1}, BadFormula{"2x", "after the number", 2},
         BadFormula{"1e+", "exponent has no digits", 1}, BadFormula{"sqrt", "needs arguments", 1},

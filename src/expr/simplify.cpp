@@ -199,12 +199,16 @@ class Rules {
       }
       default: break;
     }
+    if (options_.merge_calls && !signed_zero)
+      if (std::optional<Frag> r = merged(op, kids)) return *std::move(r);
     if (options_.regroup_constants && !signed_zero)
       if (std::optional<Frag> r = regrouped(op, kids)) return *std::move(r);
     return assemble(op, kids, k);
   }
 
  private:
+  std::optional<Frag> merged(Op op, const std::vector<Frag>& kids) const;
+  std::optional<Frag> merged_pair(Op op, const Frag& x, const Frag& y) const;
   std::optional<Frag> regrouped(Op op, const std::vector<Frag>& kids) const;
   std::optional<Frag> scaled(const Frag& f, double k) const;
   std::optional<Frag> shifted(const Frag& f, double d) const;
@@ -306,6 +310,69 @@ Frag Rules::power_of_power(const Frag& a, const Frag& y, const Frag& z) const {
     return options_.cost(x);
   };
   return cost(exp2_form) < cost(pow_form) ? exp2_form : pow_form;
+}
+
+// Calls that one call of the same function does, f(a) op f(b) = f(a inner b): where the left
+// side is finite, a and b are in f's domain, so both sides agree in real arithmetic.
+struct CallMerge {
+  Op call;   // f
+  Op outer;  // op
+  Op inner;  // inner
+};
+constexpr CallMerge kCallMerges[] = {
+    {Op::Rcp, Op::Mul, Op::Mul},    {Op::Sqrt, Op::Mul, Op::Mul}, {Op::Rsqrt, Op::Mul, Op::Mul},
+    {Op::Exp2, Op::Mul, Op::Add},   {Op::Exp, Op::Mul, Op::Add},  {Op::Exp2, Op::Div, Op::Sub},
+    {Op::Exp, Op::Div, Op::Sub},    {Op::Log2, Op::Add, Op::Mul}, {Op::Log, Op::Add, Op::Mul},
+};
+
+// x op y as one call (kCallMerges, and pow(a, p) * pow(b, p) = pow(a b, p)), or a quotient's
+// divisors as one product: (u / a) / b = u / (a b), rcp(a) / b = rcp(a b), u / rcp(a) = u a,
+// (u / a) * rcp(b) = u / (a b); nullopt when none applies. Never adds a node.
+std::optional<Frag> Rules::merged_pair(Op op, const Frag& x, const Frag& y) const {
+  const Op rx = root(x).op, ry = root(y).op;
+  for (const CallMerge& m : kCallMerges)
+    if (op == m.outer && rx == m.call && ry == m.call)
+      return make(m.call, {make(m.inner, {operand(x), operand(y)}, false)}, false);
+  if (op == Op::Mul && rx == Op::Pow && ry == Op::Pow) {
+    const std::vector<Frag> a = children(x), b = children(y);
+    if (same(a[1], b[1])) return make(Op::Pow, {make(Op::Mul, {a[0], b[0]}, false), a[1]}, false);
+  }
+  if (op == Op::Div) {
+    if (rx == Op::Div) {
+      const std::vector<Frag> ua = children(x);
+      return make(Op::Div, {ua[0], make(Op::Mul, {ua[1], y}, false)}, false);
+    }
+    if (rx == Op::Rcp) return make(Op::Rcp, {make(Op::Mul, {operand(x), y}, false)}, false);
+    if (ry == Op::Rcp) return make(Op::Mul, {x, operand(y)}, false);
+  }
+  if (op == Op::Mul)
+    for (int side = 0; side < 2; ++side) {
+      const Frag &q = side == 0 ? x : y, &r = side == 0 ? y : x;
+      if (root(q).op == Op::Div && root(r).op == Op::Rcp) {
+        const std::vector<Frag> ua = children(q);
+        return make(Op::Div, {ua[0], make(Op::Mul, {ua[1], operand(r)}, false)}, false);
+      }
+    }
+  return std::nullopt;
+}
+
+// merge_calls: a pair of the kids merged, or, for a product or sum with a product or sum of the
+// same kind beside it, one of its operands merged with the other kid ((u * rcp(a)) * rcp(b) =
+// u * rcp(a b)). For a result whose sign of zero does not matter.
+std::optional<Frag> Rules::merged(Op op, const std::vector<Frag>& kids) const {
+  if (op != Op::Mul && op != Op::Div && op != Op::Add) return std::nullopt;
+  if (std::optional<Frag> r = merged_pair(op, kids[0], kids[1])) return r;
+  if (op == Op::Div) return std::nullopt;
+  for (int side = 0; side < 2; ++side) {
+    const Frag &group = kids[static_cast<std::size_t>(side)],
+               &other = kids[static_cast<std::size_t>(1 - side)];
+    if (root(group).op != op) continue;
+    const std::vector<Frag> parts = children(group);
+    for (int k = 0; k < 2; ++k)
+      if (std::optional<Frag> m = merged_pair(op, parts[static_cast<std::size_t>(k)], other))
+        return make(op, {parts[static_cast<std::size_t>(1 - k)], *m}, false);
+  }
+  return std::nullopt;
 }
 
 // The rules of regroup_constants, for a result whose sign of zero does not matter; nullopt when

@@ -1,5 +1,6 @@
 #include "shaderfit/reference/program_formula.hpp"
 
+#include <array>
 #include <cctype>
 #include <cstdint>
 #include <functional>
@@ -68,7 +69,9 @@ class FormulaWriter {
       case ProgramOp::IPow: return power(operand(0), in.index);
       case ProgramOp::Select: return select(in);
       case ProgramOp::Builtin: why = "it calls a built-in reference"; return false;
-      default: break;
+      default:
+        if (const std::optional<bool> done = identity(in)) return *done;
+        break;
     }
     // The arithmetic, min, max, pow and sign: the operator of the same name and meaning.
     if (const Op same = same_operator(in.op); same != Op::Count_) return op(same, arity(same));
@@ -83,6 +86,46 @@ class FormulaWriter {
   std::string why;
 
  private:
+  // The C functions the operators lack but write exactly in real arithmetic (tan = sin / cos,
+  // cbrt = copysign(|x|^(1/3), x), log10, log1p, expm1, sinh, cosh, asinh, acosh, atanh, erfc,
+  // hypot), postfix with `x` (and `y`) the operands; nullopt for any other op, else whether
+  // the operands could be written.
+  std::optional<bool> identity(const Instruction& in) {
+    std::string_view postfix;
+    switch (in.op) {
+      case ProgramOp::Tan: postfix = "x sin x cos /"; break;
+      case ProgramOp::Cbrt: postfix = "x abs 0.333333333333333333 pow x copysign"; break;
+      case ProgramOp::Log10: postfix = "x log2 0.301029995663981195 *"; break;
+      case ProgramOp::Log1p: postfix = "1 x + log"; break;
+      case ProgramOp::Expm1: postfix = "x exp 1 -"; break;
+      case ProgramOp::Sinh: postfix = "x exp x neg exp - 0.5 *"; break;
+      case ProgramOp::Cosh: postfix = "x exp x neg exp + 0.5 *"; break;
+      case ProgramOp::Asinh: postfix = "x x 2 ipow 1 + sqrt + log"; break;
+      case ProgramOp::Acosh: postfix = "x x 2 ipow 1 - sqrt + log"; break;
+      case ProgramOp::Atanh: postfix = "1 x + 1 x - / log 0.5 *"; break;
+      case ProgramOp::Erfc: postfix = "1 x erf -"; break;
+      case ProgramOp::Hypot: postfix = "x 2 ipow y 2 ipow + sqrt"; break;
+      default: return std::nullopt;
+    }
+    std::size_t at = 0;
+    while (at < postfix.size()) {
+      std::size_t end = postfix.find(' ', at);
+      if (end == std::string_view::npos) end = postfix.size();
+      const std::string_view w = postfix.substr(at, end - at);
+      at = end + 1;
+      if (w == "x" || w == "y") {
+        if (!write(in.operands[w == "x" ? 0 : 1])) return false;
+      } else if (w == "ipow") {  // the exponent, pushed as a constant, becomes the power
+        nodes.back() = Node::ipow(static_cast<int>(nodes.back().value));
+      } else if (std::isdigit(static_cast<unsigned char>(w[0])) != 0) {
+        nodes.push_back(Node::constant(std::stod(std::string(w))));
+      } else {
+        nodes.push_back(Node::op_node(w == "neg" ? Op::Neg : op_from_name(w)));
+      }
+    }
+    return true;
+  }
+
   // x^k: the operators' integer power within +-16, pow beyond it.
   bool power(std::uint32_t x, int k) {
     if (k == 0) {
@@ -149,33 +192,73 @@ class FormulaWriter {
       case ProgramOp::Less: swap = true; break;
       case ProgramOp::Greater: flip = swap = true; break;
       case ProgramOp::Equal:
-      case ProgramOp::NotEqual:
-        why = "it branches on '" + std::string(program_op_name(c.op)) +
-              "', which the search's operators cannot write";
-        return false;
+      case ProgramOp::NotEqual: {
+        // x == y is -|x - y| >= 0 (NaN takes the second branch, as x == NaN is false).
+        const bool eq = c.op == ProgramOp::Equal;
+        if (!difference(operand(0), operand(1))) return false;
+        nodes.push_back(Node::op_node(Op::Abs));
+        nodes.push_back(Node::op_node(Op::Neg));
+        if (!(eq ? a() : b()) || !(eq ? b() : a())) return false;
+        nodes.push_back(Node::op_node(Op::Select));
+        return true;
+      }
       default: why = "it branches on a number, not on a comparison"; return false;
     }
-    const std::uint32_t x = operand(flip ? 1 : 0), y = operand(flip ? 0 : 1);
+    if (!difference(operand(flip ? 1 : 0), operand(flip ? 0 : 1))) return false;
+    if (!(swap ? b() : a()) || !(swap ? a() : b())) return false;
+    nodes.push_back(Node::op_node(Op::Select));
+    return true;
+  }
+
+  // Writes x - y (x alone for y = 0, -y for x = 0).
+  bool difference(std::uint32_t x, std::uint32_t y) {
     const auto zero = [&](std::uint32_t r) {
       return p_.code[r].op == ProgramOp::Const && p_.code[r].value == 0;
     };
-    if (zero(y)) {
-      if (!write(x)) return false;
-    } else if (zero(x)) {
+    if (zero(y)) return write(x);
+    if (zero(x)) {
       if (!write(y)) return false;
       nodes.push_back(Node::op_node(Op::Neg));
-    } else {
-      if (!write(x) || !write(y)) return false;
-      nodes.push_back(Node::op_node(Op::Sub));
+      return true;
     }
-    if (!(swap ? b() : a()) || !(swap ? a() : b())) return false;
-    nodes.push_back(Node::op_node(Op::Select));
+    if (!write(x) || !write(y)) return false;
+    nodes.push_back(Node::op_node(Op::Sub));
     return true;
   }
 
   const Program& p_;
   std::vector<int> var_of_input_;
 };
+
+// e's nodes with each select whose branch is a select on the same condition (as nodes) replaced
+// by the branch that one picks there: an early return leaves select(c, select(c, a, u), b), u
+// the value not yet returned.
+std::vector<Node> without_repeated_conditions(const Expression& e) {
+  std::vector<Node> out;
+  const auto same = [&](std::size_t i, std::size_t j) {
+    if (e.nodes[i].length != e.nodes[j].length) return false;
+    for (std::size_t k = 0; k <= e.nodes[i].length; ++k)
+      if (!(e.nodes[i - k] == e.nodes[j - k])) return false;
+    return true;
+  };
+  const auto emit = [&](const auto& self, std::size_t i) -> void {
+    const Node& n = e.nodes[i];
+    std::array<std::size_t, 3> kids{};
+    e.child_indices(i, std::span<std::size_t>(kids.data(), n.arity));
+    if (n.op == Op::Select)
+      for (std::size_t k = 1; k <= 2; ++k)
+        while (e.nodes[kids[k]].op == Op::Select) {
+          std::array<std::size_t, 3> inner{};
+          e.child_indices(kids[k], std::span<std::size_t>(inner.data(), 3));
+          if (!same(inner[0], kids[0])) break;
+          kids[k] = inner[k];
+        }
+    for (std::size_t k = 0; k < n.arity; ++k) self(self, kids[k]);
+    out.push_back(n);
+  };
+  emit(emit, e.nodes.size() - 1);
+  return out;
+}
 
 }  // namespace
 
@@ -194,6 +277,8 @@ ProgramFormula program_formula(const Program& program, std::span<const std::stri
   Expression e;
   e.nodes = std::move(w.nodes);
   e.variables.assign(variables.begin(), variables.end());
+  e.update_lengths();
+  e.nodes = without_repeated_conditions(e);
   e.update_lengths();
   out.formula = std::move(e);
   return out;

@@ -144,12 +144,12 @@ ErrorMetrics SearchContext::score(const Expression& e) {
   return metrics_of(out);
 }
 
-bool SearchContext::finite_everywhere(const Expression& e) {
+std::optional<std::size_t> SearchContext::non_finite_row(const Expression& e) {
   for (const Node& n : e.nodes) {
-    if (n.op == Op::Const && !std::isfinite(n.value)) return false;
+    if (n.op == Op::Const && !std::isfinite(n.value)) return kAnyRow;
   }
   for (double v : e.parameter_values)
-    if (!std::isfinite(v)) return false;
+    if (!std::isfinite(v)) return kAnyRow;
   // The root is the caller's prediction; below it only the operands of absorbing operators
   // need a look (anything non-finite elsewhere would show in an operand of one, or the root).
   std::vector<double> values;
@@ -172,11 +172,11 @@ bool SearchContext::finite_everywhere(const Expression& e) {
       predict(e.subtree(children[c]), values);
       for (std::size_t r = 0; r < rows; ++r) {
         if (n.op == Op::Select && c > 0 && (condition[r] >= 0) != (c == 1)) continue;
-        if (!std::isfinite(values[r])) return false;
+        if (!std::isfinite(values[r])) return r;
       }
     }
   }
-  return true;
+  return std::nullopt;
 }
 
 bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin,

@@ -111,7 +111,11 @@ class SearchContext {
   // those back into finite values), so a formula that passes through one would not compute
   // what the search scored in every shader. A select's branch counts only on the rows where it
   // is chosen.
-  bool finite_everywhere(const Expression& e);
+  bool finite_everywhere(const Expression& e) { return !non_finite_row(e); }
+  // Where finite_everywhere fails: the first row on which a subexpression is not finite
+  // (kAnyRow for a constant or parameter that is not), nullopt where it holds.
+  static constexpr std::size_t kAnyRow = static_cast<std::size_t>(-1);
+  std::optional<std::size_t> non_finite_row(const Expression& e);
 
  private:
   std::chrono::steady_clock::time_point start_;

@@ -30,6 +30,13 @@ struct SimplifyOptions {
   // The rules above that round differently from the original (the search's inner loops leave
   // them off; its final tidy step uses them).
   bool regroup_constants = false;
+  // Two calls of one function that one call does, and a quotient's divisors as one product
+  // (they round differently too; each saves an instruction where the parts are not read
+  // elsewhere): rcp(a) rcp(b) = rcp(a b), sqrt and rsqrt alike, exp2(a) exp2(b) = exp2(a + b),
+  // exp2(a) / exp2(b) = exp2(a - b), exp alike, log2(a) + log2(b) = log2(a b), log alike,
+  // pow(a, p) pow(b, p) = pow(a b, p), (u / a) / b = u / (a b), u / rcp(a) = u a, also one
+  // level into a product or sum ((u rcp(a)) rcp(b) = u rcp(a b)).
+  bool merge_calls = false;
   // The cost of an expression (over the simplified expression's variables and parameters), to
   // choose between equivalent forms; empty: the first form listed above.
   std::function<double(const Expression&)> cost;

@@ -1,14 +1,15 @@
 // A reference program (reference/program.hpp) written as a formula of the search's operators
 // (expr/op.hpp), where it can be: the shader function or formula as its author wrote it, with
 // helpers inlined, constants folded, min and max, a clamp to [0, 1] as saturate, mix and lerp,
-// the C functions the operators share (exp, log, acos, erf, ...) as those operators, and a
-// branch on a comparison (if/else, ?:, an early return) as a select (NaN operands of the
-// comparison aside). Its cost is then the cost model's (cost/cost_model.hpp), which counts a
+// the C functions the operators share (exp, log, acos, erf, ...) as those operators, those
+// they write exactly in real arithmetic (tan as sin / cos, cbrt, log10, log1p, expm1, sinh, cosh,
+// asinh, acosh, atanh, erfc, hypot) in them, and a branch on a comparison (if/else, ?:, an early
+// return; == and != as -|x - y| >= 0) as a select (NaN operands of the comparison aside). Its cost is then the cost model's (cost/cost_model.hpp), which counts a
 // subexpression the program computes once (a register read twice) once.
 //
 //   ProgramFormula f = program_formula(compile_reference(text), {"NoV", "NoL", "LoH", "r"});
 //   if (f.formula) expression_cost(*f.formula, CostTarget::Instructions);  // cost/cost_model.hpp
-//   else std::cout << f.why;   // "it calls cbrt, which the search's operators cannot write"
+//   else std::cout << f.why;   // "it calls floor, which the search's operators cannot write"
 #pragma once
 
 #include <optional>
@@ -28,8 +29,8 @@ struct ProgramFormula {
 // The program's last output (the reference) as a formula over `variables` (names of the
 // program's inputs, in any order; an input not among them is a why). An integer power beyond
 // +-16 is written with pow; a comparison read as a number, a logical operator, a built-in
-// reference (fresnel_exact, ...) and the functions the operators lack (cbrt, tan, floor, ...)
-// have no formula. A formula of more than kMaxProgramFormulaNodes nodes (a program that reads
+// reference (fresnel_exact, ...) and the functions the operators cannot write (floor, ceil,
+// trunc, round, fmod) have no formula. A formula of more than kMaxProgramFormulaNodes nodes (a program that reads
 // its registers many times over) is not written either.
 inline constexpr std::size_t kMaxProgramFormulaNodes = 4096;
 ProgramFormula program_formula(const Program& program, std::span<const std::string> variables);

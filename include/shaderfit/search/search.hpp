@@ -120,6 +120,12 @@ struct SearchSummary {
 // the reference").
 reference::ProgramFormula reference_formula(const SearchProblem& problem);
 
+// Why the reference's own formula cannot join the front, in a few words for one line: it does
+// not lower (reference_formula's why), or it or a part of it is not finite on a row (named by its
+// inputs' values), which the search allows no formula (SearchContext::offer). Empty where it can
+// join or where there is no reference. The search descends from a formula that lowers either way.
+std::string reference_off_front(const SearchOptions& options, const SearchProblem& problem);
+
 // Runs the search. Throws shaderfit::Error when the problem is invalid (SearchProblem::validate)
 // or the options are (SearchOptions::validate); for the log or rel loss, also when a target is
 // <= 0 or 0; when the checkpoint cannot be written; and when the checkpoint to resume from cannot

@@ -432,6 +432,23 @@ std::vector<Fragment> replacements(const Expression& e, std::size_t i, const Col
       out.push_back(FragmentBuilder(base).param((*c)[0]).nodes({x}).param((*c)[1]).op(Op::Mul)
                         .op(Op::Add).nodes({y}).param((*c)[2]).nodes({x}).param((*c)[3])
                         .op(Op::Mul).op(Op::Add).op(Op::Mul).op(Op::Add).done());
+    // p0 + x (p1 + y) and p0 + x (p1 x + y), x either input: two instructions, the least
+    // squares fit s ~ c0 + c1 x + c2 x y (or c1 x^2) divided by c2, since the screening and the
+    // refit take the scale (a f + b). As the phase functions' 1 + g^2 - 2 g cos.
+    for (int swap = 0; swap < 2; ++swap) {
+      const Node a = swap ? y : x, b = swap ? x : y;
+      const Column& av = swap ? w : u;
+      const Column ab = times(u, w);
+      for (bool square : {false, true}) {
+        const auto c = least_squares({ones(n), square ? times(av, av) : av, ab}, s);
+        if (!c || !((*c)[2] != 0)) continue;
+        FragmentBuilder f(base);
+        f.param((*c)[0] / (*c)[2]).nodes({a});
+        if (square) f.param((*c)[1] / (*c)[2]).nodes({a}).op(Op::Mul);
+        else f.param((*c)[1] / (*c)[2]);
+        out.push_back(f.nodes({b}).op(Op::Add).op(Op::Mul).op(Op::Add).done());
+      }
+    }
     // p0 + p1 x y.
     if (auto c = least_squares({ones(n), times(u, w)}, s))
       out.push_back(FragmentBuilder(base).param((*c)[0]).nodes({x}).nodes({y}).op(Op::Mul)
@@ -449,13 +466,14 @@ std::vector<Fragment> replacements(const Expression& e, std::size_t i, const Col
   return out;
 }
 
-// The cheapest of x, x with its constants folded, with its parts regrouped, and with its
+// The cheapest of x, x simplified with its calls merged, with its parts regrouped, and with its
 // per-material scales moved into exponentials.
 Expression cheapest_form(Expression x, const SearchOptions& options,
                          const std::vector<bool>& uniform, const SearchProblem& rows) {
   double best_cost = formula_cost(x, options);
   for (Expression y :
-       {simplify(x), grouped_factors(x, uniform), absorbed_scales(x, uniform, rows)}) {
+       {simplify(x, {.merge_calls = true}), grouped_factors(x, uniform),
+        absorbed_scales(x, uniform, rows)}) {
     const double c = formula_cost(y, options);
     if (c < best_cost) {
       x = std::move(y);
@@ -545,8 +563,9 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
     if (x.empty() || !(formula_cost(x, options) < cost)) return;
     if (seen.insert(structural_hash(x)).second) out.push_back(std::move(x));
   };
-  // Constants folded, where that alone saves an instruction.
+  // Constants folded and calls merged, where that alone saves an instruction.
   keep(simplify(e, {.regroup_constants = true,
+                    .merge_calls = true,
                     .cost = [&](const Expression& x) { return formula_cost(x, options); }}));
   // The rewrites of e as written and with its products regrouped (grouped_factors).
   const std::vector<bool> uniform = uniform_flags(e, options.uniform);

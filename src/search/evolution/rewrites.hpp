@@ -6,12 +6,14 @@
 //  - a subexpression replaced by a constant, or by a + b y for y an operand, an operand's operand
 //    or an input it reads;
 //  - a subexpression of one or two inputs replaced by a form fitted to the values it takes on the
-//    rows: a polynomial, a rational, exp2 of a polynomial; any subexpression by a power
+//    rows: a polynomial (of two inputs also p0 + x (p1 + y) and p0 + x (p1 x + y)), a rational,
+//    exp2 of a polynomial; any subexpression by a power
 //    exp2(a + p log2 y) of a part y below it (rsqrt(d)^3 = d^-1.5);
 //  - each also with its products and sums regrouped by the inputs their parts read (so that
 //    ((t (1-x)^2) (1-x)^2) (1-x) shows the part (1-x)^5, and a per-material part is one factor),
 //    with a positive per-material scale moved into an exponential (a exp2(u) = exp2(u + log2 a))
-//    and with its constants folded, whichever costs least.
+//    and with its constants folded and its calls merged (SimplifyOptions::merge_calls),
+//    whichever costs least.
 // A rewrite replaces every copy of the subexpression at once: the cost model counts a repeated
 // subexpression once, so replacing one copy saves nothing. The constants a rewrite introduces
 // are fitted to the part it replaces; the formula's own stay as they are.
@@ -40,8 +42,8 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
 Expression random_rewrite(Rng& rng, const Expression& e, const SearchOptions& options,
                           const SearchProblem& rows);
 
-// The cheapest of e, e with its constants folded, with its products and sums regrouped by the
-// inputs their parts read, and with its positive per-material scales moved into exponentials.
+// The cheapest of e, e simplified with its calls merged, with its products and sums regrouped by
+// the inputs their parts read, and with its positive per-material scales moved into exponentials.
 Expression cheapest_form(Expression e, const SearchOptions& options, const SearchProblem& rows);
 
 // e with each number literal a parameter at its value; literals of copies of one subexpression

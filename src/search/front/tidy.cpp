@@ -114,6 +114,7 @@ class Tidier {
   Tidier(const SearchOptions& options, const SearchProblem& problem)
       : ctx_(options, problem), options_(options), noise_rmse_(noise_level_rmse(problem)) {
     simplify_options_.regroup_constants = true;
+    simplify_options_.merge_calls = true;
     simplify_options_.cost = [this](const Expression& e) { return formula_cost(e, options_); };
     std::vector<double> noisy(problem.target.begin(), problem.target.end());
     for (double& y : noisy) y += kTidyRoundingNoise * std::abs(y);

@@ -38,9 +38,9 @@ inline constexpr double kNoiseLevel = 1e-9;
 double noise_level_rmse(const SearchProblem& problem);
 
 // Each member tidied (docs/search.md, "Tidy front"): its parameters written as literals and the
-// formula simplified with regroup_constants (the cost model choosing between equal forms); on
-// that regrouped form, the constants near a simple value (within 1e-6, relative; near 0: 1e-6 of
-// the largest constant or of 1) are snapped at once: all of them, else those near 0 alone, else
+// formula simplified with regroup_constants and merge_calls (the cost model choosing between
+// equal forms); on that regrouped form, the constants near a simple value (within 1e-6,
+// relative; near 0: 1e-6 of the largest constant or of 1) are snapped at once: all of them, else those near 0 alone, else
 // the others alone; then each remaining constant, one at a time, set to its nearest simple value
 // (a constant set to 0 or 1 drops its term or factor). Each step is simplified again and kept
 // when the cost does not rise, the formula stays finite everywhere and its error stays

@@ -100,6 +100,29 @@ float bands(float x) { return floor(x * 4.0) / 4.0 + 0.1 * x; }
   }
 }
 
+TEST(ReferenceSearch, AFunctionNotFiniteWhereTheGpuComputesItIsSaidWithTheRow) {
+  // pow(0, 0) is 1 in C and NaN on a GPU (exp2(0 * log2(0))): the corner x = y = 0.
+  const SearchProblem p = shader_problem("float f(float x, float y) { return pow(x, y); }", "f",
+                                         {"x=0:1", "y=0:1"});
+  ASSERT_TRUE(reference_formula(p).formula.has_value());
+  const std::string why = reference_off_front(budgeted(), p);
+  EXPECT_EQ(why.rfind("it is not finite at x = 0, y = 0 (", 0), 0u) << why;
+  // min(1, 0 / 0) is finite, its operand not: the search allows no such part.
+  const SearchProblem q = shader_problem(
+      "float f(float x, float y) { return min(1.0, x / y); }", "f", {"x=0:1", "y=0:1"});
+  const std::string part = reference_off_front(budgeted(), q);
+  EXPECT_EQ(part.rfind("a part of it is not finite at x = ", 0), 0u) << part;
+  SearchOptions o = budgeted();
+  o.max_candidates = 20'000;
+  SearchSummary s;
+  run_search(o, q, &s);
+  for (const FrontMember& m : s.front) EXPECT_NE(m.origin, SearchPhase::Reference);
+  // A function finite everywhere joins: nothing to say.
+  EXPECT_EQ(reference_off_front(budgeted(), shader_problem(henyey_greenstein(), "phaseHG",
+                                                           {"cosTheta=-1:1", "g=0:0.9"})),
+            "");
+}
+
 TEST(ReferenceSearch, NoReferenceNoFormula) {
   SearchProblem p;
   p.input_names = {"x"};
@@ -108,6 +131,7 @@ TEST(ReferenceSearch, NoReferenceNoFormula) {
   const reference::ProgramFormula own = reference_formula(p);
   EXPECT_FALSE(own.formula.has_value());
   EXPECT_TRUE(own.why.empty());
+  EXPECT_EQ(reference_off_front(SearchOptions{}, p), "");
 }
 
 }  // namespace

@@ -26,6 +26,7 @@
 #include "search/starts/uniform_starts.hpp"
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/evaluate_in.hpp"
+#include "shaderfit/expr/print.hpp"
 
 namespace shaderfit {
 
@@ -364,6 +365,30 @@ void check_half_range(const SearchProblem& problem) {
 reference::ProgramFormula reference_formula(const SearchProblem& problem) {
   if (!problem.reference) return {};
   return reference::program_formula(problem.reference->program, problem.input_names);
+}
+
+std::string reference_off_front(const SearchOptions& options, const SearchProblem& problem) {
+  const reference::ProgramFormula own = reference_formula(problem);
+  if (!own.formula) return own.why;
+  // As SearchContext::offer checks every formula: its values as shown, then its parts.
+  search_detail::SearchContext ctx(options, problem);
+  std::vector<double> values(ctx.rows);
+  ctx.predict_shown(*own.formula, values);
+  const auto bad =
+      std::find_if(values.begin(), values.end(), [](double v) { return !std::isfinite(v); });
+  const bool result = bad != values.end();
+  const std::optional<std::size_t> row =
+      result ? std::optional<std::size_t>(static_cast<std::size_t>(bad - values.begin()))
+             : ctx.non_finite_row(*own.formula);
+  if (!row) return {};
+  if (*row == search_detail::SearchContext::kAnyRow)
+    return "its formula holds a constant that is not finite";
+  std::string at;
+  for (std::size_t c = 0; c < problem.inputs.size(); ++c)
+    at += (c == 0 ? "" : ", ") + problem.input_names[c] + " = " +
+          format_number(problem.inputs[c][*row]);
+  return (result ? "it is not finite at " : "a part of it is not finite at ") + at +
+         " (on a GPU pow(0, 0) and 0 / 0 are NaN)";
 }
 
 void run_search(const SearchOptions& given, const SearchProblem& problem, SearchSummary* summary) {
