@@ -25,6 +25,7 @@
 #include "shaderfit/search/front/choice.hpp"
 #include "shaderfit/search/options.hpp"
 #include "shaderfit/search/front/front_table.hpp"
+#include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/search/search.hpp"
 
 namespace shaderfit::cli {
@@ -112,6 +113,8 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
   const Dataset& d = source.data;
   SearchProblem problem = search_problem(source, options.loss, a.weights, {"--weights"});
   problem.reference_samples = a.data.problem.samples;
+  // Before anything is printed, so that a bad list is the only line.
+  check_uniform_inputs(options.uniform, problem.input_names, {"--uniform"});
   const double load_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   // "auto" operator lists become concrete here, so that the JSON and checkpoints name them.

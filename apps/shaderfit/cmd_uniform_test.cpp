@@ -76,6 +76,11 @@ TEST(CmdUniform, BadUniformInputsAreOneLineAndStatus2) {
       "--uniform: every input is uniform");
   expect_bad_input({"eval", "--data", csv, "--target", "D", "--uniform", "beta", kBlinnPhong},
                    "--uniform: uniform input 'beta' is not an input");
+  // The search says so before anything else.
+  const CliResult r =
+      run({"search", "--data", csv, "--target", "D", "--uniform", "beta", "--evals", "1000"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_EQ(r.out, "");
 }
 
 TEST(CmdUniform, EvalChecksTheUniformInputIsConstantPerGroup) {
