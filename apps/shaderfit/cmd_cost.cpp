@@ -95,6 +95,8 @@ void run_cost(const CostArgs& a, Context& ctx) {
                            c.mufu, c.weighted);
     ctx.out << (m ? fmt::format(" {:>12}\n", m->material[k].instructions) : "\n");
   }
+  for (const auto& [none, why] : table.unavailable)
+    ctx.out << fmt::format("{:<10} {:>12}  ({})\n", instruction_target_name(none), "-", why);
   if (m != nullptr) {
     ctx.out << "\n"
             << instruction_target_name(shown.target) << " listing, per material:\n"

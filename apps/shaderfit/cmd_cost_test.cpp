@@ -26,14 +26,19 @@ TEST(CmdCost, JsonOnStdout) {
   EXPECT_EQ(j["listing"]["lines"].size(), 5u);
 }
 
-TEST(CmdCost, HalfRowIsPerTwoValuesAndLeftOutWhereThereIsNoHalfForm) {
+TEST(CmdCost, HalfRowIsPerTwoValuesAndSaysWhyWhereThereIsNoHalfForm) {
   const CliResult r = run({"cost", "r0 + (1 - r0) * (1 - cos_theta)^5"});
   ASSERT_EQ(r.status, 0) << r.err;
   // docs/precision.md: Schlick is 7 instructions per __half2 call (two values).
   EXPECT_TRUE(std::regex_search(r.out, std::regex("\\nsass-half2 +7 "))) << r.out;
   const CliResult s = run({"cost", "sign(x) * x"});
   ASSERT_EQ(s.status, 0) << s.err;
-  EXPECT_EQ(s.out.find("sass-half2"), std::string::npos) << s.out;
+  EXPECT_TRUE(std::regex_search(s.out, std::regex("\\nsass-half2 +-  \\(sign has no half form")))
+      << s.out;
+  const CliResult j = run({"cost", "--json", "-", "sign(x) * x"});
+  const std::string why =
+      nlohmann::json::parse(j.out)["unavailable"]["sass-half2"].get<std::string>();
+  EXPECT_EQ(why.rfind("sign has no half form", 0), 0u) << j.out;
   const CliResult h = run({"cost", "--target", "sass-half2", "sign(x) * x"});
   EXPECT_EQ(h.status, 2);
   EXPECT_NE(h.err.find("sign has no half form"), std::string::npos) << h.err;

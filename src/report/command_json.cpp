@@ -183,9 +183,10 @@ CostTable cost_table(const Expression& e, InstructionTarget shown,
         table.material->material.push_back(material_instruction_cost(table.material->split, t));
       if (t == shown) table.shown = table.costs.size();
       table.costs.push_back(std::move(c));
-    } catch (const Error&) {
+    } catch (const Error& missing) {
       // An operator with no half form (sign, select, asin, ...) has no sass-half2 row.
       if (t != InstructionTarget::SassHalf2 || t == shown) throw;
+      table.unavailable.emplace_back(t, missing.message());
     }
   }
   return table;
@@ -204,6 +205,8 @@ std::string cost_json(const Expression& e, const CostTable& table) {
     t = unit_counts(table.costs[k]);
     if (material != nullptr) t["per_material"] = unit_counts(material->material[k]);
   }
+  for (const auto& [target, why] : table.unavailable)
+    j["unavailable"][std::string(instruction_target_name(target))] = why;
   j["listing"] = listing_json(shown);
   if (material != nullptr) {
     j["uniform"] = material->uniform;

@@ -62,6 +62,8 @@ struct CostTable {
   std::vector<InstructionCost> costs;
   std::optional<MaterialCosts> material;
   std::size_t shown = 0;  // index into costs
+  // The targets the formula has no code for, with why (sass-half2: "select has no half form").
+  std::vector<std::pair<InstructionTarget, std::string>> unavailable;
 };
 
 // Throws shaderfit::Error at `uniform_where` for a bad uniform list (check_uniform_inputs), and
