@@ -144,7 +144,7 @@ TEST(CmdReference, BadInputsAreOneClearLine) {
   const std::string loop = scratch_file("loop.glsl",
                                         "float f(float x) {\n"
                                         "  float s = 0.0;\n"
-                                        "  for (int i = 0; i < 4; ++i) s += x;\n"
+                                        "  while (s < 4.0) s += x;\n"
                                         "  return s;\n"
                                         "}\n");
   expect_bad_input({"search", "--reference-file", loop, "--function", "f", "--domain", "x=0:1"},

@@ -1,6 +1,7 @@
 // The one lexer (expr/lexer.hpp): formulas, and with a Syntax's C options, shader sources.
 #include "shaderfit/expr/lexer.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cstdio>
@@ -14,6 +15,14 @@ namespace {
 bool is_digit(char c) { return c >= '0' && c <= '9'; }
 bool is_ident_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_'; }
 bool is_ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
+
+// The length of a backslash-newline (C's line splice, "\\\n" or "\\\r\n") at text[pos], or 0.
+std::size_t splice_length(std::string_view text, std::size_t pos) {
+  if (text[pos] != '\\') return 0;
+  if (pos + 1 < text.size() && text[pos + 1] == '\n') return 2;
+  if (pos + 2 < text.size() && text[pos + 1] == '\r' && text[pos + 2] == '\n') return 3;
+  return 0;
+}
 
 // Longest first, so that "<=" is one token and "<" another.
 constexpr std::string_view kFormulaSymbols[] = {"<=", ">=", "+", "-", "*", "/", "^",
@@ -83,6 +92,8 @@ void Lexer::skip_blanks() {
     if (c == '\n') {
       line_start_ = true;
       advance();
+    } else if (const std::size_t n = syntax_.c_comments ? splice_length(text_, pos_) : 0; n != 0) {
+      for (std::size_t k = 0; k < n; ++k) advance();  // the next line continues this one
     } else if (std::isspace(static_cast<unsigned char>(c)) != 0) {
       advance();
     } else if (syntax_.c_comments && c == '/' && pos_ + 1 < text_.size() &&
@@ -103,17 +114,58 @@ void Lexer::skip_blanks() {
   }
 }
 
-// '#' to the end of the line (a backslash before the newline continues it); the token's text is
-// what follows '#'.
+// '#' to the end of the line (a backslash before the newline, or a comment that goes on to the next
+// line, continues it); the token's text is what follows '#', comments included.
 void Lexer::directive(Token& t) {
   advance();  // '#'
   const std::size_t start = pos_;
   while (pos_ < text_.size() && text_[pos_] != '\n') {
-    if (text_[pos_] == '\\' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '\n') advance();
-    advance();
+    const bool more = pos_ + 1 < text_.size();
+    if (more && text_[pos_] == '/' && text_[pos_ + 1] == '/') {
+      while (pos_ < text_.size() && text_[pos_] != '\n') advance();
+    } else if (more && text_[pos_] == '/' && text_[pos_ + 1] == '*') {
+      skip_block_comment();  // unclosed: reading the line's tokens reports it
+    } else {
+      for (std::size_t k = std::max<std::size_t>(splice_length(text_, pos_), 1); k > 0; --k)
+        advance();
+    }
   }
   t.kind = Token::Directive;
   t.text = text_.substr(start, pos_ - start);
+}
+
+// From "/*" past its "*/", or to the end when it has none.
+void Lexer::skip_block_comment() {
+  advance();
+  advance();
+  while (pos_ < text_.size() &&
+         !(text_[pos_] == '*' && pos_ + 1 < text_.size() && text_[pos_ + 1] == '/'))
+    advance();
+  for (int k = 0; k < 2 && pos_ < text_.size(); ++k) advance();
+}
+
+void Lexer::skip_to_directive() {
+  bool line_start = false;  // the caller has just read a directive: its newline is ahead
+  while (pos_ < text_.size()) {
+    const char c = text_[pos_];
+    const bool more = pos_ + 1 < text_.size();
+    if (c == '\n') {
+      line_start = true;
+      advance();
+    } else if (c == '#' && line_start) {
+      break;
+    } else if (const std::size_t n = splice_length(text_, pos_); n != 0) {
+      for (std::size_t k = 0; k < n; ++k) advance();
+    } else if (more && c == '/' && text_[pos_ + 1] == '/') {
+      while (pos_ < text_.size() && text_[pos_] != '\n') advance();
+    } else if (more && c == '/' && text_[pos_ + 1] == '*') {
+      skip_block_comment();
+    } else {
+      if (std::isspace(static_cast<unsigned char>(c)) == 0) line_start = false;
+      advance();
+    }
+  }
+  line_start_ = true;
 }
 
 void Lexer::number(Token& t) {

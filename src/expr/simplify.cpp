@@ -312,19 +312,6 @@ Frag Rules::power_of_power(const Frag& a, const Frag& y, const Frag& z) const {
   return cost(exp2_form) < cost(pow_form) ? exp2_form : pow_form;
 }
 
-// Calls that one call of the same function does, f(a) op f(b) = f(a inner b): where the left
-// side is finite, a and b are in f's domain, so both sides agree in real arithmetic.
-struct CallMerge {
-  Op call;   // f
-  Op outer;  // op
-  Op inner;  // inner
-};
-constexpr CallMerge kCallMerges[] = {
-    {Op::Rcp, Op::Mul, Op::Mul},    {Op::Sqrt, Op::Mul, Op::Mul}, {Op::Rsqrt, Op::Mul, Op::Mul},
-    {Op::Exp2, Op::Mul, Op::Add},   {Op::Exp, Op::Mul, Op::Add},  {Op::Exp2, Op::Div, Op::Sub},
-    {Op::Exp, Op::Div, Op::Sub},    {Op::Log2, Op::Add, Op::Mul}, {Op::Log, Op::Add, Op::Mul},
-};
-
 // x op y as one call (kCallMerges, and pow(a, p) * pow(b, p) = pow(a b, p)), or a quotient's
 // divisors as one product: (u / a) / b = u / (a b), rcp(a) / b = rcp(a b), u / rcp(a) = u a,
 // (u / a) * rcp(b) = u / (a b); nullopt when none applies. Never adds a node.

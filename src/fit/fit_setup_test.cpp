@@ -125,7 +125,7 @@ TEST(FitSetup, ShaderFunctionReference) {
   EXPECT_EQ(e.where().source, "FitSetup::function");
   EXPECT_NE(e.message().find("'y'"), std::string::npos) << e.message();
   s.reference_source =
-      "float f(float x) {\n  for (int i = 0; i < 2; ++i) x += 1.0;\n  return x;\n}\n";
+      "float f(float x) {\n  while (x < 2.0) x += 1.0;\n  return x;\n}\n";
   e = error_of(s);
   EXPECT_EQ(e.where().source, "f.glsl");
   EXPECT_EQ(e.where().line, 2);

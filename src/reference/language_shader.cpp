@@ -1,10 +1,18 @@
 // The shader front end: one GLSL or HLSL function compiled to straight-line code. Both branches
 // of an `if` are computed and merged with selects; a `return` sets a "returned" flag that keeps
-// later code from overriding the result; calls of the file's own functions are inlined.
+// later code from overriding the result (and the out parameters' values); calls of the file's own
+// functions are inlined, their out and inout arguments written back to the caller's variables;
+// `for` loops with a constant trip count are unrolled, and `break` and `continue` set a "skipped"
+// flag that keeps the rest of the iteration from assigning on the paths that took them. A variable
+// declared without a value holds none until assigned (see Defined); HLSL's attributes before
+// statements are skipped.
 #include "language_shader.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <limits>
+
+#include "shaderfit/reference/program_evaluate.hpp"
 
 namespace shaderfit::reference_detail {
 
@@ -12,9 +20,32 @@ using namespace shaderfit::reference;  // the area's public names
 
 namespace {
 
+// Iterations of one unrolled `for` loop at most.
+constexpr int kMaxLoopIterations = 64;
+
+enum class Mode { In, Out, InOut };
+
 struct Parameter {
   const Token* name = nullptr;
+  const Token* qualifier = nullptr;  // `out`, `inout`, or the `in` of HLSL's `in out`
   Type type = Type::Float;
+  Mode mode = Mode::In;
+};
+
+std::string mode_name(Mode m) { return m == Mode::Out ? "out" : "inout"; }
+
+// On which of the paths that have not returned a variable holds a value: a set of these bits.
+// Reading one that holds a value on none of them is an error; where only some paths gave it a
+// value, theirs stands for it on the others too (reading an unassigned variable is undefined in
+// GLSL and HLSL, so any value is allowed there), so no select keeps an undefined operand.
+using Defined = std::uint8_t;
+constexpr Defined kAssigned = 1;
+constexpr Defined kUnassigned = 2;
+
+// A value with the paths on which it is defined.
+struct Held {
+  Value value;
+  Defined defined = kAssigned;
 };
 
 struct Variable {
@@ -22,14 +53,35 @@ struct Variable {
   Value value;
   bool is_const = false;
   int line = 0;
+  Defined defined = kAssigned;
+  bool out = false;  // an out parameter (for messages)
 };
 
 // What the code computed so far: the variables by scope (innermost last), whether the function
-// has returned (a 0/1 register) and its result when it has.
+// has returned (a 0/1 register), its result and its out parameters' values where it has, and
+// inside a loop which paths have left the iteration (0/1 registers): `broken` by break,
+// `continued` by continue, `skipped` either of them or a path the loop's start skipped.
 struct State {
   std::vector<std::vector<Variable>> scopes;
   Reg returned = 0;
   Reg result = 0;
+  std::vector<Held> outs;  // by parameter
+  Reg skipped = 0;
+  Reg broken = 0;
+  Reg continued = 0;
+};
+
+// A variable's place: its scope and its index there.
+struct Slot {
+  std::size_t scope = 0;
+  std::size_t index = 0;
+};
+
+// What an inlined call gives back: its result (0 for void), and by parameter the value an out or
+// inout one writes back.
+struct CallResult {
+  Value result;
+  std::vector<Held> outs;
 };
 
 bool is_assignment(const Token& t) {
@@ -45,33 +97,49 @@ class FunctionCompiler : public ExpressionParser {
         f_(f),
         tokens_(file.tokens()) {}
 
-  // The return type (an error at its token for anything but a scalar).
+  // The reference's return type (an error at its token for anything but a scalar).
   Type return_type() const {
     const Token& t = tokens_[f_.type];
-    if (const auto s = scalar_type(t.text)) return *s;
     if (t.is_word("void"))
       fail("function '" + function_name() + "' returns void: a reference returns a float", t);
+    return *result_type();
+  }
+
+  // A helper's return type: a scalar, or nullopt for void.
+  std::optional<Type> result_type() const {
+    const Token& t = tokens_[f_.type];
+    if (const auto s = scalar_type(t.text)) return *s;
+    if (t.is_word("void")) return std::nullopt;
     if (is_vector_type(t.text)) unsupported("vector-valued return types", file_.path(), t);
     fail("unknown return type '" + std::string(t.text) + "' (float, half, double, int or bool)", t);
   }
 
-  // The parameters, each `[in] [const] type name [: semantic]`.
+  // The parameters, each `[in | out | inout | in out] [const] type name [: semantic]`.
   std::vector<Parameter> parameters() const {
     std::vector<Parameter> out;
     if (f_.parameters == 0) return out;
     std::size_t i = f_.open + 1;
     while (true) {
-      while (tokens_[i].kind == Token::Ident &&
-             (tokens_[i].is_word("in") || tokens_[i].is_word("const") ||
-              tokens_[i].is_word("uniform") || tokens_[i].is_word("precise") ||
-              tokens_[i].is_word("highp") || tokens_[i].is_word("mediump") ||
-              tokens_[i].is_word("lowp")))
-        ++i;
-      const Token& type = tokens_[i];
-      if (type.is_word("out") || type.is_word("inout"))
-        unsupported("out and inout parameters", file_.path(), type);
       Parameter p;
-      p.type = declared_type(type);
+      const Token* in = nullptr;
+      bool writes = false, reads = false;
+      while (tokens_[i].kind == Token::Ident) {
+        const Token& q = tokens_[i];
+        if (q.is_word("out") || q.is_word("inout")) {
+          if (p.qualifier == nullptr) p.qualifier = in != nullptr ? in : &q;
+          writes = true;
+          reads = reads || q.is_word("inout");
+        } else if (q.is_word("in")) {
+          if (in == nullptr) in = &q;
+          reads = true;
+        } else if (!(q.is_word("const") || q.is_word("uniform") || q.is_word("precise") ||
+                     q.is_word("highp") || q.is_word("mediump") || q.is_word("lowp"))) {
+          break;
+        }
+        ++i;
+      }
+      if (writes) p.mode = reads ? Mode::InOut : Mode::Out;
+      p.type = declared_type(tokens_[i]);
       ++i;
       if (tokens_[i].kind != Token::Ident)
         fail("expected a parameter name, found " + describe(tokens_[i]), tokens_[i]);
@@ -87,36 +155,63 @@ class FunctionCompiler : public ExpressionParser {
     }
   }
 
-  // Runs the body with the parameters bound to `args`; returns the result in the return type.
-  Value run(std::span<const Value> args, const std::vector<Parameter>& params) {
-    const Type result_type = return_type();
+  // Runs the body with the parameters bound to `args` (an out parameter's is not read); returns
+  // the result in the return type and what the out and inout parameters hold at the end.
+  CallResult run(std::span<const Held> args, const std::vector<Parameter>& params) {
+    result_type_ = result_type();
+    ProgramBuilder& b = builder();
+    const Reg zero = b.constant(0.0);
     state_.scopes.emplace_back();
     for (std::size_t k = 0; k < params.size(); ++k) {
-      state_.scopes.back().push_back({params[k].name->text,
-                                      convert(builder(), args[k], params[k].type), false,
-                                      params[k].name->line});
+      const Parameter& p = params[k];
+      Variable v{p.name->text, {}, false, p.name->line};
+      v.out = p.mode == Mode::Out;
+      if (v.out) {
+        v.value = {b.constant(std::numeric_limits<double>::quiet_NaN()), p.type};
+        v.defined = kUnassigned;
+      } else {
+        v.value = convert(b, args[k].value, p.type);
+        v.defined = args[k].defined;
+      }
+      state_.scopes.back().push_back(v);
     }
-    state_.returned = builder().constant(0.0);
-    state_.result = builder().constant(0.0);
-    result_type_ = result_type;
+    state_.outs.assign(params.size(), Held{{zero, Type::Float}, 0});
+    for (std::size_t k = 0; k < params.size(); ++k)
+      if (params[k].mode != Mode::In) written_.push_back(k);
+    state_.returned = state_.result = state_.skipped = state_.broken = state_.continued = zero;
     seek(f_.body);
     block();
     const Token& close = tokens_[f_.end];
-    const auto returned = builder().constant_value(state_.returned);
-    if (!returned || *returned == 0.0) {
+    const auto returned = b.constant_value(state_.returned);
+    if (result_type_ && (!returned || *returned == 0.0)) {
       fail("function '" + function_name() + "' " +
                (returned ? "ends without returning a value"
                          : "can reach its end without returning a value"),
            close);
     }
-    return {state_.result, result_type};
+    CallResult out;
+    out.result = {state_.result, result_type_.value_or(Type::Float)};
+    out.outs.resize(params.size());
+    for (const std::size_t k : written_) {
+      // At the end: the value at the return where one was taken, else the last one.
+      const Variable& v = state_.scopes[0][k];
+      const Held now{v.value, v.defined};
+      if (is_true(state_.returned)) {
+        out.outs[k] = state_.outs[k];
+      } else if (is_false(state_.returned)) {
+        out.outs[k] = now;
+      } else {
+        out.outs[k] = pick(state_.returned, state_.outs[k], now);
+      }
+    }
+    return out;
   }
 
  protected:
   Value name(const Token& t) override {
     if (t.is_word("true") || t.is_word("false"))
       return {builder().constant(t.is_word("true") ? 1.0 : 0.0), Type::Bool};
-    if (const Variable* v = find(t.text)) return v->value;
+    if (const auto slot = locate(t.text)) return read(variable(*slot), t);
     if (Global* g = file_.global(t.text)) return file_.global_value(*g, t);
     if (!file_.find(t.text).empty())
       fail("function '" + std::string(t.text) + "' needs arguments in parentheses", t);
@@ -137,39 +232,18 @@ class FunctionCompiler : public ExpressionParser {
       unsupported("textures", file_.path(), t);
   }
 
+  // The file's own functions are inlined here; the rest is the library's.
+  Value call(const Token& t) override {
+    if (scalar_type(t.text) || file_.find(t.text).empty()) return ExpressionParser::call(t);
+    return inline_call(t);
+  }
+
   std::optional<Value> own_call(const Token& t, std::span<const Value> args) override {
-    if (const auto type = scalar_type(t.text)) {
-      if (args.size() != 1)
-        fail(std::string(t.text) + "(...) takes 1 argument, got " + std::to_string(args.size()), t);
-      return convert(builder(), args[0], *type);
-    }
-    const std::vector<const FunctionDef*> defs = file_.find(t.text);
-    if (defs.empty()) return std::nullopt;
-    const FunctionDef* def = nullptr;
-    for (const FunctionDef* d : defs)
-      if (d->parameters == args.size()) def = def == nullptr ? d : def;
-    if (def == nullptr) {
-      fail(std::string(t.text) + " takes " + std::to_string(defs[0]->parameters) +
-               (defs[0]->parameters == 1 ? " argument" : " arguments") + ", got " +
-               std::to_string(args.size()),
-           t);
-    }
-    auto& calls = file_.calls;
-    if (std::find(calls.begin(), calls.end(), t.text) != calls.end()) {
-      std::string chain;
-      for (auto it = std::find(calls.begin(), calls.end(), t.text); it != calls.end(); ++it)
-        chain += std::string(*it) + " -> ";
-      fail("recursion is not supported (" + chain + std::string(t.text) +
-               "); the reference subset is listed in docs/reference.md",
-           t);
-    }
-    const Nest nest(*this, t);
-    FunctionCompiler callee(file_, *def);
-    const std::vector<Parameter> params = callee.parameters();
-    calls.push_back(t.text);
-    const Value v = callee.run(args, params);
-    calls.pop_back();
-    return v;
+    const auto type = scalar_type(t.text);
+    if (!type) return std::nullopt;
+    if (args.size() != 1)
+      fail(std::string(t.text) + "(...) takes 1 argument, got " + std::to_string(args.size()), t);
+    return convert(builder(), args[0], *type);
   }
 
   void check_postfix() override {
@@ -198,6 +272,32 @@ class FunctionCompiler : public ExpressionParser {
  private:
   std::string function_name() const { return std::string(file_.name_of(f_)); }
 
+  bool is_true(Reg r) const {
+    const auto c = file_.builder.constant_value(r);
+    return c && ProgramLogic<double>::is_true(*c);
+  }
+  bool is_false(Reg r) const {
+    const auto c = file_.builder.constant_value(r);
+    return c && !ProgramLogic<double>::is_true(*c);
+  }
+  // No path reaches here: every one has returned or left the loop's iteration.
+  bool unreachable() const { return is_true(state_.returned) || is_true(state_.skipped); }
+
+  // a || b of 0/1 registers, folded where either is a constant.
+  Reg either(Reg a, Reg b) {
+    if (is_true(a) || is_false(b)) return a;
+    if (is_true(b) || is_false(a)) return b;
+    return builder().emit(ProgramOp::Or, a, b);
+  }
+
+  // c ? a : b; a side defined on no path yields to the other (see Defined).
+  Held pick(Reg c, const Held& a, const Held& b) {
+    const Defined d = a.defined | b.defined;
+    if ((a.defined & kAssigned) == 0) return {b.value, d};
+    if ((b.defined & kAssigned) == 0) return {a.value, d};
+    return {{builder().emit(ProgramOp::Select, c, a.value.reg, b.value.reg), a.value.type}, d};
+  }
+
   // A declared type: scalar, or an error naming the construct.
   Type declared_type(const Token& t) const {
     if (const auto s = scalar_type(t.text)) return *s;
@@ -209,11 +309,43 @@ class FunctionCompiler : public ExpressionParser {
     fail("unknown type " + describe(t) + " (float, half, double, int or bool)", t);
   }
 
-  Variable* find(std::string_view n) {
-    for (auto scope = state_.scopes.rbegin(); scope != state_.scopes.rend(); ++scope)
-      for (Variable& v : *scope)
-        if (v.name == n) return &v;
-    return nullptr;
+  std::optional<Slot> locate(std::string_view n) const {
+    for (std::size_t s = state_.scopes.size(); s-- > 0;)
+      for (std::size_t k = 0; k < state_.scopes[s].size(); ++k)
+        if (state_.scopes[s][k].name == n) return Slot{s, k};
+    return std::nullopt;
+  }
+  Variable& variable(Slot s) { return state_.scopes[s.scope][s.index]; }
+
+  // A variable's value at a use `at`: an error where it holds none on any path that gets here.
+  Value read(const Variable& v, const Token& at) const {
+    if (v.defined == kUnassigned && !unreachable()) {
+      if (v.out) {
+        fail("the out parameter '" + std::string(v.name) + "' is read before it is given a value",
+             at);
+      }
+      fail("'" + std::string(v.name) + "' is read before it is given a value (declared at line " +
+               std::to_string(v.line) + ")",
+           at);
+    }
+    return v.value;
+  }
+
+  // Gives the variable at `s` the value `h` on the paths that reach here; those that left the
+  // loop's iteration keep the old one where they read it again.
+  void assign(Slot s, Held h) {
+    Variable& v = variable(s);
+    h.value = convert(builder(), h.value, v.value.type);
+    if (is_true(state_.returned)) return;  // no path reads a variable after returning
+    // The paths that left: by continue, they run the loop's step and next iteration, which read
+    // its own variables; by break, they leave it, and neither reads the body's variables.
+    Reg guard = state_.skipped;
+    if (!loop_scopes_.empty() && s.scope >= loop_scopes_.back())
+      guard = s.scope == loop_scopes_.back() ? state_.continued : builder().constant(0.0);
+    if (is_true(guard)) return;
+    if (!is_false(guard)) h = pick(guard, {v.value, v.defined}, h);
+    v.value = h.value;
+    v.defined = h.defined;
   }
 
   // '{' statement* '}'
@@ -229,7 +361,27 @@ class FunctionCompiler : public ExpressionParser {
     state_.scopes.pop_back();
   }
 
+  // HLSL's attributes before a statement ([branch], [flatten], [unroll], [unroll(4)], [loop],
+  // [fastopt], ...): hints to the shader compiler, which change no value; skipped.
+  void attributes() {
+    while (peek().is("[") && peek(1).kind == Token::Ident) {
+      const Token& open = next();
+      next();
+      if (peek().is("(")) {
+        const Token& paren = next();
+        for (int depth = 1; depth > 0;) {
+          const Token& u = next();
+          if (u.kind == Token::End) fail("'(' is not closed", paren);
+          if (u.is("(")) ++depth;
+          if (u.is(")")) --depth;
+        }
+      }
+      expect("]", "to close the attribute at column " + std::to_string(open.column));
+    }
+  }
+
   void statement() {
+    attributes();
     const Token& t = peek();
     builder().at(t);
     if (t.kind == Token::Directive)
@@ -243,19 +395,23 @@ class FunctionCompiler : public ExpressionParser {
       const std::string_view w = t.text;
       if (w == "if") return if_statement();
       if (w == "return") return return_statement();
-      if (w == "for" || w == "while" || w == "do" || w == "break" || w == "continue")
-        unsupported("loops", file_.path(), t);
+      if (w == "for") return for_statement();
+      if (w == "break" || w == "continue") return jump_statement();
+      if (w == "while" || w == "do") unsupported("while and do loops", file_.path(), t);
       if (w == "switch" || w == "case" || w == "default")
         unsupported("switch statements", file_.path(), t);
       if (w == "discard") unsupported("discard statements", file_.path(), t);
       if (w == "goto") unsupported("goto statements", file_.path(), t);
       if (w == "struct") unsupported("structs", file_.path(), t);
-      if (w == "out" || w == "inout") unsupported("out and inout parameters", file_.path(), t);
+      if (w == "out" || w == "inout") unsupported("out and inout variables", file_.path(), t);
       if (is_declaration_start(t)) return declaration();
-      if (is_assignment(peek(1)) || peek(1).is("++") || peek(1).is("--")) return assignment();
+      if (at_assignment()) return assignment();
+      // A call as a statement: the one place a void function may be called.
+      if (peek(1).is("(")) statement_call_ = &t;
     }
-    if ((t.is("++") || t.is("--")) && peek(1).kind == Token::Ident) return assignment();
+    if (at_assignment()) return assignment();
     expression();
+    statement_call_ = nullptr;
     expect(";", "after the expression");
   }
 
@@ -265,10 +421,11 @@ class FunctionCompiler : public ExpressionParser {
       if (t.is_word(q)) return true;
     if (scalar_type(t.text) || is_vector_type(t.text) || is_texture_type(t.text)) return true;
     // `Name name`: a declaration of a type the subset does not have.
-    return peek(1).kind == Token::Ident && find(t.text) == nullptr;
+    return peek(1).kind == Token::Ident && !locate(t.text);
   }
 
-  // [const] type name [= value] (, name [= value])* ;
+  // [const] type name [= value] (, name [= value])* ; a variable without a value holds none
+  // until assigned.
   void declaration() {
     bool is_const = false;
     while (peek().is_word("const") || peek().is_word("static") || peek().is_word("precise") ||
@@ -287,44 +444,63 @@ class FunctionCompiler : public ExpressionParser {
           fail("'" + std::string(n.text) + "' is already declared in this scope (line " +
                    std::to_string(v.line) + ")",
                n);
-      Value v{builder().constant(std::numeric_limits<double>::quiet_NaN()), type};
+      Variable v{n.text,
+                 {builder().constant(std::numeric_limits<double>::quiet_NaN()), type},
+                 is_const,
+                 n.line,
+                 kUnassigned};
       if (accept("=")) {
-        v = convert(builder(), expression(), type);
+        v.value = convert(builder(), expression(), type);
+        v.defined = kAssigned;
       } else if (is_const) {
         fail("the constant '" + std::string(n.text) + "' needs a value", n);
       }
-      state_.scopes.back().push_back({n.text, v, is_const, n.line});
+      state_.scopes.back().push_back(v);
       if (accept(",")) continue;
       expect(";", "after the declaration");
       return;
     }
   }
 
+  // Whether an assignment or an increment starts here.
+  bool at_assignment() const {
+    if (peek().is("++") || peek().is("--")) return peek(1).kind == Token::Ident;
+    return peek().kind == Token::Ident &&
+           (is_assignment(peek(1)) || peek(1).is("++") || peek(1).is("--"));
+  }
+
   // name op value ; | name++ ; | ++name ;
   void assignment() {
+    assignment_expression();
+    expect(";", "after the assignment");
+  }
+
+  // name op value | name++ | ++name, without what ends it (';', or ',' and ')' in a for's step).
+  void assignment_expression() {
     const bool prefix = peek().is("++") || peek().is("--");
     const Token* op = prefix ? &next() : nullptr;
     const Token& n = next();
     if (!prefix) op = &next();
-    Variable* v = find(n.text);
-    if (v == nullptr) {
+    const std::optional<Slot> slot = locate(n.text);
+    if (!slot) {
       if (const Global* g = file_.global(n.text); g != nullptr && g->kind == Global::Other)
         unsupported(g->what, file_.path(), n);
       if (file_.global(n.text) != nullptr)
         fail("cannot assign to the file-scope constant '" + std::string(n.text) + "'", n);
       fail("unknown variable '" + std::string(n.text) + "'", n);
     }
-    if (v->is_const) fail("cannot assign to the constant '" + std::string(n.text) + "'", n);
+    if (variable(*slot).is_const)
+      fail("cannot assign to the constant '" + std::string(n.text) + "'", n);
     Value value;
     if (op->is("++") || op->is("--")) {
-      value =
-          apply_binary(op->is("++") ? "+" : "-", v->value, {builder().constant(1.0), Type::Int});
+      value = apply_binary(op->is("++") ? "+" : "-", read(variable(*slot), n),
+                           {builder().constant(1.0), Type::Int});
     } else {
       const Value rhs = expression();
-      value = op->is("=") ? rhs : apply_binary(op->text.substr(0, 1), v->value, rhs);
+      value =
+          op->is("=") ? rhs : apply_binary(op->text.substr(0, 1), read(variable(*slot), n), rhs);
     }
-    v->value = convert(builder(), value, v->value.type);
-    expect(";", "after the assignment");
+    assign(*slot, {value, kAssigned});
   }
 
   // if ( condition ) statement [else statement]: both branches run, their variables merge by
@@ -344,14 +520,33 @@ class FunctionCompiler : public ExpressionParser {
       branch();
     }
     ProgramBuilder& b = builder();
+    // A branch where every path has returned leaves the variables to the other.
+    const bool then_returned = is_true(then.returned), else_returned = is_true(state_.returned);
     for (std::size_t s = 0; s < state_.scopes.size(); ++s) {
       for (std::size_t k = 0; k < state_.scopes[s].size(); ++k) {
-        Value& v = state_.scopes[s][k].value;
-        v.reg = b.emit(ProgramOp::Select, c, then.scopes[s][k].value.reg, v.reg);
+        Variable& v = state_.scopes[s][k];
+        const Variable& w = then.scopes[s][k];
+        Held h{v.value, v.defined};
+        if (else_returned && !then_returned) {
+          h = {w.value, w.defined};
+        } else if (!then_returned) {
+          h = pick(c, {w.value, w.defined}, h);
+        }
+        v.value = h.value;
+        v.defined = h.defined;
       }
+    }
+    // The out parameters' values at the returns: from the branches that returned somewhere.
+    for (const std::size_t k : written_) {
+      if (is_false(then.returned)) continue;
+      state_.outs[k] =
+          is_false(state_.returned) ? then.outs[k] : pick(c, then.outs[k], state_.outs[k]);
     }
     state_.result = b.emit(ProgramOp::Select, c, then.result, state_.result);
     state_.returned = b.emit(ProgramOp::Select, c, then.returned, state_.returned);
+    state_.skipped = b.emit(ProgramOp::Select, c, then.skipped, state_.skipped);
+    state_.broken = b.emit(ProgramOp::Select, c, then.broken, state_.broken);
+    state_.continued = b.emit(ProgramOp::Select, c, then.continued, state_.continued);
   }
 
   // A branch's statement in a scope of its own.
@@ -361,21 +556,285 @@ class FunctionCompiler : public ExpressionParser {
     state_.scopes.pop_back();
   }
 
-  // return value ; : the result, unless the function has returned already.
+  // return [value] ; : the result and the out parameters' values, on the paths that have not
+  // returned and not left the loop's iteration.
   void return_statement() {
     const Token& t = next();
-    if (peek().is(";")) fail("return needs a value in function '" + function_name() + "'", t);
-    const Value v = convert(builder(), expression(), result_type_);
+    Value v;
+    if (!result_type_) {
+      if (!peek().is(";"))
+        fail("function '" + function_name() + "' returns void: return takes no value", peek());
+    } else {
+      if (peek().is(";")) fail("return needs a value in function '" + function_name() + "'", t);
+      v = convert(builder(), expression(), *result_type_);
+    }
     expect(";", "after the returned value");
-    state_.result = builder().emit(ProgramOp::Select, state_.returned, state_.result, v.reg);
-    state_.returned = builder().constant(1.0);
+    if (unreachable()) return;
+    ProgramBuilder& b = builder();
+    const Reg skipped = state_.skipped;
+    const bool some_skipped = !is_false(skipped);
+    if (result_type_) {
+      Reg r = b.emit(ProgramOp::Select, state_.returned, state_.result, v.reg);
+      if (some_skipped) r = b.emit(ProgramOp::Select, skipped, state_.result, r);
+      state_.result = r;
+    }
+    for (const std::size_t k : written_) {
+      const Variable& p = state_.scopes[0][k];
+      Held& out = state_.outs[k];
+      Held h = pick(state_.returned, out, {p.value, p.defined});
+      if (is_false(state_.returned)) h = {p.value, p.defined};
+      out = some_skipped ? pick(skipped, out, h) : h;
+    }
+    const Reg one = b.constant(1.0);
+    state_.returned = some_skipped ? b.emit(ProgramOp::Select, skipped, state_.returned, one) : one;
+  }
+
+  // break ; | continue ; : the paths that reach it skip the rest of the loop's iteration (and,
+  // by break, the iterations after it).
+  void jump_statement() {
+    const Token& t = next();
+    const bool is_break = t.is_word("break");
+    expect(";", "after '" + std::string(t.text) + "'");
+    if (loop_scopes_.empty())
+      fail("'" + std::string(t.text) +
+               "' outside a loop (break and continue end a for loop's "
+               "iteration)",
+           t);
+    if (unreachable()) return;
+    ProgramBuilder& b = builder();
+    const Reg one = b.constant(1.0);
+    Reg& flag = is_break ? state_.broken : state_.continued;
+    flag = b.emit(ProgramOp::Select, state_.skipped, flag, one);
+    state_.skipped = one;
+  }
+
+  // The first token at this nesting level of a for's header from `from` that is ';' or the ')'
+  // closing the header.
+  std::size_t header_end(std::size_t from) const {
+    int depth = 0;
+    for (std::size_t i = from;; ++i) {
+      const Token& u = tokens_[i];
+      if (u.kind == Token::End || u.is("{") || u.is("}"))
+        fail("expected ')' to close the '(' of 'for', found " + describe(u), u);
+      if (depth == 0 && (u.is(";") || u.is(")"))) return i;
+      if (u.is("(") || u.is("[")) ++depth;
+      if (u.is(")") || u.is("]")) --depth;
+    }
+  }
+
+  // for ( [declaration | assignment] ; condition ; [assignment (, assignment)*] ) statement,
+  // unrolled: before each iteration the condition must be a constant (so must the loop's
+  // variable be), and the loop may run kMaxLoopIterations times at most.
+  void for_statement() {
+    const Token& t = next();
+    const Nest nest(*this, t);
+    expect("(", "after 'for'");
+    state_.scopes.emplace_back();  // the variables the loop declares
+    bool declares = false;         // the loop's variable is its own
+    if (!accept(";")) {
+      const Token& s = peek();
+      if (s.kind == Token::Ident && is_declaration_start(s)) {
+        declaration();
+        declares = true;
+      } else if (at_assignment()) {
+        assignment();
+      } else {
+        fail("expected a declaration or an assignment to start 'for', found " + describe(s), s);
+      }
+    }
+    const std::size_t condition = position();
+    const std::size_t condition_end = header_end(condition);
+    if (!token_at(condition_end).is(";"))
+      fail("expected ';' after the condition of 'for', found ')'", token_at(condition_end));
+    if (condition_end == condition) {
+      fail(
+          "a for loop needs a condition: loops are unrolled, so their trip count must be a "
+          "constant",
+          token_at(condition));
+    }
+    const std::size_t step = condition_end + 1;
+    const std::size_t body = header_end(step) + 1;
+    if (!token_at(body - 1).is(")"))
+      fail("expected ')' after the step of 'for', found ';'", token_at(body - 1));
+
+    const Reg outer_skipped = state_.skipped, outer_broken = state_.broken,
+              outer_continued = state_.continued;
+    loop_scopes_.push_back(state_.scopes.size() - 1);
+    const bool reachable = !unreachable();
+    ProgramBuilder& b = builder();
+    state_.broken = state_.continued = b.constant(0.0);
+    std::size_t end = 0;  // the body's end, once read
+    bool step_read = false;
+    for (int n = 0;; ++n) {
+      seek(condition);
+      const Token& at = peek();
+      const Value c = expression();
+      expect(";", "after the condition of 'for'");
+      if (!reachable) break;
+      const auto value = b.constant_value(c.reg);
+      if (!value) {
+        // A variable declared before the loop keeps, on the paths that broke, its value at the
+        // break: so it stops being a constant there.
+        const bool hint = !declares && !is_false(state_.broken);
+        fail(
+            "the condition of this for loop is not a constant: loops are unrolled, so their trip "
+            "count must be a constant" +
+                std::string(hint ? " (a loop that breaks on some paths must declare its variable "
+                                   "in its header: for (int i = ...))"
+                                 : ""),
+            at);
+      }
+      if (!ProgramLogic<double>::is_true(*value)) break;
+      if (n == kMaxLoopIterations) {
+        fail("this for loop runs more than " + std::to_string(kMaxLoopIterations) +
+                 " iterations, the most that is unrolled",
+             t);
+      }
+      seek(body);
+      branch();
+      end = position();
+      if (is_true(state_.returned) || is_true(state_.broken)) break;
+      // The paths that continued run the step and the next iteration; those that broke do not.
+      state_.continued = b.constant(0.0);
+      state_.skipped = either(outer_skipped, state_.broken);
+      seek(step);
+      for_step();
+      step_read = true;
+    }
+    if (end == 0 || !step_read) {
+      // What never ran is read for its errors only, on no path.
+      const State kept = state_;
+      state_.returned = b.constant(1.0);
+      seek(step);
+      for_step();
+      seek(body);
+      branch();
+      end = position();
+      state_ = kept;
+    }
+    seek(end);
+    loop_scopes_.pop_back();
+    state_.skipped = outer_skipped;
+    state_.broken = outer_broken;
+    state_.continued = outer_continued;
+    state_.scopes.pop_back();
+  }
+
+  // A for's step: assignments separated by ',', up to its ')'.
+  void for_step() {
+    while (!peek().is(")")) {
+      const Token& s = peek();
+      if (!at_assignment())
+        fail("expected an assignment or an increment in the step of 'for', found " + describe(s),
+             s);
+      assignment_expression();
+      if (!accept(",")) break;
+    }
+    expect(")", "after the step of 'for'");
+  }
+
+  // A call of the file's own function, inlined: in arguments are values; out and inout ones are
+  // variables of the caller, written back after the call in parameter order.
+  Value inline_call(const Token& t) {
+    const std::vector<const FunctionDef*> defs = file_.find(t.text);
+    const std::size_t count = argument_count();
+    const FunctionDef* def = nullptr;
+    for (const FunctionDef* d : defs)
+      if (d->parameters == count) def = def == nullptr ? d : def;
+    if (def == nullptr) {
+      fail(std::string(t.text) + " takes " + std::to_string(defs[0]->parameters) +
+               (defs[0]->parameters == 1 ? " argument" : " arguments") + ", got " +
+               std::to_string(count),
+           t);
+    }
+    FunctionCompiler callee(file_, *def);
+    const std::vector<Parameter> params = callee.parameters();
+    std::vector<Held> args;
+    std::vector<Slot> slots(params.size());
+    arguments(t, [&](int i) {
+      const auto k = static_cast<std::size_t>(i);
+      if (k < params.size() && params[k].mode != Mode::In) {
+        const Token& a = peek();
+        slots[k] = out_argument(params[k], t);
+        const Variable& v = variable(slots[k]);
+        // An inout argument is read: one that holds no value is an error here.
+        if (params[k].mode == Mode::InOut) (void)read(v, a);
+        args.push_back({v.value, v.defined});
+      } else {
+        args.push_back({expression(), kAssigned});
+      }
+    });
+    next();
+    const bool is_void = !callee.result_type();
+    if (is_void && !(&t == statement_call_ && peek().is(";"))) {
+      fail("function '" + std::string(t.text) +
+               "' returns void: its call is a statement of its own, not a value",
+           t);
+    }
+    auto& calls = file_.calls;
+    if (std::find(calls.begin(), calls.end(), t.text) != calls.end()) {
+      std::string chain;
+      for (auto it = std::find(calls.begin(), calls.end(), t.text); it != calls.end(); ++it)
+        chain += std::string(*it) + " -> ";
+      fail("recursion is not supported (" + chain + std::string(t.text) +
+               "); the reference subset is listed in docs/reference.md",
+           t);
+    }
+    const Nest nest(*this, t);
+    calls.push_back(t.text);
+    const CallResult r = callee.run(args, params);
+    calls.pop_back();
+    for (std::size_t k = 0; k < params.size(); ++k)
+      if (params[k].mode != Mode::In) assign(slots[k], r.outs[k]);
+    return r.result;
+  }
+
+  // The arguments of the call whose '(' is the current token, counted by their commas.
+  std::size_t argument_count() const {
+    std::size_t i = position() + 1, count = 0;
+    int depth = 0;
+    for (; tokens_[i].kind != Token::End; ++i) {
+      const Token& u = tokens_[i];
+      if (depth == 0 && u.is(")")) break;
+      if (u.is("(") || u.is("[") || u.is("{")) ++depth;
+      if (u.is(")") || u.is("]") || u.is("}")) --depth;
+      if (depth == 0 && u.is(",")) ++count;
+      if (count == 0) count = 1;
+    }
+    return count;
+  }
+
+  // An out or inout argument: a variable of the caller, one name alone.
+  Slot out_argument(const Parameter& p, const Token& callee) {
+    const Token& a = peek();
+    const std::string what = "the " + mode_name(p.mode) + " parameter '" +
+                             std::string(p.name->text) + "' of " + std::string(callee.text);
+    if (a.kind == Token::Ident && (peek(1).is(",") || peek(1).is(")"))) {
+      if (const auto slot = locate(a.text)) {
+        if (variable(*slot).is_const)
+          fail("cannot pass the constant '" + std::string(a.text) + "' to " + what, a);
+        next();
+        return *slot;
+      }
+      if (const Global* g = file_.global(a.text)) {
+        if (g->kind == Global::Other) unsupported(g->what, file_.path(), a);
+        fail("cannot pass the file-scope constant '" + std::string(a.text) + "' to " + what, a);
+      }
+      if (!a.is_word("true") && !a.is_word("false")) (void)name(a);  // unknown: its message
+    }
+    fail(what + " writes its argument: it must be a variable (a local or a parameter), found " +
+             describe(a),
+         a);
   }
 
   ShaderFile& file_;
   const FunctionDef& f_;
   std::span<const Token> tokens_;
   State state_;
-  Type result_type_ = Type::Float;
+  std::optional<Type> result_type_;
+  std::vector<std::size_t> written_;       // the out and inout parameters
+  std::vector<std::size_t> loop_scopes_;   // the scope of each enclosing loop's variables
+  const Token* statement_call_ = nullptr;  // the call that is a statement of its own
 };
 
 }  // namespace
@@ -413,6 +872,14 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
   const std::vector<Parameter> params = compiler.parameters();
   std::vector<std::string> param_names;
   for (const Parameter& p : params) {
+    if (p.mode != Mode::In) {
+      fail_at("parameter '" + std::string(p.name->text) + "' of " + wanted + " is " +
+                  mode_name(p.mode) +
+                  ": the reference's parameters are its inputs and its one result is the float "
+                  "it returns (call " +
+                  wanted + " from a function that returns the value)",
+              file.path(), *p.qualifier);
+    }
     if (p.type != Type::Float) {
       fail_at("parameter '" + std::string(p.name->text) +
                   "' is not a float: the function's parameters are the reference's variables "
@@ -437,14 +904,14 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
     program.inputs.push_back(order[i]);
     out.inputs.push_back(b.input(static_cast<int>(i)));
   }
-  std::vector<Value> args;
+  std::vector<Held> args;
   for (const std::string& p : param_names) {
     const auto k =
         static_cast<std::size_t>(std::find(order.begin(), order.end(), p) - order.begin());
-    args.push_back({out.inputs[k], Type::Float});
+    args.push_back({{out.inputs[k], Type::Float}, kAssigned});
   }
   file.calls.push_back(file.name_of(def));
-  out.result = compiler.run(args, params).reg;
+  out.result = compiler.run(args, params).result.reg;
   return out;
 }
 

@@ -1,7 +1,8 @@
 // A GLSL or HLSL source as the shader front end sees it (internal to src/reference/): its tokens,
 // its functions (found by shape, their bodies read only when the reference calls them), its
 // file-scope constants and object-like macros (evaluated when first used), and the other
-// file-scope names, kept so that using one is a clear error.
+// file-scope names, kept so that using one is a clear error. The tokens are the preprocessor's
+// (language_shader_preprocessor.hpp): conditional groups resolved, function-like macros expanded.
 #pragma once
 
 #include <deque>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "language_internal.hpp"
+#include "language_shader_preprocessor.hpp"
 
 namespace shaderfit::reference_detail {
 
@@ -47,12 +49,13 @@ struct Global {
   int order = 0;  // declaration order: a value may use the names declared before it
   std::optional<Value> value;
   bool evaluating = false;
+  std::optional<Error> error;  // Macro: why its value cannot be read, raised where it is used
 };
 
 class ShaderFile {
  public:
-  // Reads the source: throws for a preprocessor directive outside the subset, an unclosed
-  // brace, or a malformed token.
+  // Reads the source: throws for a preprocessor line outside the subset or in error (see
+  // preprocess()), an unclosed brace, or a malformed token.
   ShaderFile(const ReferenceText& text, ProgramBuilder& builder);
   ShaderFile(const ShaderFile&) = delete;
   ShaderFile& operator=(const ShaderFile&) = delete;
@@ -77,14 +80,15 @@ class ShaderFile {
 
  private:
   void scan();
-  void directive(const Token& t);
+  void macro_line(const MacroLine& line);
   void declaration(std::size_t begin, std::size_t end);
   std::size_t matching(std::size_t open) const;  // the '}' or ')' closing tokens_[open]
   void add(const std::string& name, Global g);
 
   std::string path_;
   std::vector<Token> tokens_;
-  std::deque<std::vector<Token>> macro_tokens_;
+  std::vector<MacroLine> macro_lines_;           // object-like macros, in order with the tokens
+  std::deque<std::vector<Token>> macro_tokens_;  // their values
   std::vector<FunctionDef> functions_;
   std::map<std::string, Global, std::less<>> globals_;
 };

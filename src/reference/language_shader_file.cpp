@@ -1,5 +1,5 @@
-// Reading a shader source's file scope (language_shader.hpp): preprocessor lines, functions,
-// constants and the declarations the subset leaves out.
+// Reading a shader source's file scope (language_shader.hpp): the preprocessed tokens, functions,
+// constants and object-like macros, and the declarations the subset leaves out.
 #include <algorithm>
 #include <cctype>
 
@@ -91,9 +91,11 @@ bool is_texture_function(std::string_view name) {
 }
 
 ShaderFile::ShaderFile(const ReferenceText& text, ProgramBuilder& b)
-    : builder(b),
-      path_(text.shader_path.empty() ? "shader" : text.shader_path),
-      tokens_(tokenize(text.shader_source, Dialect::Shader, path_)) {
+    : builder(b), path_(text.shader_path.empty() ? "shader" : text.shader_path) {
+  PreprocessedSource source = preprocess(text.shader_source, path_);
+  tokens_ = std::move(source.tokens);
+  macro_lines_ = std::move(source.macro_lines);
+  macro_tokens_ = std::move(source.storage);  // moves the vectors whole: the values' spans hold
   scan();
 }
 
@@ -132,17 +134,19 @@ std::size_t ShaderFile::matching(std::size_t open) const {
   fail_at("'" + std::string(o) + "' is not closed", path_, tokens_[open]);
 }
 
-// File scope: directives, functions (`type name(parameters) [: semantic] { body }`), and
-// declarations up to their ';' (structs, cbuffers and interface blocks with their braces).
+// File scope: functions (`type name(parameters) [: semantic] { body }`), declarations up to
+// their ';' (structs, cbuffers and interface blocks with their braces), and the object-like
+// macros' lines in order with them, so that a value may use the names declared before it.
 void ShaderFile::scan() {
-  std::size_t i = 0;
-  while (tokens_[i].kind != Token::End) {
+  std::size_t i = 0, line = 0;
+  auto macros_before = [&](std::size_t position) {
+    for (; line < macro_lines_.size() && macro_lines_[line].position <= position; ++line)
+      macro_line(macro_lines_[line]);
+  };
+  while (true) {
+    macros_before(i);
+    if (tokens_[i].kind == Token::End) break;
     const Token& t = tokens_[i];
-    if (t.kind == Token::Directive) {
-      directive(t);
-      ++i;
-      continue;
-    }
     if (t.is(";")) {
       ++i;
       continue;
@@ -156,7 +160,6 @@ void ShaderFile::scan() {
     while (!done) {
       const Token& u = tokens_[i];
       if (u.kind == Token::End) fail_at("expected ';' to end this declaration", path_, t);
-      if (u.kind == Token::Directive) fail_at("a preprocessor line inside a declaration", path_, u);
       if (u.is("[")) ++bracket;
       if (u.is("]")) --bracket;
       if ((u.is("=") || u.is(":")) && bracket == 0) saw_equals = true;
@@ -199,7 +202,10 @@ void ShaderFile::scan() {
         continue;
       }
       if (u.is(";")) {
-        if (!function_shape) declaration(begin, i);
+        if (!function_shape) {
+          macros_before(i);  // a macro defined inside the declaration comes before it
+          declaration(begin, i);
+        }
         done = true;
       }
       ++i;
@@ -285,6 +291,7 @@ class ConstantParser : public ExpressionParser {
 
 Value ShaderFile::global_value(Global& g, const Token& use) {
   if (g.kind == Global::Other) unsupported(g.what, path_, use);
+  if (g.error) throw *g.error;
   if (g.value) return *g.value;
   if (g.evaluating)
     fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);
@@ -306,41 +313,24 @@ Value ShaderFile::global_value(Global& g, const Token& use) {
   return v;
 }
 
-// #version, #extension and #pragma are ignored; #define NAME value makes a constant.
-void ShaderFile::directive(const Token& t) {
-  const std::string_view text = t.text;
-  std::size_t p = 0;
-  while (p < text.size() && (text[p] == ' ' || text[p] == '\t')) ++p;
-  std::size_t q = p;
-  while (q < text.size() && std::isalnum(static_cast<unsigned char>(text[q])) != 0) ++q;
-  const std::string_view word = text.substr(p, q - p);
-  if (word.empty() || word == "version" || word == "extension" || word == "pragma") return;
-  if (word != "define") {
-    fail_at("preprocessor directive #" + std::string(word) +
-                " is not supported (only #define NAME value, #version, #extension and #pragma); "
-                "the reference subset is listed in docs/reference.md",
-            path_, t);
-  }
-  // Tokens of the rest of the line, at their own columns ('#' is at t.column - 1).
-  const std::vector<Token>& rest = macro_tokens_.emplace_back(
-      tokenize(text.substr(q), Dialect::Shader, path_, t.line, t.column + 1 + static_cast<int>(q)));
-  if (rest[0].kind != Token::Ident) fail_at("#define needs a name", path_, rest[0]);
-  const Token& name = rest[0];
-  const bool function_like = rest[1].is("(") &&
-                             rest[1].column == name.column + static_cast<int>(name.text.size()) &&
-                             rest[1].line == name.line;
-  if (function_like) {
-    fail_at("function-like macros are not supported (#define " + std::string(name.text) +
-                "(...)); the reference subset is listed in docs/reference.md",
-            path_, name);
-  }
-  if (rest[1].kind == Token::End) {
-    add(std::string(name.text), Global{Global::Other, "macros without a value", name});
+// An object-like macro's #define makes a constant (an error where used when it has no value);
+// the end of one that was never used removes it.
+void ShaderFile::macro_line(const MacroLine& line) {
+  const std::string name(line.name.text);
+  if (line.undefine) {
+    const Global* g = global(name);
+    if (g != nullptr && g->at.line == line.name.line && g->at.column == line.name.column)
+      globals_.erase(name);
     return;
   }
-  Global g{Global::Macro, "", name};
-  g.value_tokens = std::span<const Token>(rest).subspan(1);
-  add(std::string(name.text), std::move(g));
+  if (!line.has_value) {
+    add(name, Global{Global::Other, "macros without a value", line.name});
+    return;
+  }
+  Global g{Global::Macro, "", line.name};
+  g.value_tokens = line.value;
+  g.error = line.error;
+  add(name, std::move(g));
 }
 
 }  // namespace shaderfit::reference_detail

@@ -5,9 +5,12 @@
 #include <cstdint>
 #include <functional>
 #include <optional>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/parse.hpp"
 
 namespace shaderfit::reference {
 
@@ -23,6 +26,23 @@ Op same_operator(ProgramOp op) {
   }
   return Op::Count_;
 }
+
+// The C functions the operators lack but write exactly in real arithmetic, as formulas of their
+// operands x and y.
+constexpr std::pair<ProgramOp, std::string_view> kIdentities[] = {
+    {ProgramOp::Tan, "sin(x) / cos(x)"},
+    {ProgramOp::Cbrt, "copysign(pow(abs(x), 0.333333333333333333), x)"},
+    {ProgramOp::Log10, "log2(x) * 0.301029995663981195"},
+    {ProgramOp::Log1p, "log(1 + x)"},
+    {ProgramOp::Expm1, "exp(x) - 1"},
+    {ProgramOp::Sinh, "(exp(x) - exp(-x)) * 0.5"},
+    {ProgramOp::Cosh, "(exp(x) + exp(-x)) * 0.5"},
+    {ProgramOp::Asinh, "log(x + sqrt(x^2 + 1))"},
+    {ProgramOp::Acosh, "log(x + sqrt(x^2 - 1))"},
+    {ProgramOp::Atanh, "log((1 + x) / (1 - x)) * 0.5"},
+    {ProgramOp::Erfc, "1 - erf(x)"},
+    {ProgramOp::Hypot, "sqrt(x^2 + y^2)"},
+};
 
 // Writes register r's value as postfix nodes, operands first; false (with `why`) where the
 // operators cannot write it.
@@ -86,42 +106,29 @@ class FormulaWriter {
   std::string why;
 
  private:
-  // The C functions the operators lack but write exactly in real arithmetic (tan = sin / cos,
-  // cbrt = copysign(|x|^(1/3), x), log10, log1p, expm1, sinh, cosh, asinh, acosh, atanh, erfc,
-  // hypot), postfix with `x` (and `y`) the operands; nullopt for any other op, else whether
-  // the operands could be written.
+  // The C functions the operators lack but write exactly in real arithmetic, in them; nullopt
+  // for any other op, else whether the operands could be written.
   std::optional<bool> identity(const Instruction& in) {
-    std::string_view postfix;
-    switch (in.op) {
-      case ProgramOp::Tan: postfix = "x sin x cos /"; break;
-      case ProgramOp::Cbrt: postfix = "x abs 0.333333333333333333 pow x copysign"; break;
-      case ProgramOp::Log10: postfix = "x log2 0.301029995663981195 *"; break;
-      case ProgramOp::Log1p: postfix = "1 x + log"; break;
-      case ProgramOp::Expm1: postfix = "x exp 1 -"; break;
-      case ProgramOp::Sinh: postfix = "x exp x neg exp - 0.5 *"; break;
-      case ProgramOp::Cosh: postfix = "x exp x neg exp + 0.5 *"; break;
-      case ProgramOp::Asinh: postfix = "x x 2 ipow 1 + sqrt + log"; break;
-      case ProgramOp::Acosh: postfix = "x x 2 ipow 1 - sqrt + log"; break;
-      case ProgramOp::Atanh: postfix = "1 x + 1 x - / log 0.5 *"; break;
-      case ProgramOp::Erfc: postfix = "1 x erf -"; break;
-      case ProgramOp::Hypot: postfix = "x 2 ipow y 2 ipow + sqrt"; break;
-      default: return std::nullopt;
-    }
-    std::size_t at = 0;
-    while (at < postfix.size()) {
-      std::size_t end = postfix.find(' ', at);
-      if (end == std::string_view::npos) end = postfix.size();
-      const std::string_view w = postfix.substr(at, end - at);
-      at = end + 1;
-      if (w == "x" || w == "y") {
-        if (!write(in.operands[w == "x" ? 0 : 1])) return false;
-      } else if (w == "ipow") {  // the exponent, pushed as a constant, becomes the power
-        nodes.back() = Node::ipow(static_cast<int>(nodes.back().value));
-      } else if (std::isdigit(static_cast<unsigned char>(w[0])) != 0) {
-        nodes.push_back(Node::constant(std::stod(std::string(w))));
-      } else {
-        nodes.push_back(Node::op_node(w == "neg" ? Op::Neg : op_from_name(w)));
+    for (const auto& [op, text] : kIdentities)
+      if (op == in.op)
+        return formula(text, [&] { return write(in.operands[0]); },
+                       [&] { return write(in.operands[1]); });
+    return std::nullopt;
+  }
+
+  // Writes `text`, a formula of x and y, with x and y written by the writers given.
+  using Writer = std::function<bool()>;
+  bool formula(std::string_view text, const Writer& x, const Writer& y = {}) {
+    ParseOptions o;
+    o.variables = {"x", "y"};
+    const Expression e = parse_formula(std::string(text), o);
+    for (Node n : e.nodes) {
+      if (n.op == Op::Var) {
+        if (!(n.index == 0 ? x() : y())) return false;
+        continue;
       }
+      n.length = 0;
+      nodes.push_back(n);
     }
     return true;
   }
@@ -171,7 +178,6 @@ class FormulaWriter {
   // such a select). A comparison of x and y is a select(s, ., .) (s >= 0 picks the first):
   // x >= y is x - y >= 0, x <= y is y - x >= 0, x < y and x > y their negations. The others
   // are written as selects of these, each branch written where it is taken.
-  using Writer = std::function<bool()>;
   bool choose(std::uint32_t truth, const Writer& a, const Writer& b) {
     const Instruction& c = p_.code[truth];
     const auto operand = [&](int k) { return c.operands[static_cast<std::size_t>(k)]; };
@@ -195,9 +201,7 @@ class FormulaWriter {
       case ProgramOp::NotEqual: {
         // x == y is -|x - y| >= 0 (NaN takes the second branch, as x == NaN is false).
         const bool eq = c.op == ProgramOp::Equal;
-        if (!difference(operand(0), operand(1))) return false;
-        nodes.push_back(Node::op_node(Op::Abs));
-        nodes.push_back(Node::op_node(Op::Neg));
+        if (!formula("-abs(x)", [&] { return difference(operand(0), operand(1)); })) return false;
         if (!(eq ? a() : b()) || !(eq ? b() : a())) return false;
         nodes.push_back(Node::op_node(Op::Select));
         return true;

@@ -37,8 +37,9 @@ struct Syntax {
   // Whether a newline starts a new line; false: the text is one line of its source, whose columns
   // count from the text's start whatever it holds.
   bool count_lines = true;
-  // C's comments, and preprocessor lines (a '#' first on its line, to the line's end, a backslash
-  // before the newline continuing it) as Directive tokens.
+  // C's comments, a backslash before a newline joining the two lines, and preprocessor lines (a
+  // '#' first on its line, to the line's end, a comment or a joined line continuing it) as
+  // Directive tokens.
   bool c_comments = false;
   // C's hexadecimal (0x1F) and octal (017) integers and literal suffixes (f F h H lf LF u U).
   bool c_literals = false;
@@ -62,12 +63,17 @@ class Lexer {
         int column = 1);
 
   Token next();
+  // A preprocessor's skipped group, called after a Directive token: moves past the text, not
+  // reading it as tokens, to the next line whose first token is a directive (which next() returns)
+  // or to the end. The text may hold anything; a '#' in a comment does not start a line.
+  void skip_to_directive();
 
  private:
   [[noreturn]] void fail(const std::string& message, int line, int column) const;
   void advance();
   void skip_blanks();
   void directive(Token& t);
+  void skip_block_comment();
   void number(Token& t);
   void integer(Token& t, std::size_t start, int base, int column);
   void suffix(Token& t);

@@ -360,6 +360,20 @@ constexpr bool absorbs_non_finite(Op op, int index) {
   }
 }
 
+// Two calls of f that one call does: f(a) outer f(b) = f(a inner b) in real arithmetic wherever
+// the left side is finite (there a and b are in f's domain). The simplifier's merge_calls
+// (expr/simplify.hpp); pow with one exponent is there too.
+struct CallMerge {
+  Op call;
+  Op outer;
+  Op inner;
+};
+inline constexpr CallMerge kCallMerges[] = {
+    {Op::Rcp, Op::Mul, Op::Mul},  {Op::Sqrt, Op::Mul, Op::Mul}, {Op::Rsqrt, Op::Mul, Op::Mul},
+    {Op::Exp2, Op::Mul, Op::Add}, {Op::Exp, Op::Mul, Op::Add},  {Op::Exp2, Op::Div, Op::Sub},
+    {Op::Exp, Op::Div, Op::Sub},  {Op::Log2, Op::Add, Op::Mul}, {Op::Log, Op::Add, Op::Mul},
+};
+
 // The unary operators by name (a switch over the table, each case unary_value).
 template <typename T>
 SF_OP_INLINE T apply_unary(Op op, T a) {

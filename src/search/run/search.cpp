@@ -1,5 +1,7 @@
 #include "shaderfit/search/search.hpp"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -26,7 +28,6 @@
 #include "search/starts/uniform_starts.hpp"
 #include "shaderfit/cost/per_material.hpp"
 #include "shaderfit/eval/evaluate_in.hpp"
-#include "shaderfit/expr/print.hpp"
 
 namespace shaderfit {
 
@@ -386,7 +387,7 @@ std::string reference_off_front(const SearchOptions& options, const SearchProble
   std::string at;
   for (std::size_t c = 0; c < problem.inputs.size(); ++c)
     at += (c == 0 ? "" : ", ") + problem.input_names[c] + " = " +
-          format_number(problem.inputs[c][*row]);
+          fmt::format("{:g}", problem.inputs[c][*row]);
   return (result ? "it is not finite at " : "a part of it is not finite at ") + at +
          " (on a GPU pow(0, 0) and 0 / 0 are NaN)";
 }
