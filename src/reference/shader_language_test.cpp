@@ -6,36 +6,16 @@
 #include <numbers>
 
 #include "shaderfit/core/error.hpp"
+#include "reference/shader_test_util.hpp"
 #include "shaderfit/reference/language.hpp"
 
 namespace shaderfit::reference {
 namespace {
 
-Program shader(const std::string& source, const std::string& function,
-               std::vector<std::string> variables = {}, const std::string& path = "test.glsl") {
-  ReferenceText t;
-  t.shader_source = source;
-  t.shader_path = path;
-  t.function = function;
-  t.variables = std::move(variables);
-  return compile_reference(t);
-}
-
-Error shader_error(const std::string& source, const std::string& function = "f") {
-  try {
-    (void)shader(source, function);
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "compiled:\n" << source;
-  return Error("");
-}
-
-// "line:column: message" of the error, without the path.
-std::string located(const Error& e) {
-  return std::to_string(e.where().line) + ":" + std::to_string(e.where().column) + ": " +
-         e.message();
-}
+using testing::at;
+using testing::located;
+using testing::shader;
+using testing::shader_error;
 
 double smith_g1(double v, double roughness) {
   const double a2 = std::pow(roughness, 4);
@@ -213,9 +193,7 @@ float f(float x) {
 }
 
 TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
-  auto body = [](const std::string& statements) {
-    return "float f(float x) {\n  float y = x;\n  " + statements + "\n  return y;\n}\n";
-  };
+  const auto body = testing::function_with;
   const std::string more = "; the reference subset is listed in docs/reference.md";
   EXPECT_EQ(located(shader_error(body("while (y < 1.0) y *= 2.0;"))),
             "3:3: while and do loops are not supported (while)" + more);

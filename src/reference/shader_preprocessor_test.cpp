@@ -9,37 +9,17 @@
 
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "reference/shader_test_util.hpp"
 #include "shaderfit/reference/language.hpp"
 #include "shaderfit/reference/program_formula.hpp"
 
 namespace shaderfit::reference {
 namespace {
 
-Program shader(const std::string& source, const std::string& function = "f") {
-  ReferenceText t;
-  t.shader_source = source;
-  t.shader_path = "test.glsl";
-  t.function = function;
-  return compile_reference(t);
-}
-
-Error shader_error(const std::string& source, const std::string& function = "f") {
-  try {
-    (void)shader(source, function);
-  } catch (const Error& e) {
-    return e;
-  }
-  ADD_FAILURE() << "compiled:\n" << source;
-  return Error("");
-}
-
-// "line:column: message" of the error, without the path.
-std::string located(const Error& e) {
-  return std::to_string(e.where().line) + ":" + std::to_string(e.where().column) + ": " +
-         e.message();
-}
-
-double at(const Program& p, std::vector<double> x) { return p.evaluate(x); }
+using testing::at;
+using testing::located;
+using testing::shader;
+using testing::shader_error;
 
 const std::string kMore = "; the reference subset is listed in docs/reference.md";
 
