@@ -466,7 +466,7 @@ inline float f(in float x, const float y)
 }
 float precise_mul(float a, float b) { precise float r = a * b; return r; }
 )",
-                           "f", "attrs.hlsl");
+                           "f", {}, "attrs.hlsl");
   EXPECT_EQ(at(p, {0.75, 0.5}), 1.5);
   EXPECT_EQ(at(p, {0.125, 0.5}), 0.5);
   EXPECT_EQ(at(p, {0.375, 0.5}), (0.375 + 2.0) * 0.5);
