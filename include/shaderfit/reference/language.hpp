@@ -16,11 +16,13 @@
 //             comparison (the same except where X - Y is NaN).
 //   shader:   one function of a GLSL or HLSL source: float (or half, double) parameters and
 //             return value, local variables, assignments (= += -= *= /=), if / else, return
-//             anywhere, ?:, calls of the other functions of the same file (inlined), and the
-//             shading languages' built-ins (saturate, mix, lerp, smoothstep, step, clamp, fract,
-//             frac, mod, fmod, rsqrt, inversesqrt, rcp, radians, degrees, exp2, log2, pow, ...).
-//             Loops, vectors and matrices, textures, out parameters, recursion and anything else
-//             outside this subset is an Error at its line and column.
+//             anywhere, ?:, calls of the other functions of the same file (inlined; out and
+//             inout arguments), for loops with a constant trip count (unrolled), the
+//             preprocessor (#define with arguments, #if / #ifdef), and the shading languages'
+//             built-ins (saturate, mix, lerp, smoothstep, step, clamp, fract, frac, mod, fmod,
+//             rsqrt, inversesqrt, rcp, radians, degrees, exp2, log2, pow, ...). while and do
+//             loops, vectors and matrices, textures, #include, recursion and anything else
+//             outside this subset is an Error at its line and column (docs/reference.md).
 //
 //   ReferenceText t;
 //   t.formula = "2.5 * sqrt((a - b)^2 + c^2)";
