@@ -94,14 +94,19 @@ Value ExpressionParser::expression() {
 int ExpressionParser::precedence(const Token& t) {
   if (dialect_ == Dialect::Shader && is_bitwise(t))
     fail("bitwise operators are not supported ('" + std::string(t.text) + "')", t);
+  return c_binary_precedence(t);
+}
+
+int c_binary_precedence(const Token& t) {
   if (t.kind != Token::Symbol) return 0;
   const std::string_view s = t.text;
   if (s == "||") return 1;
   if (s == "&&") return 2;
   if (s == "==" || s == "!=") return 3;
   if (s == "<" || s == "<=" || s == ">" || s == ">=") return 4;
-  if (s == "%") return kMultiplicative;
-  return ExpressionGrammar::precedence(t);
+  if (s == "+" || s == "-") return ExpressionGrammar<Value>::kAdditive;
+  if (s == "*" || s == "/" || s == "%") return ExpressionGrammar<Value>::kMultiplicative;
+  return 0;
 }
 
 Value ExpressionParser::binary_op(const Token& op, Value a, Value b) {

@@ -154,6 +154,11 @@ Value convert(ProgramBuilder& b, Value v, Type to);
 // `^` with any exponent, C casts and types in shaders, and the function library; it emits
 // instructions as it goes. The front ends resolve names and calls of their own (variables,
 // definitions, locals, the shader's functions) through the virtual functions.
+// The binding strength of C's binary operators that the reference language reads (|| 1, && 2,
+// == != 3, < <= > >= 4, + - and * / % as the formula grammar's); 0 for any other token. The
+// shader expressions and the preprocessor's #if both read them so.
+int c_binary_precedence(const Token& t);
+
 class ExpressionParser : public ExpressionGrammar<Value> {
  public:
   ExpressionParser(std::span<const Token> tokens, std::size_t position, ProgramBuilder& builder,

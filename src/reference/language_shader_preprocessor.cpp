@@ -94,17 +94,7 @@ class IfExpression {
   const Token& peek() const { return tokens_[pos_]; }
   const Token& next() { return tokens_[pos_ + 1 < tokens_.size() ? pos_++ : pos_]; }
 
-  static int precedence(const Token& t) {
-    if (t.kind != Token::Symbol) return 0;
-    const std::string_view s = t.text;
-    if (s == "||") return 1;
-    if (s == "&&") return 2;
-    if (s == "==" || s == "!=") return 3;
-    if (s == "<" || s == ">" || s == "<=" || s == ">=") return 4;
-    if (s == "+" || s == "-") return 5;
-    if (s == "*" || s == "/" || s == "%") return 6;
-    return 0;
-  }
+  static int precedence(const Token& t) { return c_binary_precedence(t); }
   // C's operators that #if leaves out here (bitwise ones, ?:, assignments, ...).
   static bool is_c_operator(const Token& t) {
     return t.kind == Token::Symbol && !t.is("(") && !t.is(")") && !t.is(",");
