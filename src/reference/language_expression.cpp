@@ -1,6 +1,7 @@
 // The reference language's expression parser: expr/grammar.hpp's grammar extended with C's
 // operators and types, the general `^` and the function library, emitting instructions as it goes
 // (language_internal.hpp); and the lexer's settings for its two dialects.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -31,7 +32,37 @@ Type arithmetic_type(Value a, Value b) {
   return a.type != Type::Float && b.type != Type::Float ? Type::Int : Type::Float;
 }
 
+// Component i of v, a scalar standing for each component of a vector.
+Value part(const Value& v, int i) { return {v.component(v.width == 1 ? 0 : i), v.type}; }
+
+// A swizzle's component index for one letter (x y z w, r g b a, s t p q); -1 for others.
+int swizzle_index(char c, std::string_view set) {
+  const auto k = set.find(c);
+  return k == std::string_view::npos ? -1 : static_cast<int>(k);
+}
+constexpr std::string_view kSwizzleSets[] = {"xyzw", "rgba", "stpq"};
+
 }  // namespace
+
+bool is_swizzle(std::string_view member) {
+  if (member.empty() || member.size() > static_cast<std::size_t>(kMaxWidth)) return false;
+  for (const std::string_view set : kSwizzleSets) {
+    bool all = true;
+    for (const char c : member) all = all && swizzle_index(c, set) >= 0;
+    if (all) return true;
+  }
+  return false;
+}
+
+std::vector<int> swizzle_components(std::string_view member) {
+  std::vector<int> out;
+  for (const std::string_view set : kSwizzleSets) {
+    out.clear();
+    for (const char c : member) out.push_back(swizzle_index(c, set));
+    if (std::find(out.begin(), out.end(), -1) == out.end()) return out;
+  }
+  return {};
+}
 
 const Syntax& syntax(Dialect dialect) {
   static const Syntax formula{kFormulaSymbols};
@@ -64,9 +95,6 @@ void ExpressionParser::consumed(const Token& t) {
   if (t.kind != Token::End) b_.at(t);
 }
 
-std::optional<Value> ExpressionParser::own_call(const Token&, std::span<const Value>) {
-  return std::nullopt;
-}
 
 std::string ExpressionParser::unknown_function(const Token& name) {
   const std::vector<std::string> known =
@@ -85,8 +113,13 @@ Value ExpressionParser::expression() {
   const Value a = expression();
   expect(":", "after the first branch of '?' at column " + std::to_string(question.column));
   const Value b = expression();
-  const Type t = a.type == b.type ? a.type : Type::Float;
-  return {b_.emit(ProgramOp::Select, c.reg, a.reg, b.reg), t};
+  if (c.width != 1) fail("the condition of '?' is a " + shape_name(c.shape()) + ", not a scalar", question);
+  if (a.width != 1 && b.width != 1 && a.width != b.width) {
+    fail("the branches of '?' have different sizes (" + shape_name(a.shape()) + " and " +
+             shape_name(b.shape()) + ")",
+         question);
+  }
+  return select(b_, c.reg, a, b);
 }
 
 // The formula's + - * / and C's other binary operators; in shaders, bitwise operators are an
@@ -110,10 +143,32 @@ int c_binary_precedence(const Token& t) {
 }
 
 Value ExpressionParser::binary_op(const Token& op, Value a, Value b) {
-  return apply_binary(op.text, a, b);
+  return apply_binary(op, op.text, a, b);
 }
 
-Value ExpressionParser::apply_binary(std::string_view s, Value a, Value b) {
+Value ExpressionParser::apply_binary(const Token& at, std::string_view s, Value a, Value b) {
+  if (a.width == 1 && b.width == 1) return scalar_binary(s, a, b);
+  const bool arithmetic = s == "+" || s == "-" || s == "*" || s == "/" || s == "%";
+  if (!arithmetic) {
+    fail("'" + std::string(s) + "' of vectors is not supported (compare or combine their components)",
+         at);
+  }
+  if (a.width != 1 && b.width != 1 && a.width != b.width) {
+    fail("'" + std::string(s) + "' of vectors of different sizes (" + shape_name(a.shape()) +
+             " and " + shape_name(b.shape()) + ")",
+         at);
+  }
+  Value out;
+  out.width = std::max(a.width, b.width);
+  for (int i = 0; i < out.width; ++i) {
+    const Value r = scalar_binary(s, part(a, i), part(b, i));
+    out.set_component(i, r.reg);
+    out.type = r.type;
+  }
+  return out;
+}
+
+Value ExpressionParser::scalar_binary(std::string_view s, Value a, Value b) {
   auto bin = [&](ProgramOp o) { return b_.emit(o, a.reg, b.reg); };
   if (s == "||") return {bin(ProgramOp::Or), Type::Bool};
   if (s == "&&") return {bin(ProgramOp::And), Type::Bool};
@@ -141,12 +196,19 @@ std::optional<Value> ExpressionParser::prefix() {
              " not supported ('" + std::string(peek().text) + "')",
          peek());
   }
-  if (accept("!")) return Value{b_.emit(ProgramOp::Not, unary().reg), Type::Bool};
+  if (peek().is("!")) {
+    const Token& bang = next();
+    const Value v = unary();
+    if (v.width != 1) fail("'!' of a vector is not supported (negate its components)", bang);
+    return Value{b_.emit(ProgramOp::Not, v.reg), Type::Bool};
+  }
   return std::nullopt;
 }
 
 Value ExpressionParser::negate(Value v) {
-  return {b_.emit(ProgramOp::Neg, v.reg), v.type == Type::Bool ? Type::Int : v.type};
+  for (int i = 0; i < v.width; ++i) v.set_component(i, b_.emit(ProgramOp::Neg, v.component(i)));
+  if (v.type == Type::Bool) v.type = Type::Int;
+  return v;
 }
 
 // In shaders, an integer literal is an int.
@@ -192,15 +254,99 @@ std::optional<std::int32_t> ExpressionParser::integer_literal(std::size_t begin,
   return static_cast<std::int32_t>(k);
 }
 
-// A C-style cast in shaders, (float)x.
+// A C-style cast in shaders, (float)x, (float3)x.
 std::optional<Value> ExpressionParser::special_primary() {
   if (!(peek().is("(") && dialect_ == Dialect::Shader && peek(1).kind == Token::Ident &&
-        scalar_type(peek(1).text) && peek(2).is(")")))
+        shader_type(peek(1).text) && peek(2).is(")")))
     return std::nullopt;
   next();
-  const Type to = *scalar_type(next().text);
+  const Token& type = next();
   next();
-  return convert(b_, unary(), to);
+  const Shape to = *shader_type(type.text);
+  const Value v = unary();
+  const std::optional<Value> out = convert(b_, v, to);
+  if (!out) fail("cannot cast a " + shape_name(v.shape()) + " to " + std::string(type.text), type);
+  return *out;
+}
+
+// Shaders: a swizzle (.x, .xy, .rgb, .zyx, ...) or a constant subscript ([0]) of a vector or a
+// scalar; formulas have none.
+Value ExpressionParser::postfix(Value v) {
+  while (dialect_ == Dialect::Shader) {
+    if (peek().is(".") && peek(1).kind == Token::Ident && is_swizzle(peek(1).text)) {
+      next();
+      v = swizzle(v, next());
+    } else if (peek().is("[")) {
+      const Token& open = next();
+      if (v.width == 1) fail("a subscript of a scalar: arrays are not supported", open);
+      const Value k = expression();
+      expect("]", "to close the subscript at column " + std::to_string(open.column));
+      const auto c = k.width == 1 ? b_.constant_value(k.reg) : std::nullopt;
+      if (!c || *c != std::trunc(*c) || *c < 0 || *c >= v.width) {
+        fail("a subscript of a " + shape_name(v.shape()) + " must be a constant from 0 to " +
+                 std::to_string(v.width - 1),
+             open);
+      }
+      v = part(v, static_cast<int>(*c));
+    } else {
+      break;
+    }
+  }
+  check_postfix();
+  return v;
+}
+
+Value ExpressionParser::swizzle(const Value& v, const Token& member) {
+  const std::vector<int> picked = swizzle_components(member.text);
+  std::vector<Reg> regs;
+  for (std::size_t k = 0; k < picked.size(); ++k) {
+    if (picked[k] >= v.width) {
+      fail("'." + std::string(member.text) + "' of a " + shape_name(v.shape()) + ": it has no '" +
+               member.text[k] + "'",
+           member);
+    }
+    regs.push_back(v.component(picked[k]));
+  }
+  return make_value(regs, v.type);
+}
+
+// A shader's type constructor: float(x) converts; float3(x) fills every component with a scalar;
+// float3(a, b.xy) takes the components of its arguments in order, as many as the type has.
+Value ExpressionParser::construct(const Token& name, Shape to, std::span<const Value> args) {
+  const std::string type(name.text);
+  if (args.empty()) fail(type + "(...) needs a value", name);
+  if (args.size() == 1 && (args[0].width == 1 || args[0].width >= to.width)) {
+    return *convert(b_, args[0], to);
+  }
+  std::vector<Reg> regs;
+  for (const Value& a : args)
+    for (int i = 0; i < a.width; ++i) regs.push_back(convert(b_, part(a, i), to.type).reg);
+  if (regs.size() != static_cast<std::size_t>(to.width)) {
+    fail(type + "(...) is given " + std::to_string(regs.size()) + " components, and has " +
+             std::to_string(to.width),
+         name);
+  }
+  return make_value(regs, to.type);
+}
+
+// A library function of one set of arguments: scalars, or a geometric one's vectors.
+Value ExpressionParser::apply_library(const LibraryFunction& fn, std::span<const Value> args,
+                                      std::span<const std::optional<std::int32_t>> literals) {
+  // pow(a, k) with an integer literal k is the exact integer power (as in expr/parse.hpp).
+  if (fn.op == ProgramOp::Pow && literals[1]) {
+    return {b_.emit(ProgramOp::IPow, std::span<const Reg>(&args[0].reg, 1), *literals[1]),
+            Type::Float};
+  }
+  if (fn.expand != nullptr) return fn.expand(b_, args);
+  std::vector<Reg> regs;
+  bool ints = true;
+  for (const Value& a : args) {
+    regs.push_back(a.reg);
+    ints = ints && a.type == Type::Int;
+  }
+  const Reg r = fn.op == ProgramOp::Operator ? b_.emit(library_operator(fn), regs)
+                                             : b_.emit(fn.op, regs);
+  return {r, fn.keeps_int && ints ? Type::Int : Type::Float};
 }
 
 Value ExpressionParser::call(const Token& name) {
@@ -213,7 +359,9 @@ Value ExpressionParser::call(const Token& name) {
     literals.push_back(integer_literal(begin, position()));
   });
   next();
-  if (const auto own = own_call(name, args)) return *own;
+  if (dialect_ == Dialect::Shader) {
+    if (const auto to = shader_type(name.text)) return construct(name, *to, args);
+  }
   const std::vector<const LibraryFunction*> found = find_library_function(
       name.text, dialect_ == Dialect::Formula ? kFormulaLibrary : kShaderLibrary);
   if (!found.empty()) {
@@ -229,21 +377,29 @@ Value ExpressionParser::call(const Token& name) {
                std::to_string(args.size()),
            name);
     }
-    // pow(a, k) with an integer literal k is the exact integer power (as in expr/parse.hpp).
-    if (fn->op == ProgramOp::Pow && literals[1]) {
-      return {b_.emit(ProgramOp::IPow, std::span<const Reg>(&args[0].reg, 1), *literals[1]),
-              Type::Float};
-    }
-    if (fn->expand != nullptr) return fn->expand(b_, args);
-    std::vector<Reg> regs;
-    bool ints = true;
+    int width = 1;
+    for (const Value& a : args) width = std::max(width, a.width);
     for (const Value& a : args) {
-      regs.push_back(a.reg);
-      ints = ints && a.type == Type::Int;
+      if (a.width != width && (fn->geometric || a.width != 1)) {
+        fail("the arguments of " + std::string(name.text) + " have different sizes (" +
+                 shape_name(a.shape()) + " and " + shape_name(Shape{Type::Float, width}) + ")",
+             name);
+      }
     }
-    const Reg r = fn->op == ProgramOp::Operator ? b_.emit(library_operator(*fn), regs)
-                                                : b_.emit(fn->op, regs);
-    return {r, fn->keeps_int && ints ? Type::Int : Type::Float};
+    if (fn->name == "cross" && width != 3)
+      fail("cross takes two 3-component vectors, got " + shape_name(args[0].shape()), name);
+    if (width == 1 || fn->geometric) return apply_library(*fn, args, literals);
+    // A vector call of a scalar function: component by component.
+    Value out;
+    out.width = width;
+    std::vector<Value> parts(args.size());
+    for (int i = 0; i < width; ++i) {
+      for (std::size_t k = 0; k < args.size(); ++k) parts[k] = part(args[k], i);
+      const Value r = apply_library(*fn, parts, literals);
+      out.set_component(i, r.reg);
+      out.type = r.type;
+    }
+    return out;
   }
   if (dialect_ == Dialect::Formula) {
     if (const BuiltinFunction* fn = find_builtin_by_call_name(name.text)) {

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -103,13 +104,33 @@ class ProgramBuilder {
 // a constant condition) and renumbers the rest.
 void remove_dead_code(Program& program);
 
-// The types of shader values; formulas have only Float. Bool values are 0 or 1.
+// The types of shader values' components; formulas have only Float. Bool values are 0 or 1.
 enum class Type : std::uint8_t { Float, Int, Bool };
 
-struct Value {
-  Reg reg = 0;
+// The components of a shader vector at most (vec4, float4).
+inline constexpr int kMaxWidth = 4;
+
+// A shader type: a scalar (width 1) or a vector of `type`.
+struct Shape {
   Type type = Type::Float;
+  int width = 1;
 };
+
+// A value: a scalar's register, or a shader vector's, one register per component (vectors are
+// the shader dialect's; they exist only while a function is compiled, its result is a scalar).
+struct Value {
+  Reg reg = 0;  // the scalar; a vector's first component
+  Type type = Type::Float;
+  int width = 1;                           // 2 to kMaxWidth: a vector
+  std::array<Reg, kMaxWidth - 1> more{};  // a vector's other components
+
+  [[nodiscard]] Reg component(int i) const { return i == 0 ? reg : more[i - 1]; }
+  void set_component(int i, Reg r) { (i == 0 ? reg : more[i - 1]) = r; }
+  [[nodiscard]] Shape shape() const { return {type, width}; }
+};
+
+// The value whose components are `regs` (a scalar for one).
+Value make_value(std::span<const Reg> regs, Type type);
 
 // Where a library function is offered.
 enum Library : unsigned { kFormulaLibrary = 1u, kShaderLibrary = 2u };
@@ -123,6 +144,9 @@ struct LibraryFunction {
   bool keeps_int;  // Int arguments give an Int (abs, sign, min, max, clamp)
   // ProgramOp::Operator: the operator's formula name (expr/op.hpp), when not `name` itself.
   std::string_view operator_name = {};
+  // Takes vectors whole (dot, length, normalize, ...): `expand` gets them, of one width. The
+  // others get scalars, and a call with vector arguments applies them component by component.
+  bool geometric = false;
 };
 
 // The operator (expr/op.hpp) that a ProgramOp::Operator entry computes.
@@ -144,10 +168,22 @@ std::string join_names(std::span<const std::string> names);
 
 // The scalar type a shader type name denotes (float, half, double, min16float; int, uint; bool).
 std::optional<Type> scalar_type(std::string_view name);
+// The scalar or vector type a shader type name denotes (the scalars above; vec2-vec4, ivec,
+// uvec, bvec, dvec; float2-float4, half3, int2, bool4, ...); nullopt for others (matrices too).
+std::optional<Shape> shader_type(std::string_view name);
+// "float", "float3", "int2", "bool" (HLSL's spelling, for messages).
+std::string shape_name(Shape s);
 
-// A value converted to a type (shader declarations, parameters, returns): Float to Int
-// truncates, anything to Bool compares with 0.
+// A value's components converted to a type (shader declarations, parameters, returns): Float to
+// Int truncates, anything to Bool compares with 0. The width is kept.
 Value convert(ProgramBuilder& b, Value v, Type to);
+// A value converted to a shape: its components' type as above; a scalar fills a vector, and a
+// vector gives up its last components to a narrower shape (as HLSL's implicit conversions do).
+// nullopt where a vector would have to widen.
+std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to);
+// c ? a : b component by component, for a scalar condition; a and b have one width, or one is a
+// scalar.
+Value select(ProgramBuilder& b, Reg c, const Value& a, const Value& b2);
 
 // expr/grammar.hpp's formula grammar over a token range, extended to the reference language:
 // C's operators and precedence (?: || && == != < <= > >= + - * / %, unary - + !), the formula's
@@ -158,6 +194,11 @@ Value convert(ProgramBuilder& b, Value v, Type to);
 // == != 3, < <= > >= 4, + - and * / % as the formula grammar's); 0 for any other token. The
 // shader expressions and the preprocessor's #if both read them so.
 int c_binary_precedence(const Token& t);
+
+// Whether `member` is a swizzle: 1 to 4 letters of one of xyzw, rgba, stpq; its component
+// indices.
+bool is_swizzle(std::string_view member);
+std::vector<int> swizzle_components(std::string_view member);
 
 class ExpressionParser : public ExpressionGrammar<Value> {
  public:
@@ -171,18 +212,18 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   [[nodiscard]] Dialect dialect() const { return dialect_; }
 
  protected:
-  // A call the front end handles itself (a shader's own functions, type constructors), before
-  // the library is looked up; nullopt: not its own.
-  virtual std::optional<Value> own_call(const Token& name, std::span<const Value> args);
-  // Called at a call's name before its arguments are read (shader: vector constructors and
+  // Called at a call's name before its arguments are read (shader: matrix constructors and
   // texture functions are errors at the name).
   virtual void before_call(const Token& /*name*/) {}
   // A message for a call of a name nobody knows.
   virtual std::string unknown_function(const Token& name);
 
   // a op b for a binary operator's symbol ("+", "<=", "&&", ...), with C's types (integer
-  // division truncates).
-  Value apply_binary(std::string_view op, Value a, Value b);
+  // division truncates); arithmetic applies to vectors component by component (a scalar with
+  // each component), other operators of vectors are an error at `at`.
+  Value apply_binary(const Token& at, std::string_view op, Value a, Value b);
+  // The shader's swizzle `.member` of v (is_swizzle(member)); an error for a component v lacks.
+  Value swizzle(const Value& v, const Token& member);
 
   // The grammar's hooks.
   int precedence(const Token& t) override;
@@ -193,11 +234,16 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   Value power_of(Value base, const Token& caret) override;
   std::optional<Value> special_primary() override;
   Value call(const Token& name) override;
+  Value postfix(Value v) override;
   void consumed(const Token& t) override;
   std::string nesting_message() const override;
 
  private:
   Value exponent();
+  Value scalar_binary(std::string_view op, Value a, Value b);
+  Value construct(const Token& name, Shape to, std::span<const Value> args);
+  Value apply_library(const LibraryFunction& fn, std::span<const Value> args,
+                      std::span<const std::optional<std::int32_t>> literals);
   // The integer written by tokens [begin, end) when they are one integer literal with at most
   // one sign, in the int32 range.
   [[nodiscard]] std::optional<std::int32_t> integer_literal(std::size_t begin,

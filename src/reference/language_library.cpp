@@ -62,6 +62,18 @@ Reg ProgramBuilder::emit(ProgramOp op, std::span<const Reg> operands, std::int32
     }
     if (operands[1] == operands[2]) return operands[1];
   }
+  // x + 0, x - 0, x * 1, x / 1 are x (as shader compilers fold them; a dot product with a zero
+  // component, a weight of one).
+  if (operands.size() == 2) {
+    const auto a = constant_value(operands[0]), c = constant_value(operands[1]);
+    if (a.has_value() != c.has_value()) {
+      const bool add = op == ProgramOp::Add, mul = op == ProgramOp::Mul;
+      if (c && *c == 0.0 && (add || op == ProgramOp::Sub)) return operands[0];
+      if (c && *c == 1.0 && (mul || op == ProgramOp::Div)) return operands[0];
+      if (a && *a == 0.0 && add) return operands[1];
+      if (a && *a == 1.0 && mul) return operands[1];
+    }
+  }
   Instruction in;
   in.op = op;
   in.index = index;
@@ -119,17 +131,72 @@ std::optional<Type> scalar_type(std::string_view name) {
   return std::nullopt;
 }
 
+std::optional<Shape> shader_type(std::string_view name) {
+  if (const auto s = scalar_type(name)) return Shape{*s, 1};
+  if (name.empty()) return std::nullopt;
+  const char last = name.back();
+  if (last < '2' || last > '4') return std::nullopt;
+  const int width = last - '0';
+  const std::string_view stem = name.substr(0, name.size() - 1);
+  // GLSL: vecN, ivecN, uvecN, bvecN, dvecN.
+  if (stem == "vec" || stem == "dvec") return Shape{Type::Float, width};
+  if (stem == "ivec" || stem == "uvec") return Shape{Type::Int, width};
+  if (stem == "bvec") return Shape{Type::Bool, width};
+  // HLSL: a scalar type's name and N.
+  if (const auto s = scalar_type(stem)) return Shape{*s, width};
+  return std::nullopt;
+}
+
+std::string shape_name(Shape s) {
+  const std::string base = s.type == Type::Float ? "float" : s.type == Type::Int ? "int" : "bool";
+  return s.width == 1 ? base : base + std::to_string(s.width);
+}
+
+Value make_value(std::span<const Reg> regs, Type type) {
+  Value v;
+  v.type = type;
+  v.width = static_cast<int>(regs.size());
+  for (int i = 0; i < v.width; ++i) v.set_component(i, regs[static_cast<std::size_t>(i)]);
+  return v;
+}
+
 // --- conversions ---------------------------------------------------------------------------
 
 Value convert(ProgramBuilder& b, Value v, Type to) {
   if (v.type == to) return v;
-  switch (to) {
-    case Type::Float: return {v.reg, Type::Float};
-    case Type::Int:
-      return {v.type == Type::Bool ? v.reg : b.emit(ProgramOp::Trunc, v.reg), Type::Int};
-    case Type::Bool: return {b.emit(ProgramOp::NotEqual, v.reg, b.constant(0.0)), Type::Bool};
+  for (int i = 0; i < v.width; ++i) {
+    const Reg r = v.component(i);
+    switch (to) {
+      case Type::Float: break;
+      case Type::Int:
+        if (v.type != Type::Bool) v.set_component(i, b.emit(ProgramOp::Trunc, r));
+        break;
+      case Type::Bool: v.set_component(i, b.emit(ProgramOp::NotEqual, r, b.constant(0.0))); break;
+    }
   }
+  v.type = to;
   return v;
+}
+
+std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to) {
+  if (v.width < to.width && v.width != 1) return std::nullopt;
+  v = convert(b, v, to.type);
+  Value out;
+  out.type = to.type;
+  out.width = to.width;
+  for (int i = 0; i < to.width; ++i) out.set_component(i, v.component(v.width == 1 ? 0 : i));
+  return out;
+}
+
+Value select(ProgramBuilder& b, Reg c, const Value& x, const Value& y) {
+  Value out;
+  out.type = x.type == y.type ? x.type : Type::Float;
+  out.width = std::max(x.width, y.width);
+  for (int i = 0; i < out.width; ++i) {
+    out.set_component(i, b.emit(ProgramOp::Select, c, x.component(x.width == 1 ? 0 : i),
+                                y.component(y.width == 1 ? 0 : i)));
+  }
+  return out;
 }
 
 // --- the functions -------------------------------------------------------------------------
@@ -151,10 +218,7 @@ Value rcp(ProgramBuilder& b, Args a) {
 Value fma(ProgramBuilder& b, Args a) {
   return f(b.emit(ProgramOp::Add, b.emit(ProgramOp::Mul, a[0].reg, a[1].reg), a[2].reg));
 }
-Value select(ProgramBuilder& b, Args a) {
-  const Type t = a[1].type == a[2].type ? a[1].type : Type::Float;
-  return {b.emit(ProgramOp::Select, a[0].reg, a[1].reg, a[2].reg), t};
-}
+Value select3(ProgramBuilder& b, Args a) { return select(b, a[0].reg, a[1], a[2]); }
 // clamp(x, lo, hi) = min(max(x, lo), hi), as GLSL defines it (a NaN x gives lo).
 Value clamp(ProgramBuilder& b, Args a) {
   const bool ints = a[0].type == Type::Int && a[1].type == Type::Int && a[2].type == Type::Int;
@@ -205,12 +269,67 @@ Value degrees(ProgramBuilder& b, Args a) {
   return f(b.emit(ProgramOp::Mul, a[0].reg, b.constant(180.0 / std::numbers::pi)));
 }
 
+// The geometric functions: whole vectors of one width (a scalar is a vector of one).
+Reg dot_regs(ProgramBuilder& b, const Value& x, const Value& y) {
+  Reg sum = b.emit(ProgramOp::Mul, x.reg, y.reg);
+  for (int i = 1; i < x.width; ++i)
+    sum = b.emit(ProgramOp::Add, sum, b.emit(ProgramOp::Mul, x.component(i), y.component(i)));
+  return sum;
+}
+Value dot(ProgramBuilder& b, Args a) { return f(dot_regs(b, a[0], a[1])); }
+Value length(ProgramBuilder& b, Args a) {
+  // A scalar's length is its absolute value (the operator by its formula name).
+  if (a[0].width == 1) return f(b.emit(op_from_name("abs"), a[0].reg));
+  return f(b.emit(Op::Sqrt, dot_regs(b, a[0], a[0])));
+}
+Value distance(ProgramBuilder& b, Args a) {
+  Value d = a[0];
+  for (int i = 0; i < d.width; ++i)
+    d.set_component(i, b.emit(ProgramOp::Sub, a[0].component(i), a[1].component(i)));
+  const Value dv[] = {d};
+  return length(b, dv);
+}
+// v * rsqrt(dot(v, v)), as the shading languages compute it.
+Value normalize(ProgramBuilder& b, Args a) {
+  const Value dv[] = {f(dot_regs(b, a[0], a[0]))};
+  const Reg k = rsqrt(b, dv).reg;
+  Value out = a[0];
+  out.type = Type::Float;
+  for (int i = 0; i < out.width; ++i)
+    out.set_component(i, b.emit(ProgramOp::Mul, a[0].component(i), k));
+  return out;
+}
+// cross(x, y) of two 3-vectors (the caller checks the width).
+Value cross(ProgramBuilder& b, Args a) {
+  const Value& x = a[0];
+  const Value& y = a[1];
+  Reg r[3];
+  for (int i = 0; i < 3; ++i) {
+    const int j = (i + 1) % 3, k = (i + 2) % 3;
+    r[i] = b.emit(ProgramOp::Sub, b.emit(ProgramOp::Mul, x.component(j), y.component(k)),
+                  b.emit(ProgramOp::Mul, x.component(k), y.component(j)));
+  }
+  return make_value(r, Type::Float);
+}
+// reflect(i, n) = i - 2 dot(n, i) n.
+Value reflect(ProgramBuilder& b, Args a) {
+  const Reg k = b.emit(ProgramOp::Mul, b.constant(2.0), dot_regs(b, a[1], a[0]));
+  Value out = a[0];
+  out.type = Type::Float;
+  for (int i = 0; i < out.width; ++i) {
+    out.set_component(
+        i, b.emit(ProgramOp::Sub, a[0].component(i), b.emit(ProgramOp::Mul, k, a[1].component(i))));
+  }
+  return out;
+}
+
 constexpr unsigned kF = kFormulaLibrary, kS = kShaderLibrary, kFS = kF | kS;
 constexpr ProgramOp kExpanded = ProgramOp::Count_;
 constexpr ProgramOp kOperator = ProgramOp::Operator;
 
 // Formulas: C's math library and the approximation's functions (expr/parse.hpp). Shaders: GLSL's
-// and HLSL's scalar built-ins.
+// and HLSL's built-ins, for scalars and (component by component, or whole where geometric)
+// vectors.
 const LibraryFunction kFunctions[] = {
     {"abs", 1, kFS, kOperator, nullptr, true},
     {"fabs", 1, kF, kOperator, nullptr, false, "abs"},
@@ -259,7 +378,7 @@ const LibraryFunction kFunctions[] = {
     {"saturate", 1, kFS, kExpanded, saturate, false},
     {"fma", 3, kFS, kExpanded, fma, false},
     {"mad", 3, kS, kExpanded, fma, false},
-    {"select", 3, kF, kExpanded, select, false},
+    {"select", 3, kF, kExpanded, select3, false},
     {"mix", 3, kS, kExpanded, mix, false},
     {"lerp", 3, kS, kExpanded, lerp, false},
     {"step", 2, kS, kExpanded, step, false},
@@ -269,6 +388,12 @@ const LibraryFunction kFunctions[] = {
     {"mod", 2, kS, kExpanded, glsl_mod, false},
     {"radians", 1, kS, kExpanded, radians, false},
     {"degrees", 1, kS, kExpanded, degrees, false},
+    {"dot", 2, kS, kExpanded, dot, false, {}, true},
+    {"length", 1, kS, kExpanded, length, false, {}, true},
+    {"distance", 2, kS, kExpanded, distance, false, {}, true},
+    {"normalize", 1, kS, kExpanded, normalize, false, {}, true},
+    {"cross", 2, kS, kExpanded, cross, false, {}, true},
+    {"reflect", 2, kS, kExpanded, reflect, false, {}, true},
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "language_shader.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <limits>
 
@@ -28,7 +29,7 @@ enum class Mode { In, Out, InOut };
 struct Parameter {
   const Token* name = nullptr;
   const Token* qualifier = nullptr;  // `out`, `inout`, or the `in` of HLSL's `in out`
-  Type type = Type::Float;
+  Shape type;
   Mode mode = Mode::In;
 };
 
@@ -64,7 +65,7 @@ struct Variable {
 struct State {
   std::vector<std::vector<Variable>> scopes;
   Reg returned = 0;
-  Reg result = 0;
+  Value result;
   std::vector<Held> outs;  // by parameter
   Reg skipped = 0;
   Reg broken = 0;
@@ -102,16 +103,25 @@ class FunctionCompiler : public ExpressionParser {
     const Token& t = tokens_[f_.type];
     if (t.is_word("void"))
       fail("function '" + function_name() + "' returns void: a reference returns a float", t);
-    return *result_type();
+    const Shape s = *result_type();
+    if (s.width != 1) {
+      fail("function '" + function_name() + "' returns a " + std::string(t.text) +
+               ": a reference returns a float (return one component, or call it from a function "
+               "that does)",
+           t);
+    }
+    return s.type;
   }
 
-  // A helper's return type: a scalar, or nullopt for void.
-  std::optional<Type> result_type() const {
+  // A helper's return type: a scalar or a vector, or nullopt for void.
+  std::optional<Shape> result_type() const {
     const Token& t = tokens_[f_.type];
-    if (const auto s = scalar_type(t.text)) return *s;
+    if (const auto s = shader_type(t.text)) return *s;
     if (t.is_word("void")) return std::nullopt;
-    if (is_vector_type(t.text)) unsupported("vector-valued return types", file_.path(), t);
-    fail("unknown return type '" + std::string(t.text) + "' (float, half, double, int or bool)", t);
+    if (is_vector_type(t.text)) unsupported("matrix types", file_.path(), t);
+    fail("unknown return type '" + std::string(t.text) +
+             "' (float, half, double, int or bool, or their vectors)",
+         t);
   }
 
   // The parameters, each `[in | out | inout | in out] [const] type name [: semantic]`.
@@ -155,9 +165,11 @@ class FunctionCompiler : public ExpressionParser {
     }
   }
 
-  // Runs the body with the parameters bound to `args` (an out parameter's is not read); returns
-  // the result in the return type and what the out and inout parameters hold at the end.
-  CallResult run(std::span<const Held> args, const std::vector<Parameter>& params) {
+  // Runs the body with the parameters bound to `args` (an out parameter's is not read), called
+  // at `call`; returns the result in the return type and what the out and inout parameters hold
+  // at the end.
+  CallResult run(std::span<const Held> args, const std::vector<Parameter>& params,
+                 const Token& call) {
     result_type_ = result_type();
     ProgramBuilder& b = builder();
     const Reg zero = b.constant(0.0);
@@ -167,10 +179,12 @@ class FunctionCompiler : public ExpressionParser {
       Variable v{p.name->text, {}, false, p.name->line};
       v.out = p.mode == Mode::Out;
       if (v.out) {
-        v.value = {b.constant(std::numeric_limits<double>::quiet_NaN()), p.type};
+        v.value = unassigned(p.type);
         v.defined = kUnassigned;
       } else {
-        v.value = convert(b, args[k].value, p.type);
+        v.value = to_shape(args[k].value, p.type, call,
+                           "the parameter '" + std::string(p.name->text) + "' of " +
+                               function_name());
         v.defined = args[k].defined;
       }
       state_.scopes.back().push_back(v);
@@ -178,7 +192,8 @@ class FunctionCompiler : public ExpressionParser {
     state_.outs.assign(params.size(), Held{{zero, Type::Float}, 0});
     for (std::size_t k = 0; k < params.size(); ++k)
       if (params[k].mode != Mode::In) written_.push_back(k);
-    state_.returned = state_.result = state_.skipped = state_.broken = state_.continued = zero;
+    state_.returned = state_.skipped = state_.broken = state_.continued = zero;
+    state_.result = *convert(b, Value{zero, Type::Float}, result_type_.value_or(Shape{}));
     seek(f_.body);
     block();
     const Token& close = tokens_[f_.end];
@@ -190,7 +205,7 @@ class FunctionCompiler : public ExpressionParser {
            close);
     }
     CallResult out;
-    out.result = {state_.result, result_type_.value_or(Type::Float)};
+    out.result = state_.result;
     out.outs.resize(params.size());
     for (const std::size_t k : written_) {
       // At the end: the value at the return where one was taken, else the last one.
@@ -226,42 +241,44 @@ class FunctionCompiler : public ExpressionParser {
          t);
   }
 
+  // At the name, before the arguments are read (an unknown function's out arguments would
+  // otherwise be read as values first).
   void before_call(const Token& t) override {
-    if (is_vector_type(t.text)) unsupported("vector and matrix types", file_.path(), t);
+    if (is_vector_type(t.text) && !shader_type(t.text))
+      unsupported("matrix types", file_.path(), t);
     if (is_texture_function(t.text) && file_.find(t.text).empty())
       unsupported("textures", file_.path(), t);
+    if (!shader_type(t.text) && find_library_function(t.text, kShaderLibrary).empty())
+      fail(unknown_function(t), t);
   }
 
   // The file's own functions are inlined here; the rest is the library's.
   Value call(const Token& t) override {
-    if (scalar_type(t.text) || file_.find(t.text).empty()) return ExpressionParser::call(t);
-    return inline_call(t);
+    if (!file_.find(t.text).empty() && !shader_type(t.text)) return inline_call(t);
+    if (t.is_word("sincos")) return sincos(t);
+    return ExpressionParser::call(t);
   }
 
-  std::optional<Value> own_call(const Token& t, std::span<const Value> args) override {
-    const auto type = scalar_type(t.text);
-    if (!type) return std::nullopt;
-    if (args.size() != 1)
-      fail(std::string(t.text) + "(...) takes 1 argument, got " + std::to_string(args.size()), t);
-    return convert(builder(), args[0], *type);
-  }
-
+  // Swizzles and subscripts are postfix(); a member that is not a swizzle, or a subscript of a
+  // name that is no vector (an array), is an error.
   void check_postfix() override {
     const Token& t = peek();
     if (t.is(".")) {
       const Token& member = peek(1);
+      if (member.kind == Token::Ident && is_swizzle(member.text)) return;
       const std::string shown = "." + std::string(member.kind == Token::Ident ? member.text : "");
       for (const std::string_view m : {"Sample", "SampleLevel", "SampleGrad", "SampleBias",
                                        "SampleCmp", "SampleCmpLevelZero", "Load", "Gather"})
         if (member.is_word(m)) unsupported("textures", file_.path(), t, shown);
-      unsupported("swizzles and members", file_.path(), t, shown);
+      unsupported("structs and members", file_.path(), t, shown);
     }
-    if (t.is("[")) unsupported("arrays", file_.path(), t);
+    if (t.is("[")) return;
     if (t.is("++") || t.is("--")) unsupported("increments inside expressions", file_.path(), t);
   }
 
   std::string unknown_function(const Token& t) override {
     std::vector<std::string> known = library_function_names(kShaderLibrary);
+    known.emplace_back("sincos");
     for (const FunctionDef& f : file_.functions()) known.emplace_back(file_.name_of(f));
     const std::string near = closest_name(t.text, known);
     return "unknown function '" + std::string(t.text) + "'" +
@@ -295,13 +312,30 @@ class FunctionCompiler : public ExpressionParser {
     const Defined d = a.defined | b.defined;
     if ((a.defined & kAssigned) == 0) return {b.value, d};
     if ((b.defined & kAssigned) == 0) return {a.value, d};
-    return {{builder().emit(ProgramOp::Select, c, a.value.reg, b.value.reg), a.value.type}, d};
+    return {select(builder(), c, a.value, b.value), d};
   }
 
-  // A declared type: scalar, or an error naming the construct.
-  Type declared_type(const Token& t) const {
-    if (const auto s = scalar_type(t.text)) return *s;
-    if (is_vector_type(t.text)) unsupported("vector and matrix types", file_.path(), t);
+  // A variable of `shape` that holds no value yet (NaN in every component; see Defined).
+  Value unassigned(Shape shape) {
+    return *convert(builder(), Value{builder().constant(std::numeric_limits<double>::quiet_NaN())},
+                    shape);
+  }
+
+  // `v` converted to `shape` for `what` (a variable, a parameter, the result): an error at `at`
+  // where a vector would widen.
+  Value to_shape(const Value& v, Shape shape, const Token& at, const std::string& what) {
+    const std::optional<Value> out = convert(builder(), v, shape);
+    if (!out) {
+      fail("cannot give a " + shape_name(v.shape()) + " to " + what + ", a " + shape_name(shape),
+           at);
+    }
+    return *out;
+  }
+
+  // A declared type: scalar or vector, or an error naming the construct.
+  Shape declared_type(const Token& t) const {
+    if (const auto s = shader_type(t.text)) return *s;
+    if (is_vector_type(t.text)) unsupported("matrix types", file_.path(), t);
     if (is_texture_type(t.text)) unsupported("textures", file_.path(), t);
     if (t.is_word("struct")) unsupported("structs", file_.path(), t);
     if (const Global* g = file_.global(t.text); g != nullptr && g->what == "structs")
@@ -331,11 +365,11 @@ class FunctionCompiler : public ExpressionParser {
     return v.value;
   }
 
-  // Gives the variable at `s` the value `h` on the paths that reach here; those that left the
-  // loop's iteration keep the old one where they read it again.
-  void assign(Slot s, Held h) {
+  // Gives the variable at `s` the value `h` (assigned at `at`) on the paths that reach here;
+  // those that left the loop's iteration keep the old one where they read it again.
+  void assign(Slot s, Held h, const Token& at) {
     Variable& v = variable(s);
-    h.value = convert(builder(), h.value, v.value.type);
+    h.value = to_shape(h.value, v.value.shape(), at, "'" + std::string(v.name) + "'");
     if (is_true(state_.returned)) return;  // no path reads a variable after returning
     // The paths that left: by continue, they run the loop's step and next iteration, which read
     // its own variables; by break, they leave it, and neither reads the body's variables.
@@ -434,7 +468,7 @@ class FunctionCompiler : public ExpressionParser {
     }
     if (peek().is_word("uniform") || peek().is_word("in"))
       fail("unexpected '" + std::string(peek().text) + "' in a function body", peek());
-    const Type type = declared_type(next());
+    const Shape type = declared_type(next());
     while (true) {
       const Token& n = next();
       if (n.kind != Token::Ident) fail("expected a variable name, found " + describe(n), n);
@@ -444,13 +478,10 @@ class FunctionCompiler : public ExpressionParser {
           fail("'" + std::string(n.text) + "' is already declared in this scope (line " +
                    std::to_string(v.line) + ")",
                n);
-      Variable v{n.text,
-                 {builder().constant(std::numeric_limits<double>::quiet_NaN()), type},
-                 is_const,
-                 n.line,
-                 kUnassigned};
-      if (accept("=")) {
-        v.value = convert(builder(), expression(), type);
+      Variable v{n.text, unassigned(type), is_const, n.line, kUnassigned};
+      if (peek().is("=")) {
+        const Token& eq = next();
+        v.value = to_shape(expression(), type, eq, "'" + std::string(n.text) + "'");
         v.defined = kAssigned;
       } else if (is_const) {
         fail("the constant '" + std::string(n.text) + "' needs a value", n);
@@ -465,8 +496,74 @@ class FunctionCompiler : public ExpressionParser {
   // Whether an assignment or an increment starts here.
   bool at_assignment() const {
     if (peek().is("++") || peek().is("--")) return peek(1).kind == Token::Ident;
-    return peek().kind == Token::Ident &&
-           (is_assignment(peek(1)) || peek(1).is("++") || peek(1).is("--"));
+    if (peek().kind != Token::Ident) return false;
+    const std::size_t k = selectors_end(1);
+    return is_assignment(peek(k)) || peek(k).is("++") || peek(k).is("--");
+  }
+
+  // From the token `k` ahead, past the selectors of a variable's components (.xy, [1]): how far
+  // ahead the token after them is.
+  std::size_t selectors_end(std::size_t k) const {
+    while (true) {
+      if (peek(k).is(".") && peek(k + 1).kind == Token::Ident) {
+        k += 2;
+      } else if (peek(k).is("[")) {
+        for (int depth = 0;; ++k) {
+          const Token& u = peek(k);
+          if (u.kind == Token::End) return k;
+          if (u.is("[") || u.is("(")) ++depth;
+          if (u.is("]") || u.is(")")) --depth;
+          if (depth == 0) break;
+        }
+        ++k;
+      } else {
+        return k;
+      }
+    }
+  }
+
+  // The components of a variable of `width` that the selectors after its name pick (.xy, .x,
+  // [2]; chained, as in v.zyx.x), for writing: each at most once. Empty: the whole variable.
+  std::vector<int> written_components(int width) {
+    std::vector<int> picked;
+    while (peek().is(".") || peek().is("[")) {
+      const Token& at = next();
+      const int now = picked.empty() ? width : static_cast<int>(picked.size());
+      std::vector<int> local;
+      if (at.is(".")) {
+        const Token& m = next();
+        if (!is_swizzle(m.text)) unsupported("structs and members", file_.path(), at, "." + std::string(m.text));
+        local = swizzle_components(m.text);
+        for (std::size_t k = 0; k < local.size(); ++k) {
+          if (local[k] >= now) {
+            fail("'." + std::string(m.text) + "' of a " + shape_name(Shape{Type::Float, now}) +
+                     ": it has no '" + m.text[k] + "'",
+                 m);
+          }
+          for (std::size_t j = 0; j < k; ++j)
+            if (local[j] == local[k])
+              fail("'." + std::string(m.text) + "' writes a component twice", m);
+        }
+      } else {
+        if (now == 1) fail("a subscript of a scalar: arrays are not supported", at);
+        const Value k = expression();
+        expect("]", "to close the subscript at column " + std::to_string(at.column));
+        const auto c = k.width == 1 ? builder().constant_value(k.reg) : std::nullopt;
+        if (!c || *c != std::trunc(*c) || *c < 0 || *c >= now) {
+          fail("a subscript of a " + shape_name(Shape{Type::Float, now}) +
+                   " must be a constant from 0 to " + std::to_string(now - 1),
+               at);
+        }
+        local = {static_cast<int>(*c)};
+      }
+      if (picked.empty()) {
+        picked = local;
+      } else {
+        for (int& c : local) c = picked[static_cast<std::size_t>(c)];
+        picked = local;
+      }
+    }
+    return picked;
   }
 
   // name op value ; | name++ ; | ++name ;
@@ -475,12 +572,12 @@ class FunctionCompiler : public ExpressionParser {
     expect(";", "after the assignment");
   }
 
-  // name op value | name++ | ++name, without what ends it (';', or ',' and ')' in a for's step).
+  // name[selectors] op value | name[selectors]++ | ++name[selectors], without what ends it
+  // (';', or ',' and ')' in a for's step).
   void assignment_expression() {
     const bool prefix = peek().is("++") || peek().is("--");
     const Token* op = prefix ? &next() : nullptr;
     const Token& n = next();
-    if (!prefix) op = &next();
     const std::optional<Slot> slot = locate(n.text);
     if (!slot) {
       if (const Global* g = file_.global(n.text); g != nullptr && g->kind == Global::Other)
@@ -491,16 +588,38 @@ class FunctionCompiler : public ExpressionParser {
     }
     if (variable(*slot).is_const)
       fail("cannot assign to the constant '" + std::string(n.text) + "'", n);
+    const std::vector<int> picked = written_components(variable(*slot).value.width);
+    if (!prefix) op = &next();
+    // The part written, as it is now (read only by compound assignments and increments).
+    auto current = [&] {
+      const Value whole = read(variable(*slot), n);
+      if (picked.empty()) return whole;
+      std::vector<Reg> regs;
+      for (const int c : picked) regs.push_back(whole.component(c));
+      return make_value(regs, whole.type);
+    };
     Value value;
     if (op->is("++") || op->is("--")) {
-      value = apply_binary(op->is("++") ? "+" : "-", read(variable(*slot), n),
+      value = apply_binary(*op, op->is("++") ? "+" : "-", current(),
                            {builder().constant(1.0), Type::Int});
     } else {
       const Value rhs = expression();
-      value =
-          op->is("=") ? rhs : apply_binary(op->text.substr(0, 1), read(variable(*slot), n), rhs);
+      value = op->is("=") ? rhs : apply_binary(*op, op->text.substr(0, 1), current(), rhs);
     }
-    assign(*slot, {value, kAssigned});
+    if (!picked.empty()) {
+      // The other components keep their values; those of a variable that holds none yet are
+      // 0 (any value is allowed there, see Defined).
+      const Variable& v = variable(*slot);
+      Value whole = v.value;
+      if ((v.defined & kAssigned) == 0) whole = *convert(builder(), Value{builder().constant(0.0)}, v.value.shape());
+      const Value part =
+          to_shape(value, Shape{v.value.type, static_cast<int>(picked.size())}, *op,
+                   "components of '" + std::string(n.text) + "'");
+      for (std::size_t k = 0; k < picked.size(); ++k)
+        whole.set_component(picked[k], part.component(static_cast<int>(k)));
+      value = whole;
+    }
+    assign(*slot, {value, kAssigned}, *op);
   }
 
   // if ( condition ) statement [else statement]: both branches run, their variables merge by
@@ -509,7 +628,10 @@ class FunctionCompiler : public ExpressionParser {
     const Token& t = next();
     const Nest nest(*this, t);
     expect("(", "after 'if'");
-    const Reg c = expression().reg;
+    const Value condition = expression();
+    if (condition.width != 1)
+      fail("the condition of 'if' is a " + shape_name(condition.shape()) + ", not a scalar", t);
+    const Reg c = condition.reg;
     expect(")", "after the condition of 'if'");
     const State before = state_;
     branch();
@@ -542,7 +664,7 @@ class FunctionCompiler : public ExpressionParser {
       state_.outs[k] =
           is_false(state_.returned) ? then.outs[k] : pick(c, then.outs[k], state_.outs[k]);
     }
-    state_.result = b.emit(ProgramOp::Select, c, then.result, state_.result);
+    state_.result = select(b, c, then.result, state_.result);
     state_.returned = b.emit(ProgramOp::Select, c, then.returned, state_.returned);
     state_.skipped = b.emit(ProgramOp::Select, c, then.skipped, state_.skipped);
     state_.broken = b.emit(ProgramOp::Select, c, then.broken, state_.broken);
@@ -566,7 +688,7 @@ class FunctionCompiler : public ExpressionParser {
         fail("function '" + function_name() + "' returns void: return takes no value", peek());
     } else {
       if (peek().is(";")) fail("return needs a value in function '" + function_name() + "'", t);
-      v = convert(builder(), expression(), *result_type_);
+      v = to_shape(expression(), *result_type_, t, "the result of " + function_name());
     }
     expect(";", "after the returned value");
     if (unreachable()) return;
@@ -574,8 +696,8 @@ class FunctionCompiler : public ExpressionParser {
     const Reg skipped = state_.skipped;
     const bool some_skipped = !is_false(skipped);
     if (result_type_) {
-      Reg r = b.emit(ProgramOp::Select, state_.returned, state_.result, v.reg);
-      if (some_skipped) r = b.emit(ProgramOp::Select, skipped, state_.result, r);
+      Value r = select(b, state_.returned, state_.result, v);
+      if (some_skipped) r = select(b, skipped, state_.result, r);
       state_.result = r;
     }
     for (const std::size_t k : written_) {
@@ -671,6 +793,8 @@ class FunctionCompiler : public ExpressionParser {
       const Value c = expression();
       expect(";", "after the condition of 'for'");
       if (!reachable) break;
+      if (c.width != 1)
+        fail("the condition of this for loop is a " + shape_name(c.shape()) + ", not a scalar", at);
       const auto value = b.constant_value(c.reg);
       if (!value) {
         // A variable declared before the loop keeps, on the paths that broke, its value at the
@@ -733,6 +857,34 @@ class FunctionCompiler : public ExpressionParser {
     expect(")", "after the step of 'for'");
   }
 
+  // HLSL's sincos(x, out s, out c), a statement of its own: s = sin(x), c = cos(x), component
+  // by component.
+  Value sincos(const Token& t) {
+    const Token& open = next();
+    const Value x = expression();
+    expect(",", "after the angle of sincos");
+    const Slot s = out_argument("the sine, sincos's second argument,");
+    expect(",", "after the second argument of sincos");
+    const Slot c = out_argument("the cosine, sincos's third argument,");
+    if (!peek().is(")")) {
+      fail("expected ')' to close the '(' at column " + std::to_string(open.column) +
+               " (sincos takes 3 arguments), found " + describe(peek()),
+           peek());
+    }
+    next();
+    if (!(&t == statement_call_ && peek().is(";")))
+      fail("sincos returns void: its call is a statement of its own, not a value", t);
+    Value sin_x = x, cos_x = x;
+    sin_x.type = cos_x.type = Type::Float;
+    for (int i = 0; i < x.width; ++i) {
+      sin_x.set_component(i, builder().emit(op_from_name("sin"), x.component(i)));
+      cos_x.set_component(i, builder().emit(op_from_name("cos"), x.component(i)));
+    }
+    assign(s, {sin_x, kAssigned}, t);
+    assign(c, {cos_x, kAssigned}, t);
+    return Value{builder().constant(0.0)};
+  }
+
   // A call of the file's own function, inlined: in arguments are values; out and inout ones are
   // variables of the caller, written back after the call in parameter order.
   Value inline_call(const Token& t) {
@@ -755,7 +907,9 @@ class FunctionCompiler : public ExpressionParser {
       const auto k = static_cast<std::size_t>(i);
       if (k < params.size() && params[k].mode != Mode::In) {
         const Token& a = peek();
-        slots[k] = out_argument(params[k], t);
+        slots[k] = out_argument("the " + mode_name(params[k].mode) + " parameter '" +
+                                std::string(params[k].name->text) + "' of " +
+                                std::string(t.text));
         const Variable& v = variable(slots[k]);
         // An inout argument is read: one that holds no value is an error here.
         if (params[k].mode == Mode::InOut) (void)read(v, a);
@@ -782,10 +936,10 @@ class FunctionCompiler : public ExpressionParser {
     }
     const Nest nest(*this, t);
     calls.push_back(t.text);
-    const CallResult r = callee.run(args, params);
+    const CallResult r = callee.run(args, params, t);
     calls.pop_back();
     for (std::size_t k = 0; k < params.size(); ++k)
-      if (params[k].mode != Mode::In) assign(slots[k], r.outs[k]);
+      if (params[k].mode != Mode::In) assign(slots[k], r.outs[k], t);
     return r.result;
   }
 
@@ -804,11 +958,10 @@ class FunctionCompiler : public ExpressionParser {
     return count;
   }
 
-  // An out or inout argument: a variable of the caller, one name alone.
-  Slot out_argument(const Parameter& p, const Token& callee) {
+  // An out or inout argument, for `what` (the parameter, in messages): a variable of the caller,
+  // one name alone.
+  Slot out_argument(const std::string& what) {
     const Token& a = peek();
-    const std::string what = "the " + mode_name(p.mode) + " parameter '" +
-                             std::string(p.name->text) + "' of " + std::string(callee.text);
     if (a.kind == Token::Ident && (peek(1).is(",") || peek(1).is(")"))) {
       if (const auto slot = locate(a.text)) {
         if (variable(*slot).is_const)
@@ -831,7 +984,7 @@ class FunctionCompiler : public ExpressionParser {
   const FunctionDef& f_;
   std::span<const Token> tokens_;
   State state_;
-  std::optional<Type> result_type_;
+  std::optional<Shape> result_type_;
   std::vector<std::size_t> written_;       // the out and inout parameters
   std::vector<std::size_t> loop_scopes_;   // the scope of each enclosing loop's variables
   const Token* statement_call_ = nullptr;  // the call that is a statement of its own
@@ -880,7 +1033,14 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
                   wanted + " from a function that returns the value)",
               file.path(), *p.qualifier);
     }
-    if (p.type != Type::Float) {
+    if (p.type.width != 1) {
+      fail_at("parameter '" + std::string(p.name->text) + "' is a " + shape_name(p.type) +
+                  ": the function's parameters are the reference's variables, each a float (give "
+                  "the components as floats, or call " +
+                  wanted + " from a function that takes them)",
+              file.path(), *p.name);
+    }
+    if (p.type.type != Type::Float) {
       fail_at("parameter '" + std::string(p.name->text) +
                   "' is not a float: the function's parameters are the reference's variables "
                   "(float, half or double)",
@@ -911,7 +1071,7 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
     args.push_back({{out.inputs[k], Type::Float}, kAssigned});
   }
   file.calls.push_back(file.name_of(def));
-  out.result = compiler.run(args, params).result.reg;
+  out.result = compiler.run(args, params, at).result.reg;
   return out;
 }
 

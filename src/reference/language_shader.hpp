@@ -43,7 +43,7 @@ struct Global {
   enum Kind { Constant, Macro, Other } kind = Other;
   std::string what;  // Other: the construct, as errors name it ("uniforms")
   Token at;          // where it is declared
-  Type type = Type::Float;
+  Shape type;
   // Constant, Macro: the tokens of its value, ending with the token after it (',', ';', End).
   std::span<const Token> value_tokens;
   int order = 0;  // declaration order: a value may use the names declared before it

@@ -35,9 +35,9 @@ std::string construct(const std::vector<std::string_view>& qualifiers, std::stri
   if (has("in") || has("out") || has("varying") || has("attribute") || has("buffer"))
     return "shader inputs and outputs";
   if (is_texture_type(type)) return "textures";
-  if (is_vector_type(type)) return "vector and matrix types";
+  if (is_vector_type(type) && !shader_type(type)) return "matrix types";
   if (array) return "arrays";
-  if (!scalar_type(type)) return "types other than float, half, double, int and bool";
+  if (!shader_type(type)) return "types other than float, half, double, int and bool and their vectors";
   return "global variables";
 }
 
@@ -245,10 +245,10 @@ void ShaderFile::declaration(std::size_t begin, std::size_t end) {
       if (depth == 0 && u.is("=") && value == 0) value = value_end + 1;
       if (depth == 0 && u.is(",")) break;
     }
-    const std::optional<Type> scalar = scalar_type(type.text);
+    const std::optional<Shape> shape = shader_type(type.text);
     const std::string what = construct(qualifiers, type.text, array);
-    if (is_const && scalar && !array && what == "global variables" && value != 0) {
-      Global g{Global::Constant, "", name, *scalar};
+    if (is_const && shape && !array && what == "global variables" && value != 0) {
+      Global g{Global::Constant, "", name, *shape};
       g.value_tokens = std::span<const Token>(tokens_).subspan(value, value_end + 1 - value);
       add(std::string(name.text), std::move(g));
     } else {
@@ -303,11 +303,21 @@ Value ShaderFile::global_value(Global& g, const Token& use) {
                     std::string(g.at.text) + "'",
                 parser.peek());
   }
-  if (!builder.constant_value(v.reg)) {
-    fail_at("the value of '" + std::string(g.at.text) + "' is not a constant expression", path_,
-            g.at);
+  for (int i = 0; i < v.width; ++i) {
+    if (!builder.constant_value(v.component(i))) {
+      fail_at("the value of '" + std::string(g.at.text) + "' is not a constant expression", path_,
+              g.at);
+    }
   }
-  if (g.kind == Global::Constant) v = convert(builder, v, g.type);
+  if (g.kind == Global::Constant) {
+    const std::optional<Value> c = convert(builder, v, g.type);
+    if (!c) {
+      fail_at("the value of '" + std::string(g.at.text) + "' is a " + shape_name(v.shape()) +
+                  ", not a " + shape_name(g.type),
+              path_, g.at);
+    }
+    v = *c;
+  }
   g.evaluating = false;
   g.value = v;
   return v;

@@ -477,5 +477,30 @@ float precise_mul(float a, float b) { precise float r = a * b; return r; }
             "2:11: expected ']' to close the attribute at column 3, found 'if'");
 }
 
+// --- HLSL's sincos ----------------------------------------------------------------------------
+
+TEST(ShaderSincos, WritesTheSineAndCosineOfScalarsAndVectors) {
+  const Program p = shader(R"(
+float f(float theta) {
+  float s, c;
+  sincos(theta, s, c);
+  float2 sv, cv;
+  sincos(float2(theta, 2.0 * theta), sv, cv);
+  return s + 10.0 * c + 100.0 * sv.y + 1000.0 * cv.y;
+}
+)",
+                           "f", {}, "test.hlsl");
+  const double t = 0.3;
+  EXPECT_NEAR(at(p, {t}),
+              std::sin(t) + 10 * std::cos(t) + 100 * std::sin(2 * t) + 1000 * std::cos(2 * t),
+              1e-12);
+  const auto body = testing::function_with;
+  EXPECT_EQ(located(shader_error(body("float s; y = sincos(x, s, y);"))),
+            "3:16: sincos returns void: its call is a statement of its own, not a value");
+  EXPECT_EQ(located(shader_error(body("float s; sincos(x, s, 2.0);"))),
+            "3:25: the cosine, sincos's third argument, writes its argument: it must be a "
+            "variable (a local or a parameter), found '2.0'");
+}
+
 }  // namespace
 }  // namespace shaderfit::reference

@@ -144,37 +144,50 @@ ErrorMetrics SearchContext::score(const Expression& e) {
   return metrics_of(out);
 }
 
-std::optional<std::size_t> SearchContext::non_finite_row(const Expression& e) {
+std::optional<std::size_t> SearchContext::non_finite_row(const Expression& e,
+                                                         bool infinities_allowed) {
+  const auto bad = [&](double v) { return infinities_allowed ? std::isnan(v) : !std::isfinite(v); };
   for (const Node& n : e.nodes) {
-    if (n.op == Op::Const && !std::isfinite(n.value)) return kAnyRow;
+    if (n.op == Op::Const && bad(n.value)) return kAnyRow;
   }
   for (double v : e.parameter_values)
-    if (!std::isfinite(v)) return kAnyRow;
+    if (bad(v)) return kAnyRow;
   // The root is the caller's prediction; below it only the operands of absorbing operators
   // need a look (anything non-finite elsewhere would show in an operand of one, or the root).
+  // A select's branch needs to be finite only where it is chosen, on the rows where the select
+  // itself is used (the shader computes both and keeps one, as for `c ? (1 - exp(-x)) / x : 1 -
+  // x / 2`, and a select nested in the branch not taken does not matter there): `used` holds,
+  // node by node from the root down (postfix: parents after their children), those rows.
+  std::vector<std::vector<char>> used(e.size());
+  used[e.size() - 1].assign(rows, 1);
   std::vector<double> values;
   std::array<std::size_t, 3> children{};
-  for (std::size_t i = 0; i < e.size(); ++i) {
+  for (std::size_t i = e.size(); i-- > 0;) {
     const Node& n = e.nodes[i];
-    if (!absorbs_non_finite(n.op, n.index)) continue;
     const std::size_t k = arity(n.op);
+    if (k == 0) continue;
     e.child_indices(i, std::span<std::size_t>(children.data(), k));
-    // A select's branch needs to be finite only where it is chosen (the shader computes both
-    // and keeps one, as for `c ? (1 - exp(-x)) / x : 1 - x / 2`).
-    std::vector<double> condition;
+    for (std::size_t c = 0; c < k; ++c) used[children[c]] = used[i];
     if (n.op == Op::Select) {
-      condition.resize(rows);
+      std::vector<double> condition(rows);
       predict(e.subtree(children[0]), condition);
+      for (std::size_t r = 0; r < rows; ++r) {
+        const bool first = condition[r] >= 0;
+        used[children[1]][r] = static_cast<char>(used[i][r] && first);
+        used[children[2]][r] = static_cast<char>(used[i][r] && !first);
+      }
     }
+    if (!absorbs_non_finite(n.op, n.index)) continue;
     for (std::size_t c = 0; c < k; ++c) {
       if (arity(e.nodes[children[c]].op) == 0) continue;  // leaves were checked above
       values.resize(rows);
       predict(e.subtree(children[c]), values);
-      for (std::size_t r = 0; r < rows; ++r) {
-        if (n.op == Op::Select && c > 0 && (condition[r] >= 0) != (c == 1)) continue;
-        if (!std::isfinite(values[r])) return r;
-      }
+      const std::vector<char>& rows_used = used[children[c]];
+      for (std::size_t r = 0; r < rows; ++r)
+        if (rows_used[r] && bad(values[r])) return r;
     }
+    used[i].clear();
+    used[i].shrink_to_fit();
   }
   return std::nullopt;
 }
@@ -202,7 +215,7 @@ bool SearchContext::offer(Expression e, double loss_estimate, SearchPhase origin
   m.metrics = metrics_of(prediction);
   m.loss = loss_value(options.loss, m.metrics);
   if (!std::isfinite(m.loss) || !front.would_enter(m.cost, m.loss)) return false;
-  if (!finite_everywhere(e)) return false;
+  if (non_finite_row(e, origin == SearchPhase::Reference)) return false;
   m.nodes = e.size();
   m.formula = to_infix(e, {.substitute_parameters = true});
   m.expression = std::move(e);

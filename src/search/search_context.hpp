@@ -113,9 +113,12 @@ class SearchContext {
   // is chosen.
   bool finite_everywhere(const Expression& e) { return !non_finite_row(e); }
   // Where finite_everywhere fails: the first row on which a subexpression is not finite
-  // (kAnyRow for a constant or parameter that is not), nullopt where it holds.
+  // (kAnyRow for a constant or parameter that is not), nullopt where it holds. With
+  // `infinities_allowed`, a part may be infinite (IEEE arithmetic, which every GPU follows
+  // there, gives what follows from it: rcp(inf) = 0, inf >= 1 is true) and only a NaN part
+  // counts: the user's reference, as written, is judged so (origin Reference).
   static constexpr std::size_t kAnyRow = static_cast<std::size_t>(-1);
-  std::optional<std::size_t> non_finite_row(const Expression& e);
+  std::optional<std::size_t> non_finite_row(const Expression& e, bool infinities_allowed = false);
 
  private:
   std::chrono::steady_clock::time_point start_;

@@ -120,6 +120,12 @@ class ExpressionGrammar {
   virtual Value call(const Token& name) = 0;
   // After an operand (a name before it is resolved): what may not follow one is an error here.
   virtual void check_postfix() {}
+  // An operand's postfix operators of the language's own (a shader's swizzles), then
+  // check_postfix().
+  virtual Value postfix(Value v) {
+    check_postfix();
+    return v;
+  }
   // Every token read (for locating errors of what is emitted).
   virtual void consumed(const Token& /*t*/) {}
   virtual std::string nesting_message() const {
@@ -195,8 +201,7 @@ class ExpressionGrammar {
     } else {
       fail("unexpected " + describe(t) + ": an operand is missing", t);
     }
-    check_postfix();
-    return v;
+    return postfix(v);
   }
 
   // A call's arguments from its '(', each read by `argument(index)`, up to the ')', which is left

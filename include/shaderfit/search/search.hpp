@@ -121,9 +121,11 @@ struct SearchSummary {
 reference::ProgramFormula reference_formula(const SearchProblem& problem);
 
 // Why the reference's own formula cannot join the front, in a few words for one line: it does
-// not lower (reference_formula's why), or it or a part of it is not finite on a row (named by its
-// inputs' values), which the search allows no formula (SearchContext::offer). Empty where it can
-// join or where there is no reference. The search descends from a formula that lowers either way.
+// not lower (reference_formula's why), or it is not finite on a row, or a part of it is NaN
+// there (named by its inputs' values; SearchContext::offer). Parts that are infinite where the
+// value is finite, as the code computes them (a cutoff on x * rsqrt(1 - x^2) at x = 1), are the
+// reference's own: it joins; the search's other formulas may have none. Empty where it can join
+// or where there is no reference. The search descends from a formula that lowers either way.
 std::string reference_off_front(const SearchOptions& options, const SearchProblem& problem);
 
 // Runs the search. Throws shaderfit::Error when the problem is invalid (SearchProblem::validate)

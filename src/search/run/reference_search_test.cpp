@@ -111,7 +111,7 @@ TEST(ReferenceSearch, AFunctionNotFiniteWhereTheGpuComputesItIsSaidWithTheRow) {
   const SearchProblem q = shader_problem(
       "float f(float x, float y) { return min(1.0, x / y); }", "f", {"x=0:1", "y=0:1"});
   const std::string part = reference_off_front(budgeted(), q);
-  EXPECT_EQ(part.rfind("a part of it is not finite at x = ", 0), 0u) << part;
+  EXPECT_EQ(part.rfind("a part of it is NaN at x = ", 0), 0u) << part;
   SearchOptions o = budgeted();
   o.max_candidates = 20'000;
   SearchSummary s;
@@ -121,6 +121,33 @@ TEST(ReferenceSearch, AFunctionNotFiniteWhereTheGpuComputesItIsSaidWithTheRow) {
   EXPECT_EQ(reference_off_front(budgeted(), shader_problem(henyey_greenstein(), "phaseHG",
                                                            {"cosTheta=-1:1", "g=0:0.9"})),
             "");
+}
+
+TEST(ReferenceSearch, InfinitePartsOfTheCodeAsWrittenJoinTheFront) {
+  // Walter's Smith-Beckmann cutoff: a = x rsqrt(1 - x^2) is +inf at x = 1, where a >= 1.6 picks
+  // 1 in IEEE arithmetic; saturate(1 / x) at x = 0; Smith-Beckmann's G1 as written. Each joins
+  // at its own cost.
+  for (const char* source :
+       {"float f(float x) { float a = x * inversesqrt(1.0 - x * x);\n"
+        "  return a >= 1.6 ? 1.0 : 0.5 * a; }",
+        "float f(float x) { return saturate(1.0 / x) * x; }",
+        // The rational in the branch not taken is inf / inf = NaN at x = 1; the select that
+        // holds it is itself in the branch not taken there.
+        "float g1(float v, float a) { if (v <= 0.0) return 0.0;\n"
+        "  float t = v * inversesqrt(1.0 - v * v) / a; if (t >= 1.6) return 1.0;\n"
+        "  return (3.535 * t + 2.181 * t * t) / (1.0 + 2.276 * t + 2.577 * t * t); }\n"
+        "float f(float x) { return g1(x, 0.5); }"}) {
+    const SearchProblem p = shader_problem(source, "f", {"x=0:1"});
+    EXPECT_EQ(reference_off_front(budgeted(), p), "") << source;
+    SearchOptions o = budgeted();
+    o.max_candidates = 20'000;
+    SearchSummary s;
+    run_search(o, p, &s);
+    const double own = expression_cost(*reference_formula(p).formula, o.cost, o.uniform);
+    bool itself = false;
+    for (const FrontMember& m : s.front) itself = itself || (m.cost <= own && m.loss == 0);
+    EXPECT_TRUE(itself) << source;
+  }
 }
 
 TEST(ReferenceSearch, NoReferenceNoFormula) {

@@ -380,7 +380,7 @@ std::string reference_off_front(const SearchOptions& options, const SearchProble
   const bool result = bad != values.end();
   const std::optional<std::size_t> row =
       result ? std::optional<std::size_t>(static_cast<std::size_t>(bad - values.begin()))
-             : ctx.non_finite_row(*own.formula);
+             : ctx.non_finite_row(*own.formula, true);
   if (!row) return {};
   if (*row == search_detail::SearchContext::kAnyRow)
     return "its formula holds a constant that is not finite";
@@ -388,7 +388,7 @@ std::string reference_off_front(const SearchOptions& options, const SearchProble
   for (std::size_t c = 0; c < problem.inputs.size(); ++c)
     at += (c == 0 ? "" : ", ") + problem.input_names[c] + " = " +
           fmt::format("{:g}", problem.inputs[c][*row]);
-  return (result ? "it is not finite at " : "a part of it is not finite at ") + at +
+  return (result ? "it is not finite at " : "a part of it is NaN at ") + at +
          " (on a GPU pow(0, 0) and 0 / 0 are NaN)";
 }
 
