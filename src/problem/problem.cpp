@@ -257,7 +257,23 @@ std::vector<reference::DomainAxis> parse_domain(const std::vector<std::string>& 
 // covers exactly the reference's variables.
 reference::Program compile_over_domain(reference::ReferenceText text,
                                        const std::vector<reference::DomainAxis>& axes) {
-  reference::Program first = reference::compile_reference(text);
+  std::vector<std::string> order;
+  for (const reference::DomainAxis& a : axes) order.push_back(a.name);
+  reference::Program first;
+  try {
+    first = reference::compile_reference(text);
+  } catch (const Error& e) {
+    // A shader function's overloads are told apart by their parameters: the domain's names pick
+    // one.
+    if (text.shader_source.empty() || !text.variables.empty()) throw;
+    reference::ReferenceText ordered = text;
+    ordered.variables = order;
+    try {
+      return reference::compile_reference(ordered);
+    } catch (const Error&) {
+      throw e;
+    }
+  }
   if (first.inputs.empty()) {
     throw Error("the reference uses no variable: there is nothing to approximate", kReferenceField);
   }
@@ -275,8 +291,6 @@ reference::Program compile_over_domain(reference::ReferenceText text,
                   {kDomainField.source, static_cast<int>(i) + 1});
     }
   }
-  std::vector<std::string> order;
-  for (const reference::DomainAxis& a : axes) order.push_back(a.name);
   if (order == first.inputs) return first;
   text.variables = std::move(order);
   return reference::compile_reference(text);

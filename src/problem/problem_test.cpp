@@ -619,6 +619,26 @@ TEST(ProblemReference, ShaderFunction) {
                        "ProblemSource::domain");
 }
 
+TEST(ProblemReference, TheDomainPicksAnOverloadedShaderFunction) {
+  ProblemSource s;
+  s.reference.shader_source =
+      "float tonemap(float x, float k) { return x / (x + k); }\n"
+      "float tonemap(float x) { return tonemap(x, 1.0); }\n";
+  s.reference.shader_path = "tonemap.glsl";
+  s.reference.function = "tonemap";
+  s.domain = {"x=0:4"};
+  Problem p = load_problem(s);
+  EXPECT_NEAR(p.reference->target_at(std::vector<double>{3.0}), 0.75, 1e-15);
+  s.domain = {"k=1:2", "x=0:4"};
+  p = load_problem(s);
+  EXPECT_NEAR(p.reference->target_at(std::vector<double>{2.0, 3.0}), 0.6, 1e-15);
+  s.domain = {"y=0:4"};
+  expect_problem_error(s,
+                       "function 'tonemap' is defined 2 times (tonemap(x, k) at line 1, tonemap(x) "
+                       "at line 2): the variables pick one, by its parameters' names",
+                       "tonemap.glsl", 2);
+}
+
 TEST(ProblemReference, ShaderFileIsReadWhenOnlyItsPathIsGiven) {
   TempFile f("smith.glsl", kSmithG1);
   ProblemSource s;

@@ -926,16 +926,16 @@ class FunctionCompiler : public ExpressionParser {
            t);
     }
     auto& calls = file_.calls;
-    if (std::find(calls.begin(), calls.end(), t.text) != calls.end()) {
+    // Recursion: the same definition (an overload may call another of its name).
+    if (const auto it = std::find(calls.begin(), calls.end(), def); it != calls.end()) {
       std::string chain;
-      for (auto it = std::find(calls.begin(), calls.end(), t.text); it != calls.end(); ++it)
-        chain += std::string(*it) + " -> ";
+      for (auto c = it; c != calls.end(); ++c) chain += std::string(file_.name_of(**c)) + " -> ";
       fail("recursion is not supported (" + chain + std::string(t.text) +
                "); the reference subset is listed in docs/reference.md",
            t);
     }
     const Nest nest(*this, t);
-    calls.push_back(t.text);
+    calls.push_back(def);
     const CallResult r = callee.run(args, params, t);
     calls.pop_back();
     for (std::size_t k = 0; k < params.size(); ++k)
@@ -1007,7 +1007,20 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
     }
     wanted = names[0];
   }
-  const std::vector<const FunctionDef*> defs = file.find(wanted);
+  std::vector<const FunctionDef*> defs = file.find(wanted);
+  // Overloads: the one whose parameters are the variables.
+  if (defs.size() > 1 && !text.variables.empty()) {
+    std::vector<std::string> want = text.variables;
+    std::sort(want.begin(), want.end());
+    std::vector<const FunctionDef*> matching;
+    for (const FunctionDef* d : defs) {
+      std::vector<std::string> have;
+      for (const Parameter& p : FunctionCompiler(file, *d).parameters()) have.emplace_back(p.name->text);
+      std::sort(have.begin(), have.end());
+      if (have == want) matching.push_back(d);
+    }
+    if (matching.size() == 1) defs = matching;
+  }
   if (defs.empty()) {
     throw Error("function '" + wanted + "' is not in " + file.path() + " (its functions: " +
                     (names.empty() ? std::string("none") : join_names(names)) + ")",
@@ -1016,8 +1029,15 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
   const FunctionDef& def = *defs.back();
   const Token& at = file.tokens()[def.name];
   if (defs.size() > 1) {
-    fail_at("function '" + wanted + "' is defined " + std::to_string(defs.size()) +
-                " times: the reference must be one function",
+    std::string each;
+    for (const FunctionDef* d : defs) {
+      std::vector<std::string> names;
+      for (const Parameter& p : FunctionCompiler(file, *d).parameters()) names.emplace_back(p.name->text);
+      each += std::string(each.empty() ? "" : ", ") + wanted + "(" + join_names(names) + ") at line " +
+              std::to_string(file.tokens()[d->name].line);
+    }
+    fail_at("function '" + wanted + "' is defined " + std::to_string(defs.size()) + " times (" +
+                each + "): the variables pick one, by its parameters' names",
             file.path(), at);
   }
   FunctionCompiler compiler(file, def);
@@ -1070,7 +1090,7 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
         static_cast<std::size_t>(std::find(order.begin(), order.end(), p) - order.begin());
     args.push_back({{out.inputs[k], Type::Float}, kAssigned});
   }
-  file.calls.push_back(file.name_of(def));
+  file.calls.push_back(&def);
   out.result = compiler.run(args, params, at).result.reg;
   return out;
 }

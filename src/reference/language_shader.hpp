@@ -76,7 +76,7 @@ class ShaderFile {
 
   ProgramBuilder& builder;
   int nesting = 0;                      // shared by every parser of this file
-  std::vector<std::string_view> calls;  // the functions being inlined, outermost first
+  std::vector<const FunctionDef*> calls;  // the functions being inlined, outermost first
 
  private:
   void scan();

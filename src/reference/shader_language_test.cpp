@@ -272,7 +272,13 @@ TEST(ShaderErrors, SignaturesFilesAndCalls) {
             "2:31: uniforms are not supported (t)" + more);
   EXPECT_EQ(located(shader_error("float f(float x) { return x; }\nfloat f(float x, float y) "
                                  "{ return y; }")),
-            "2:7: function 'f' is defined 2 times: the reference must be one function");
+            "2:7: function 'f' is defined 2 times (f(x) at line 1, f(x, y) at line 2): the "
+            "variables pick one, by its parameters' names");
+  // The variables pick an overload.
+  const std::string overloads =
+      "float f(float x, float k) { return x / (x + k); }\nfloat f(float x) { return f(x, 1.0); }";
+  EXPECT_EQ(at(shader(overloads, "f", {"x"}), {1.0}), 0.5);
+  EXPECT_EQ(at(shader(overloads, "f", {"k", "x"}), {3.0, 1.0}), 0.25);
   EXPECT_EQ(located(shader_error("float f(float x) { return x;")), "1:18: '{' is not closed");
   EXPECT_EQ(located(shader_error("float f(float x) { return x @ 2; }")),
             "1:29: unexpected character '@'");
