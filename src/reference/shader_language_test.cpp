@@ -194,7 +194,7 @@ float f(float x) {
 
 TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
   const auto body = testing::function_with;
-  const std::string more = "; the reference subset is listed in docs/reference.md";
+  const std::string& more = testing::kSubsetNote;
   EXPECT_EQ(located(shader_error(body("while (y < 1.0) y *= 2.0;"))),
             "3:3: while and do loops are not supported (while)" + more);
   EXPECT_EQ(located(shader_error(body("do { y *= 2.0; } while (y < 1.0);"))),
@@ -239,7 +239,7 @@ TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
 }
 
 TEST(ShaderErrors, SignaturesFilesAndCalls) {
-  const std::string more = "; the reference subset is listed in docs/reference.md";
+  const std::string& more = testing::kSubsetNote;
   EXPECT_EQ(located(shader_error("float f(float x, out float y) { y = x; return x; }")),
             "1:18: parameter 'y' of f is out: the reference's parameters are its inputs and its "
             "one result is the float it returns (call f from a function that returns the value)");

@@ -17,11 +17,12 @@ namespace shaderfit::reference {
 namespace {
 
 using testing::at;
+using testing::formula_of;
+using testing::kSubsetNote;
 using testing::located;
 using testing::shader;
 using testing::shader_error;
 
-const std::string kMore = "; the reference subset is listed in docs/reference.md";
 
 TEST(ShaderPreprocessor, FunctionLikeMacrosExpandWithTheirArguments) {
   const Program p = shader(R"(
@@ -89,9 +90,9 @@ float f(float x) { return x + 1.0; }
   EXPECT_EQ(located(shader_error(unused + "float g(float x) { return x + MESSAGE; }", "g")),
             "4:17: unexpected character '\"'");
   EXPECT_EQ(located(shader_error(unused + "float g(float x) { return VARIADIC(x); }", "g")),
-            "5:18: variadic macros are not supported (VARIADIC(...))" + kMore);
+            "5:18: variadic macros are not supported (VARIADIC(...))" + kSubsetNote);
   EXPECT_EQ(located(shader_error(unused + "float g(float x) { return x + EMPTY; }", "g")),
-            "8:31: macros without a value are not supported (EMPTY)" + kMore);
+            "8:31: macros without a value are not supported (EMPTY)" + kSubsetNote);
 }
 
 TEST(ShaderPreprocessor, ObjectLikeMacrosStayFileScopeConstants) {
@@ -223,15 +224,15 @@ TEST(ShaderPreprocessor, ErrorsAreLocated) {
   EXPECT_EQ(located(shader_error("#include \"common.glsl\"\n" + f)),
             "1:1: #include is not supported (\"common.glsl\"): the reference is read from its one "
             "file" +
-                kMore);
+                kSubsetNote);
   EXPECT_EQ(std::string(shader_error("\n  #include <lib.hlsl>\n" + f).what()),
             "test.glsl:2:3: #include is not supported (<lib.hlsl>): the reference is read from "
             "its one file" +
-                kMore);
+                kSubsetNote);
   EXPECT_EQ(located(shader_error("#line 10\n" + f)),
             "1:1: preprocessor directive #line is not supported (only #define, #undef, #if, "
             "#ifdef, #ifndef, #elif, #else, #endif, #error, #version, #extension and #pragma)" +
-                kMore);
+                kSubsetNote);
   EXPECT_EQ(located(shader_error("#if 1\n#error needs   a newer engine\n#endif\n" + f)),
             "2:1: #error needs a newer engine");
 

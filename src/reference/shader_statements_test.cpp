@@ -19,18 +19,12 @@ namespace shaderfit::reference {
 namespace {
 
 using testing::at;
+using testing::formula_of;
+using testing::kSubsetNote;
 using testing::located;
 using testing::shader;
 using testing::shader_error;
 
-// The program's reference as a formula of the search's operators, in infix ("" with the reason
-// when it has none).
-std::string formula_of(const Program& p) {
-  const ProgramFormula f = program_formula(p, p.inputs);
-  return f.formula ? to_infix(*f.formula) : "(none: " + f.why + ")";
-}
-
-const std::string kSubset = "; the reference subset is listed in docs/reference.md";
 
 // --- out and inout parameters ----------------------------------------------------------------
 
@@ -160,7 +154,7 @@ TEST(ShaderOutParameters, Errors) {
             "3:25: cannot pass the file-scope constant 'K' to the out parameter 'y' of g");
   EXPECT_EQ(located(shader_error(std::string(helper) + "uniform float u;\n" +
                                  "float f(float x) { g(x, u); return x; }")),
-            "3:25: uniforms are not supported (u)" + kSubset);
+            "3:25: uniforms are not supported (u)" + kSubsetNote);
   EXPECT_EQ(located(shader_error(std::string(helper) +
                                  "float f(float x) { float yy; g(x, y); return yy; }")),
             "2:35: unknown identifier 'y'");

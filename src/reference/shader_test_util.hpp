@@ -9,7 +9,9 @@
 #include <vector>
 
 #include "shaderfit/core/error.hpp"
+#include "shaderfit/expr/print.hpp"
 #include "shaderfit/reference/language.hpp"
+#include "shaderfit/reference/program_formula.hpp"
 
 namespace shaderfit::reference::testing {
 
@@ -44,6 +46,16 @@ inline std::string located(const Error& e) {
 // float f(float x) { float y = x; STATEMENTS return y; }, STATEMENTS on line 3 from column 3.
 inline std::string function_with(const std::string& statements) {
   return "float f(float x) {\n  float y = x;\n  " + statements + "\n  return y;\n}\n";
+}
+
+// What errors about constructs outside the subset end with.
+inline const std::string kSubsetNote = "; the reference subset is listed in docs/reference.md";
+
+// The program's reference as a formula of the search's operators, in infix ("(none: why)" when
+// it has none).
+inline std::string formula_of(const Program& p) {
+  const ProgramFormula f = program_formula(p, p.inputs);
+  return f.formula ? to_infix(*f.formula) : "(none: " + f.why + ")";
 }
 
 // The program's reference at one point.

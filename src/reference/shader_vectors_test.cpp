@@ -21,14 +21,11 @@ namespace shaderfit::reference {
 namespace {
 
 using testing::at;
+using testing::formula_of;
+using testing::kSubsetNote;
 using testing::located;
 using testing::shader;
 using testing::shader_error;
-
-std::string formula_of(const Program& p) {
-  const ProgramFormula f = program_formula(p, p.inputs);
-  return f.formula ? to_infix(*f.formula) : "(none: " + f.why + ")";
-}
 
 TEST(ShaderVectors, ConstructorsSwizzlesAndSubscripts) {
   const Program p = shader(R"(
@@ -213,8 +210,7 @@ TEST(ShaderVectors, BadInputsAtTheirLineAndColumn) {
   EXPECT_EQ(located(shader_error(body("if (vec2(x)) y = 1.0;"))),
             "3:3: the condition of 'if' is a float2, not a scalar");
   EXPECT_EQ(located(shader_error(body("y = y.color;"))),
-            "3:8: structs and members are not supported (.color); the reference subset is "
-            "listed in docs/reference.md");
+            "3:8: structs and members are not supported (.color)" + kSubsetNote);
   EXPECT_EQ(located(shader_error(body("y = y[0];"))),
             "3:8: a subscript of a scalar: arrays are not supported");
   EXPECT_EQ(located(shader_error("vec3 f(float x) { return vec3(x); }")),
