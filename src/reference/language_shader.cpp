@@ -2,7 +2,7 @@
 // of an `if` are computed and merged with selects; a `return` sets a "returned" flag that keeps
 // later code from overriding the result (and the out parameters' values); calls of the file's own
 // functions are inlined, their out and inout arguments written back to the caller's variables;
-// `for` loops with a constant trip count are unrolled, and `break` and `continue` set a "skipped"
+// `for`, `while` and `do` loops with a constant trip count are unrolled, and `break` and `continue` set a "skipped"
 // flag that keeps the rest of the iteration from assigning on the paths that took them. A variable
 // declared without a value holds none until assigned (see Defined); HLSL's attributes before
 // statements are skipped.
@@ -431,7 +431,8 @@ class FunctionCompiler : public ExpressionParser {
       if (w == "return") return return_statement();
       if (w == "for") return for_statement();
       if (w == "break" || w == "continue") return jump_statement();
-      if (w == "while" || w == "do") unsupported("while and do loops", file_.path(), t);
+      if (w == "while") return while_statement();
+      if (w == "do") return do_statement();
       if (w == "switch" || w == "case" || w == "default")
         unsupported("switch statements", file_.path(), t);
       if (w == "discard") unsupported("discard statements", file_.path(), t);
@@ -779,6 +780,70 @@ class FunctionCompiler : public ExpressionParser {
     if (!token_at(body - 1).is(")"))
       fail("expected ')' after the step of 'for', found ';'", token_at(body - 1));
 
+    unroll({"for", t, condition, ";", step, body, true, declares});
+    state_.scopes.pop_back();
+  }
+
+  // while ( condition ) statement: unrolled as a for loop with only its condition.
+  void while_statement() {
+    const Token& t = next();
+    const Nest nest(*this, t);
+    expect("(", "after 'while'");
+    const std::size_t condition = position();
+    const std::size_t close = header_end(condition);
+    if (!token_at(close).is(")"))
+      fail("expected ')' to close the condition of 'while', found ';'", token_at(close));
+    if (close == condition) fail("a while loop needs a condition", token_at(condition));
+    state_.scopes.emplace_back();
+    unroll({"while", t, condition, ")", 0, close + 1, true, false});
+    state_.scopes.pop_back();
+  }
+
+  // do statement while ( condition ) ; : unrolled, the condition checked after each iteration.
+  void do_statement() {
+    const Token& t = next();
+    const Nest nest(*this, t);
+    const std::size_t body = position();
+    // The body's end, where `while` stands: read once on no path, for its extent.
+    {
+      const State kept = state_;
+      loop_scopes_.push_back(state_.scopes.size());
+      state_.returned = builder().constant(1.0);
+      branch();
+      loop_scopes_.pop_back();
+      state_ = kept;
+    }
+    if (!peek().is_word("while"))
+      fail("expected 'while' after the body of 'do', found " + describe(peek()), peek());
+    next();
+    expect("(", "after 'while'");
+    const std::size_t condition = position();
+    const std::size_t close = header_end(condition);
+    if (!token_at(close).is(")"))
+      fail("expected ')' to close the condition of 'while', found ';'", token_at(close));
+    if (close == condition) fail("a do loop needs a condition", token_at(condition));
+    state_.scopes.emplace_back();
+    unroll({"do", t, condition, ")", 0, body, false, false});
+    state_.scopes.pop_back();
+    seek(close + 1);
+    expect(";", "after the condition of 'do ... while'");
+  }
+
+  struct Loop {
+    std::string_view kind;      // "for", "while", "do" (for messages)
+    const Token& at;            // its keyword
+    std::size_t condition = 0;  // where the condition starts
+    std::string_view close;     // the token after it
+    std::size_t step = 0;       // a for's step (0: none)
+    std::size_t body = 0;       // the body's statement
+    bool test_first = true;     // false: do (the first iteration runs unconditionally)
+    bool declares = false;      // the loop's variable is its own (declared in a for's header)
+  };
+
+  // The iterations of a loop, unrolled: before each (after the first, for do) the condition must
+  // be a constant (so must the loop's variable be), and the loop may run kMaxLoopIterations times
+  // at most. Leaves the position at the body's end.
+  void unroll(const Loop& loop) {
     const Reg outer_skipped = state_.skipped, outer_broken = state_.broken,
               outer_continued = state_.continued;
     loop_scopes_.push_back(state_.scopes.size() - 1);
@@ -787,51 +852,61 @@ class FunctionCompiler : public ExpressionParser {
     state_.broken = state_.continued = b.constant(0.0);
     std::size_t end = 0;  // the body's end, once read
     bool step_read = false;
+    const std::string name = std::string(loop.kind) + " loop";
     for (int n = 0;; ++n) {
-      seek(condition);
-      const Token& at = peek();
-      const Value c = expression();
-      expect(";", "after the condition of 'for'");
-      if (!reachable) break;
-      if (c.width != 1)
-        fail("the condition of this for loop is a " + shape_name(c.shape()) + ", not a scalar", at);
-      const auto value = b.constant_value(c.reg);
-      if (!value) {
-        // A variable declared before the loop keeps, on the paths that broke, its value at the
-        // break: so it stops being a constant there.
-        const bool hint = !declares && !is_false(state_.broken);
-        fail(
-            "the condition of this for loop is not a constant: loops are unrolled, so their trip "
-            "count must be a constant" +
-                std::string(hint ? " (a loop that breaks on some paths must declare its variable "
-                                   "in its header: for (int i = ...))"
-                                 : ""),
-            at);
+      if (n > 0 || loop.test_first) {
+        seek(loop.condition);
+        const Token& at = peek();
+        const Value c = expression();
+        expect(loop.close, "after the condition of '" + std::string(loop.kind) + "'");
+        if (!reachable) break;
+        if (c.width != 1)
+          fail("the condition of this " + name + " is a " + shape_name(c.shape()) + ", not a scalar",
+               at);
+        const auto value = b.constant_value(c.reg);
+        if (!value) {
+          // A variable declared before the loop keeps, on the paths that broke, its value at the
+          // break: so it stops being a constant there.
+          const bool hint = !loop.declares && !is_false(state_.broken);
+          fail("the condition of this " + name +
+                   " is not a constant: loops are unrolled, so their trip count must be a "
+                   "constant" +
+                   std::string(hint ? " (a loop that breaks on some paths must declare its "
+                                      "variable in its header: for (int i = ...))"
+                                    : ""),
+               at);
+        }
+        if (!ProgramLogic<double>::is_true(*value)) break;
+      } else if (!reachable) {
+        break;
       }
-      if (!ProgramLogic<double>::is_true(*value)) break;
       if (n == kMaxLoopIterations) {
-        fail("this for loop runs more than " + std::to_string(kMaxLoopIterations) +
+        fail("this " + name + " runs more than " + std::to_string(kMaxLoopIterations) +
                  " iterations, the most that is unrolled",
-             t);
+             loop.at);
       }
-      seek(body);
+      seek(loop.body);
       branch();
       end = position();
       if (is_true(state_.returned) || is_true(state_.broken)) break;
       // The paths that continued run the step and the next iteration; those that broke do not.
       state_.continued = b.constant(0.0);
       state_.skipped = either(outer_skipped, state_.broken);
-      seek(step);
-      for_step();
+      if (loop.step != 0) {
+        seek(loop.step);
+        for_step();
+      }
       step_read = true;
     }
     if (end == 0 || !step_read) {
       // What never ran is read for its errors only, on no path.
       const State kept = state_;
       state_.returned = b.constant(1.0);
-      seek(step);
-      for_step();
-      seek(body);
+      if (loop.step != 0) {
+        seek(loop.step);
+        for_step();
+      }
+      seek(loop.body);
       branch();
       end = position();
       state_ = kept;
@@ -841,7 +916,6 @@ class FunctionCompiler : public ExpressionParser {
     state_.skipped = outer_skipped;
     state_.broken = outer_broken;
     state_.continued = outer_continued;
-    state_.scopes.pop_back();
   }
 
   // A for's step: assignments separated by ',', up to its ')'.

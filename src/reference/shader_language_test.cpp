@@ -195,10 +195,6 @@ float f(float x) {
 TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
   const auto body = testing::function_with;
   const std::string& more = testing::kSubsetNote;
-  EXPECT_EQ(located(shader_error(body("while (y < 1.0) y *= 2.0;"))),
-            "3:3: while and do loops are not supported (while)" + more);
-  EXPECT_EQ(located(shader_error(body("do { y *= 2.0; } while (y < 1.0);"))),
-            "3:3: while and do loops are not supported (do)" + more);
   EXPECT_EQ(located(shader_error(body("mat3 m;"))),
             "3:3: matrix types are not supported (mat3)" + more);
   EXPECT_EQ(located(shader_error(body("y = float2x2(x, x, x, x)[0].x;"))),

@@ -383,7 +383,15 @@ TEST(ShaderForLoops, Errors) {
   // Errors in a body that never runs are still errors.
   EXPECT_EQ(located(shader_error(body("for (int i = 0; i < 0; i++) y = zzz;"))),
             "3:35: unknown identifier 'zzz'");
-  // while and do: ShaderErrors.ConstructsOutsideTheSubsetAtTheirLineAndColumn.
+  // while and do loops whose condition reads a parameter: unrolled only with a constant one.
+  EXPECT_EQ(located(shader_error(body("while (y < 1.0) y *= 2.0;"))),
+            "3:10: the condition of this while loop is not a constant: loops are unrolled, so "
+            "their trip count must be a constant");
+  EXPECT_EQ(located(shader_error(body("do { y *= 2.0; } while (y < 1.0);"))),
+            "3:27: the condition of this do loop is not a constant: loops are unrolled, so their "
+            "trip count must be a constant");
+  EXPECT_EQ(located(shader_error(body("do { y *= 2.0; } until (y < 1.0);"))),
+            "3:20: expected 'while' after the body of 'do', found 'until'");
   EXPECT_EQ(located(shader_error(body("if (y > 1.0) break;"))),
             "3:16: 'break' outside a loop (break and continue end a for loop's iteration)");
   EXPECT_EQ(located(shader_error(body("continue;"))),
@@ -469,6 +477,41 @@ float precise_mul(float a, float b) { precise float r = a * b; return r; }
   EXPECT_EQ(located(shader_error("float f(float x) {\n  [branch if (x > 0.0) return x;\n"
                                  "  return x;\n}")),
             "2:11: expected ']' to close the attribute at column 3, found 'if'");
+}
+
+// --- while and do loops with a constant trip count ---------------------------------------------
+
+TEST(ShaderWhileLoops, UnrolledLikeForLoops) {
+  const Program p = shader(R"(
+float f(float x) {
+  float sum = 0.0, term = 1.0;
+  int k = 0;
+  while (k < 6) {           // the exponential's series, 6 terms
+    sum += term;
+    k++;
+    term *= x / float(k);
+  }
+  int n = 0;
+  do {                      // runs once although its condition is false at once
+    sum *= 2.0;
+    n += 10;
+  } while (n < 5);
+  int m = 0;
+  while (true) {            // left by break
+    if (m == 3) break;
+    sum += 1.0;
+    ++m;
+  }
+  return sum;
+}
+)");
+  const double x = 0.3;
+  double series = 0, term = 1;
+  for (int k = 0; k < 6; ++k) {
+    series += term;
+    term *= x / (k + 1);
+  }
+  EXPECT_NEAR(at(p, {x}), 2 * series + 3, 1e-12);
 }
 
 // --- HLSL's sincos ----------------------------------------------------------------------------

@@ -17,13 +17,13 @@
 //   shader:   one function of a GLSL or HLSL source: float (or half, double) parameters and
 //             return value, local variables, assignments (= += -= *= /=), if / else, return
 //             anywhere, ?:, calls of the other functions of the same file (inlined; out and
-//             inout arguments), for loops with a constant trip count (unrolled), the
+//             inout arguments), for, while and do loops with a constant trip count (unrolled), the
 //             preprocessor (#define with arguments, #if / #ifdef), vectors inside the function
 //             (vec3, float3, swizzles, dot, normalize, ...), and the shading languages'
 //             built-ins (saturate, mix, lerp, smoothstep, step, clamp, fract, frac, mod, fmod,
-//             rsqrt, inversesqrt, rcp, radians, degrees, exp2, log2, pow, ...). while and do
-//             loops, matrices, textures, #include, recursion and anything else outside this
-//             subset is an Error at its line and column (docs/reference.md).
+//             rsqrt, inversesqrt, rcp, radians, degrees, exp2, log2, pow, ...). Loops without
+//             a constant trip count, matrices, textures, #include, recursion and anything else
+//             outside this subset is an Error at its line and column (docs/reference.md).
 //
 //   ReferenceText t;
 //   t.formula = "2.5 * sqrt((a - b)^2 + c^2)";
