@@ -2,10 +2,10 @@
 // of an `if` are computed and merged with selects; a `return` sets a "returned" flag that keeps
 // later code from overriding the result (and the out parameters' values); calls of the file's own
 // functions are inlined, their out and inout arguments written back to the caller's variables;
-// `for`, `while` and `do` loops with a constant trip count are unrolled, and `break` and `continue` set a "skipped"
-// flag that keeps the rest of the iteration from assigning on the paths that took them. A variable
-// declared without a value holds none until assigned (see Defined); HLSL's attributes before
-// statements are skipped.
+// `for`, `while` and `do` loops with a constant trip count are unrolled, and `break` and
+// `continue` set a "skipped" flag that keeps the rest of the iteration from assigning on the paths
+// that took them. A variable declared without a value holds none until assigned (see Defined);
+// HLSL's attributes before statements are skipped.
 #include "language_shader.hpp"
 
 #include <algorithm>
