@@ -720,8 +720,7 @@ class FunctionCompiler : public ExpressionParser {
     expect(";", "after '" + std::string(t.text) + "'");
     if (loop_scopes_.empty())
       fail("'" + std::string(t.text) +
-               "' outside a loop (break and continue end a for loop's "
-               "iteration)",
+               "' outside a loop (break and continue end a loop's iteration)",
            t);
     if (unreachable()) return;
     ProgramBuilder& b = builder();

@@ -393,9 +393,9 @@ TEST(ShaderForLoops, Errors) {
   EXPECT_EQ(located(shader_error(body("do { y *= 2.0; } until (y < 1.0);"))),
             "3:20: expected 'while' after the body of 'do', found 'until'");
   EXPECT_EQ(located(shader_error(body("if (y > 1.0) break;"))),
-            "3:16: 'break' outside a loop (break and continue end a for loop's iteration)");
+            "3:16: 'break' outside a loop (break and continue end a loop's iteration)");
   EXPECT_EQ(located(shader_error(body("continue;"))),
-            "3:3: 'continue' outside a loop (break and continue end a for loop's iteration)");
+            "3:3: 'continue' outside a loop (break and continue end a loop's iteration)");
 }
 
 // --- variables read before they hold a value -------------------------------------------------
