@@ -88,6 +88,9 @@ class ProgramBuilder {
     column_ = t.column;
   }
   [[nodiscard]] const Program& program() const { return program_; }
+  // While shader code is compiled: x * 0 is 0 too, as shader compilers fold it (formulas keep
+  // C's meaning, NaN for an infinite x).
+  void fold_zero_products(bool on) { zero_products_ = on; }
 
  private:
   Reg append(const Instruction& in);
@@ -95,6 +98,7 @@ class ProgramBuilder {
   Program& program_;
   std::string source_;
   int line_ = 0, column_ = 0;
+  bool zero_products_ = false;
   std::unordered_map<std::uint64_t, Reg> constants_;  // by bit pattern
   Program fold_;                                      // scratch for constant folding
   std::vector<double> fold_registers_;

@@ -62,12 +62,13 @@ Reg ProgramBuilder::emit(ProgramOp op, std::span<const Reg> operands, std::int32
     }
     if (operands[1] == operands[2]) return operands[1];
   }
-  // x + 0, x - 0, x * 1, x / 1 are x (as shader compilers fold them; a dot product with a zero
-  // component, a weight of one).
+  // x + 0, x - 0, x * 1, x / 1 are x (and, in shaders, x * 0 is 0), as shader compilers fold
+  // them: a dot product with a zero component, a weight of one.
   if (operands.size() == 2) {
     const auto a = constant_value(operands[0]), c = constant_value(operands[1]);
     if (a.has_value() != c.has_value()) {
       const bool add = op == ProgramOp::Add, mul = op == ProgramOp::Mul;
+      if (mul && zero_products_ && ((a && *a == 0.0) || (c && *c == 0.0))) return constant(0.0);
       if (c && *c == 0.0 && (add || op == ProgramOp::Sub)) return operands[0];
       if (c && *c == 1.0 && (mul || op == ProgramOp::Div)) return operands[0];
       if (a && *a == 0.0 && add) return operands[1];

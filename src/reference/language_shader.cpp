@@ -31,6 +31,7 @@ struct Parameter {
   const Token* qualifier = nullptr;  // `out`, `inout`, or the `in` of HLSL's `in out`
   Shape type;
   Mode mode = Mode::In;
+  std::size_t default_value = 0;  // HLSL's `= value`: where the value's tokens start (0: none)
 };
 
 std::string mode_name(Mode m) { return m == Mode::Out ? "out" : "inout"; }
@@ -156,7 +157,13 @@ class FunctionCompiler : public ExpressionParser {
       p.name = &tokens_[i++];
       if (tokens_[i].is("[")) unsupported("arrays", file_.path(), tokens_[i]);
       if (tokens_[i].is(":") && tokens_[i + 1].kind == Token::Ident) i += 2;
-      if (tokens_[i].is("=")) unsupported("default parameter values", file_.path(), tokens_[i]);
+      if (tokens_[i].is("=")) {
+        p.default_value = ++i;
+        for (int depth = 0; !(depth == 0 && (tokens_[i].is(",") || i == f_.close)); ++i) {
+          if (tokens_[i].is("(") || tokens_[i].is("[")) ++depth;
+          if (tokens_[i].is(")") || tokens_[i].is("]")) --depth;
+        }
+      }
       out.push_back(p);
       if (i == f_.close) return out;
       if (!tokens_[i].is(","))
@@ -963,13 +970,21 @@ class FunctionCompiler : public ExpressionParser {
   Value inline_call(const Token& t) {
     const std::vector<const FunctionDef*> defs = file_.find(t.text);
     const std::size_t count = argument_count();
+    // The definition taking `count` arguments, its last parameters' default values (HLSL) for
+    // the ones not given.
     const FunctionDef* def = nullptr;
-    for (const FunctionDef* d : defs)
-      if (d->parameters == count) def = def == nullptr ? d : def;
+    std::size_t fewest = defs[0]->parameters;
+    for (const FunctionDef* d : defs) {
+      const std::size_t least = required(*d);
+      if (def == nullptr && count <= d->parameters && count >= least) def = d;
+      fewest = std::min(fewest, least);
+    }
     if (def == nullptr) {
-      fail(std::string(t.text) + " takes " + std::to_string(defs[0]->parameters) +
-               (defs[0]->parameters == 1 ? " argument" : " arguments") + ", got " +
-               std::to_string(count),
+      const std::size_t most = defs[0]->parameters;
+      const std::string takes = fewest == most ? std::to_string(most)
+                                               : std::to_string(fewest) + " to " + std::to_string(most);
+      fail(std::string(t.text) + " takes " + takes + (most == 1 ? " argument" : " arguments") +
+               ", got " + std::to_string(count),
            t);
     }
     FunctionCompiler callee(file_, *def);
@@ -991,6 +1006,12 @@ class FunctionCompiler : public ExpressionParser {
         args.push_back({expression(), kAssigned});
       }
     });
+    const std::size_t after = position();
+    for (std::size_t k = args.size(); k < params.size(); ++k) {
+      seek(params[k].default_value);
+      args.push_back({expression(), kAssigned});
+    }
+    seek(after);
     next();
     const bool is_void = !callee.result_type();
     if (is_void && !(&t == statement_call_ && peek().is(";"))) {
@@ -1029,6 +1050,14 @@ class FunctionCompiler : public ExpressionParser {
       if (count == 0) count = 1;
     }
     return count;
+  }
+
+  // How many arguments a call of `d` needs: its parameters but the last ones with a default.
+  std::size_t required(const FunctionDef& d) const {
+    const std::vector<Parameter> params = FunctionCompiler(file_, d).parameters();
+    std::size_t n = params.size();
+    while (n > 0 && params[n - 1].default_value != 0) --n;
+    return n;
   }
 
   // An out or inout argument, for `what` (the parameter, in messages): a variable of the caller,
@@ -1088,7 +1117,8 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
     std::vector<const FunctionDef*> matching;
     for (const FunctionDef* d : defs) {
       std::vector<std::string> have;
-      for (const Parameter& p : FunctionCompiler(file, *d).parameters()) have.emplace_back(p.name->text);
+      for (const Parameter& p : FunctionCompiler(file, *d).parameters())
+        have.emplace_back(p.name->text);
       std::sort(have.begin(), have.end());
       if (have == want) matching.push_back(d);
     }
@@ -1104,10 +1134,11 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
   if (defs.size() > 1) {
     std::string each;
     for (const FunctionDef* d : defs) {
-      std::vector<std::string> names;
-      for (const Parameter& p : FunctionCompiler(file, *d).parameters()) names.emplace_back(p.name->text);
-      each += std::string(each.empty() ? "" : ", ") + wanted + "(" + join_names(names) + ") at line " +
-              std::to_string(file.tokens()[d->name].line);
+      std::vector<std::string> parameters;
+      for (const Parameter& p : FunctionCompiler(file, *d).parameters())
+        parameters.emplace_back(p.name->text);
+      each += std::string(each.empty() ? "" : ", ") + wanted + "(" + join_names(parameters) +
+              ") at line " + std::to_string(file.tokens()[d->name].line);
     }
     fail_at("function '" + wanted + "' is defined " + std::to_string(defs.size()) + " times (" +
                 each + "): the variables pick one, by its parameters' names",
@@ -1164,7 +1195,9 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
     args.push_back({{out.inputs[k], Type::Float}, kAssigned});
   }
   file.calls.push_back(&def);
+  b.fold_zero_products(true);
   out.result = compiler.run(args, params, at).result.reg;
+  b.fold_zero_products(false);
   return out;
 }
 

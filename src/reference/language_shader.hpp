@@ -1,8 +1,8 @@
 // A GLSL or HLSL source as the shader front end sees it (internal to src/reference/): its tokens,
 // its functions (found by shape, their bodies read only when the reference calls them), its
-// file-scope constants and object-like macros (evaluated when first used), and the other
-// file-scope names, kept so that using one is a clear error. The tokens are the preprocessor's
-// (language_shader_preprocessor.hpp): conditional groups resolved, function-like macros expanded.
+// file-scope constants (evaluated when first used), and the other file-scope names, kept so that
+// using one is a clear error. The tokens are the preprocessor's
+// (language_shader_preprocessor.hpp): conditional groups resolved, macros expanded.
 #pragma once
 
 #include <deque>
@@ -40,16 +40,15 @@ struct FunctionDef {
 };
 
 struct Global {
-  enum Kind { Constant, Macro, Other } kind = Other;
+  enum Kind { Constant, Other } kind = Other;
   std::string what;  // Other: the construct, as errors name it ("uniforms")
   Token at;          // where it is declared
   Shape type;
-  // Constant, Macro: the tokens of its value, ending with the token after it (',', ';', End).
+  // Constant: the tokens of its value, ending with the token after it (',', ';').
   std::span<const Token> value_tokens;
   int order = 0;  // declaration order: a value may use the names declared before it
   std::optional<Value> value;
   bool evaluating = false;
-  std::optional<Error> error;  // Macro: why its value cannot be read, raised where it is used
 };
 
 class ShaderFile {
@@ -69,7 +68,7 @@ class ShaderFile {
   [[nodiscard]] std::vector<const FunctionDef*> find(std::string_view name) const;
   // The file-scope name, or nullptr.
   Global* global(std::string_view name);
-  // A constant's or macro's value, evaluated on first use (at `use`); an error for the rest.
+  // A constant's value, evaluated on first use (at `use`); an error for the rest.
   Value global_value(Global& g, const Token& use);
   // The names a message may suggest: the file-scope ones.
   [[nodiscard]] std::vector<std::string> global_names() const;
@@ -80,15 +79,12 @@ class ShaderFile {
 
  private:
   void scan();
-  void macro_line(const MacroLine& line);
   void declaration(std::size_t begin, std::size_t end);
   std::size_t matching(std::size_t open) const;  // the '}' or ')' closing tokens_[open]
   void add(const std::string& name, Global g);
 
   std::string path_;
   std::vector<Token> tokens_;
-  std::vector<MacroLine> macro_lines_;           // object-like macros, in order with the tokens
-  std::deque<std::vector<Token>> macro_tokens_;  // their values
   std::vector<FunctionDef> functions_;
   std::map<std::string, Global, std::less<>> globals_;
 };

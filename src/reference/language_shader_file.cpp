@@ -1,5 +1,5 @@
 // Reading a shader source's file scope (language_shader.hpp): the preprocessed tokens, functions,
-// constants and object-like macros, and the declarations the subset leaves out.
+// constants, and the declarations the subset leaves out.
 #include <algorithm>
 #include <cctype>
 
@@ -94,8 +94,6 @@ ShaderFile::ShaderFile(const ReferenceText& text, ProgramBuilder& b)
     : builder(b), path_(text.shader_path.empty() ? "shader" : text.shader_path) {
   PreprocessedSource source = preprocess(text.shader_source, path_);
   tokens_ = std::move(source.tokens);
-  macro_lines_ = std::move(source.macro_lines);
-  macro_tokens_ = std::move(source.storage);  // moves the vectors whole: the values' spans hold
   scan();
 }
 
@@ -134,17 +132,12 @@ std::size_t ShaderFile::matching(std::size_t open) const {
   fail_at("'" + std::string(o) + "' is not closed", path_, tokens_[open]);
 }
 
-// File scope: functions (`type name(parameters) [: semantic] { body }`), declarations up to
-// their ';' (structs, cbuffers and interface blocks with their braces), and the object-like
-// macros' lines in order with them, so that a value may use the names declared before it.
+// File scope: functions (`type name(parameters) [: semantic] { body }`) and declarations up to
+// their ';' (structs, cbuffers and interface blocks with their braces), in order, so that a
+// constant's value may use the names declared before it.
 void ShaderFile::scan() {
-  std::size_t i = 0, line = 0;
-  auto macros_before = [&](std::size_t position) {
-    for (; line < macro_lines_.size() && macro_lines_[line].position <= position; ++line)
-      macro_line(macro_lines_[line]);
-  };
+  std::size_t i = 0;
   while (true) {
-    macros_before(i);
     if (tokens_[i].kind == Token::End) break;
     const Token& t = tokens_[i];
     if (t.is(";")) {
@@ -203,7 +196,6 @@ void ShaderFile::scan() {
       }
       if (u.is(";")) {
         if (!function_shape) {
-          macros_before(i);  // a macro defined inside the declaration comes before it
           declaration(begin, i);
         }
         done = true;
@@ -260,7 +252,7 @@ void ShaderFile::declaration(std::size_t begin, std::size_t end) {
 
 namespace {
 
-// A constant's or macro's value: names resolve to the constants and macros declared before it.
+// A constant's value: names resolve to the constants declared before it.
 class ConstantParser : public ExpressionParser {
  public:
   ConstantParser(ShaderFile& file, const Global& g)
@@ -291,7 +283,6 @@ class ConstantParser : public ExpressionParser {
 
 Value ShaderFile::global_value(Global& g, const Token& use) {
   if (g.kind == Global::Other) unsupported(g.what, path_, use);
-  if (g.error) throw *g.error;
   if (g.value) return *g.value;
   if (g.evaluating)
     fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);
@@ -321,26 +312,6 @@ Value ShaderFile::global_value(Global& g, const Token& use) {
   g.evaluating = false;
   g.value = v;
   return v;
-}
-
-// An object-like macro's #define makes a constant (an error where used when it has no value);
-// the end of one that was never used removes it.
-void ShaderFile::macro_line(const MacroLine& line) {
-  const std::string name(line.name.text);
-  if (line.undefine) {
-    const Global* g = global(name);
-    if (g != nullptr && g->at.line == line.name.line && g->at.column == line.name.column)
-      globals_.erase(name);
-    return;
-  }
-  if (!line.has_value) {
-    add(name, Global{Global::Other, "macros without a value", line.name});
-    return;
-  }
-  Global g{Global::Macro, "", line.name};
-  g.value_tokens = line.value;
-  g.error = line.error;
-  add(name, std::move(g));
 }
 
 }  // namespace shaderfit::reference_detail

@@ -1,5 +1,5 @@
 // The shader preprocessor (language_shader_preprocessor.hpp): one pass over the lexer's tokens,
-// each directive acted on where it stands, function-like macros expanded at their calls.
+// each directive acted on where it stands, macros expanded where they are used.
 #include "language_shader_preprocessor.hpp"
 
 #include <algorithm>
@@ -24,7 +24,6 @@ struct Macro {
   std::vector<std::string_view> parameters;
   std::vector<Token> body;     // the replacement, without an End
   std::optional<Error> error;  // why the definition cannot be read, raised where it is expanded
-  std::optional<Token> used;   // object-like: its first use in the code
 };
 
 using Macros = std::map<std::string, Macro, std::less<>>;
@@ -217,14 +216,16 @@ class Preprocessor {
         out_.tokens.push_back(t);
         return std::move(out_);
       }
-      const std::size_t first = out_.tokens.size();
       const Macro* m = t.kind == Token::Ident ? find(t.text) : nullptr;
       if (m != nullptr && m->function_like) {
         call_in_code(t);
+      } else if (m != nullptr) {
+        expand(std::span<const Token>(&t, 1), false, out_.tokens);
+      } else if (t.is_word("typedef")) {
+        typedef_declaration(t);
       } else {
         out_.tokens.push_back(t);
       }
-      note_uses(std::span<const Token>(out_.tokens).subspan(first));
     }
   }
 
@@ -252,14 +253,33 @@ class Preprocessor {
                     t.column + 1 + static_cast<int>(at));
   }
 
-  // An object-like macro named in the code is read by the file where it is used: remember the
-  // first use, since a later different definition could not be told apart from it.
-  void note_uses(std::span<const Token> tokens) {
-    for (const Token& t : tokens) {
-      if (t.kind != Token::Ident) continue;
-      const auto it = macros_.find(t.text);
-      if (it != macros_.end() && !it->second.function_like && !it->second.used) it->second.used = t;
+  // typedef TYPE NAME; of a type the subset has (`typedef float real;`, `typedef half3
+  // real3;`): NAME stands for TYPE from here on, as an object-like macro would. Other typedefs
+  // (of structs) stay in the code, where the file reads them as what they are.
+  void typedef_declaration(const Token& t) {
+    std::vector<Token> tokens{t};
+    while (true) {
+      const Token u = read();
+      if (u.kind == Token::End || u.kind == Token::Directive) {
+        pending_ = u;
+        break;
+      }
+      tokens.push_back(u);
+      if (u.is(";")) break;
     }
+    const bool plain = tokens.size() >= 4 && tokens.back().is(";") &&
+                       tokens[tokens.size() - 2].kind == Token::Ident &&
+                       std::all_of(tokens.begin() + 1, tokens.end() - 2,
+                                   [](const Token& u) { return u.kind == Token::Ident; }) &&
+                       !tokens[1].is_word("struct");
+    if (!plain) {
+      expand(tokens, false, out_.tokens);
+      return;
+    }
+    Macro m;
+    m.name = tokens[tokens.size() - 2];
+    m.body.assign(tokens.begin() + 1, tokens.end() - 2);
+    macros_.insert_or_assign(std::string(m.name.text), std::move(m));
   }
 
   void directive(const Token& t) {
@@ -287,7 +307,7 @@ class Preprocessor {
     if (word == "undef") {
       const std::vector<Token> name = operands(t, at);
       if (name[0].kind != Token::Ident) fail("#undef needs a macro name", name[0]);
-      end_definition(name[0].text, nullptr);
+      macros_.erase(std::string(name[0].text));
       return;
     }
     if (word == "error") fail("#error " + directive_rest(t, at), t);
@@ -365,48 +385,17 @@ class Preprocessor {
     const auto after =
         static_cast<std::size_t>(m.name.text.data() + m.name.text.size() - text.data());
     m.function_like = after < text.size() && text[after] == '(';
-    Token end = m.name;  // the End after the line, where the value's reading stops
     try {
       std::vector<Token> rest;
       do {
         rest.push_back(lexer.next());
       } while (rest.back().kind != Token::End);
-      end = rest.back();
       const std::size_t body = m.function_like ? parameters(m, rest) : 0;
       m.body.assign(rest.begin() + static_cast<std::ptrdiff_t>(body), rest.end() - 1);
     } catch (const Error& e) {
       m.error = e;
     }
-    const std::string name(m.name.text);
-    if (const auto it = retired_.find(name); it != retired_.end() && same(it->second, m)) {
-      macros_.insert_or_assign(name, std::move(it->second));  // its constant is still the file's
-      retired_.erase(it);
-      return;
-    }
-    if (const Macro* old = find(name); old != nullptr && old->used && same(*old, m)) return;
-    end_definition(name, &m);
-    if (!m.function_like) {
-      MacroLine line;
-      line.position = out_.tokens.size();
-      line.name = m.name;
-      line.has_value = !m.body.empty() || m.error.has_value();
-      line.error = m.error;
-      if (line.has_value && !m.error) {
-        // The file reads the value where the macro is used; the function-like macros in it are
-        // the ones defined here.
-        try {
-          std::vector<Token>& value = out_.storage.emplace_back();
-          expand(m.body, false, value);
-          note_uses(value);
-          value.push_back(end);
-          line.value = value;
-        } catch (const Error& e) {
-          line.error = e;
-        }
-      }
-      out_.macro_lines.push_back(std::move(line));
-    }
-    macros_.insert_or_assign(name, std::move(m));
+    macros_.insert_or_assign(std::string(m.name.text), std::move(m));
   }
 
   // A function-like macro's parameters from `rest`, the tokens after its name ('(' first);
@@ -430,44 +419,6 @@ class Preprocessor {
         fail("expected ',' or ')' after a macro parameter, found " + shown(after), after);
       ++i;
     }
-  }
-
-  static bool same(const Macro& a, const Macro& b) {
-    if (a.function_like != b.function_like || a.error || b.error || a.parameters != b.parameters ||
-        a.body.size() != b.body.size())
-      return false;
-    for (std::size_t i = 0; i < a.body.size(); ++i)
-      if (a.body[i].text != b.body[i].text) return false;
-    return true;
-  }
-
-  // The definition of `name`, if any, ends before `next` (a new one) or at an #undef (null). An
-  // object-like macro used in the code stays the file's constant, so another value for it after
-  // that use is an error; an unused one goes.
-  void end_definition(std::string_view name, const Macro* next) {
-    const auto retired = retired_.find(name);
-    if (next != nullptr && retired != retired_.end()) redefined(retired->second, *next);
-    const auto it = macros_.find(name);
-    if (it == macros_.end()) return;
-    const Macro& old = it->second;
-    if (!old.function_like && old.used) {
-      if (next != nullptr) redefined(old, *next);
-      retired_.insert_or_assign(it->first, std::move(it->second));
-    } else if (!old.function_like) {
-      MacroLine line;
-      line.position = out_.tokens.size();
-      line.name = old.name;
-      line.undefine = true;
-      out_.macro_lines.push_back(std::move(line));
-    }
-    macros_.erase(it);
-  }
-
-  [[noreturn]] void redefined(const Macro& old, const Macro& next) const {
-    fail("macro '" + std::string(next.name.text) + "' is defined again after its use at line " +
-             std::to_string(old.used->line) +
-             ": an object-like macro is a file-scope constant, one value for the whole file",
-         next.name);
   }
 
   // A function-like macro's name in the code: its call, arguments read to the ')', expanded; a
@@ -498,9 +449,8 @@ class Preprocessor {
     expand(call, false, out_.tokens);
   }
 
-  // Appends `in` to `out` with its function-like macro calls expanded, and in an #if line its
-  // object-like macros too (the operand of `defined` excepted). A macro is not expanded inside
-  // its own expansion.
+  // Appends `in` to `out` with its macros expanded (in an #if line, the operand of `defined`
+  // excepted). A macro is not expanded inside its own expansion.
   void expand(std::span<const Token> in, bool in_if, std::vector<Token>& out) {
     for (std::size_t i = 0; i < in.size(); ++i) {
       const Token& t = in[i];
@@ -511,7 +461,7 @@ class Preprocessor {
         continue;
       }
       const Macro* m = t.kind == Token::Ident ? find(t.text) : nullptr;
-      if (m == nullptr || (!m->function_like && !in_if) ||
+      if (m == nullptr ||
           std::find(active_.begin(), active_.end(), t.text) != active_.end()) {
         out.push_back(t);
         continue;
@@ -594,7 +544,6 @@ class Preprocessor {
   Lexer lexer_;
   std::optional<Token> pending_;  // a token read ahead, the next to read
   Macros macros_;
-  Macros retired_;  // object-like macros used in the code, then ended by #undef
   std::vector<Conditional> conditionals_;  // the open ones, innermost last
   std::vector<std::string_view> active_;   // the macros being expanded, innermost last
   int depth_ = 0;

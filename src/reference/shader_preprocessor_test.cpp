@@ -91,12 +91,14 @@ float f(float x) { return x + 1.0; }
             "4:17: unexpected character '\"'");
   EXPECT_EQ(located(shader_error(unused + "float g(float x) { return VARIADIC(x); }", "g")),
             "5:18: variadic macros are not supported (VARIADIC(...))" + kSubsetNote);
+  // A macro without a value is nothing, as in C: here an operand goes missing.
   EXPECT_EQ(located(shader_error(unused + "float g(float x) { return x + EMPTY; }", "g")),
-            "8:31: macros without a value are not supported (EMPTY)" + kSubsetNote);
+            "8:36: unexpected ';': an operand is missing");
 }
 
-TEST(ShaderPreprocessor, ObjectLikeMacrosStayFileScopeConstants) {
-  // #undef ends an unused definition; a used one keeps its value for the uses before it.
+TEST(ShaderPreprocessor, ObjectLikeMacrosAreTextWhereUsed) {
+  // As in C: a macro is its tokens where it is used, with the definition in force there; #undef
+  // and a new #define change the uses after them.
   const Program p = shader(R"(
 #define K 1.0
 #undef K
@@ -104,18 +106,31 @@ TEST(ShaderPreprocessor, ObjectLikeMacrosStayFileScopeConstants) {
 const float kThree = K + 1.0;
 float g(float x) { return x * K + kThree; }
 #undef K
-#define K 2.0
+#define K 5.0
 float f(float x) {
 #define TEN 10.0
-  return g(x) * TEN;
+  return g(x) * TEN + K;
 }
 #undef TEN
 )");
-  EXPECT_EQ(at(p, {1.5}), (1.5 * 2 + 3) * 10);
-  EXPECT_EQ(located(shader_error("#define K 1.0\nfloat f(float x) { return x * K; }\n"
-                                 "#undef K\n#define K 2.0\n")),
-            "4:9: macro 'K' is defined again after its use at line 2: an object-like macro is a "
-            "file-scope constant, one value for the whole file");
+  EXPECT_EQ(at(p, {1.5}), (1.5 * 2 + 3) * 10 + 5);
+  // Types, expressions of locals, and nothing at all (engines' `real`, `X2`, `INLINE`); a
+  // typedef of a type names it too.
+  const Program q = shader(R"(
+#define real float
+#define real3 float3
+#define INLINE
+#define X2 (x * x)
+typedef half precise_t;
+INLINE real sq(real x) { return X2; }
+real f(real x) {
+  real3 v = real3(x, 1.0, 2.0);
+  precise_t y = sq(v.x) + v.z;
+  return y;
+}
+)",
+                           "f", {}, "test.hlsl");
+  EXPECT_EQ(at(q, {3.0}), 11.0);
 }
 
 TEST(ShaderPreprocessor, ConditionalGroupsChooseTheCode) {

@@ -514,6 +514,26 @@ float f(float x) {
   EXPECT_NEAR(at(p, {x}), 2 * series + 3, 1e-12);
 }
 
+// --- HLSL's default parameter values ------------------------------------------------------------
+
+TEST(ShaderDefaultParameters, TheLastParametersTakeTheirDefaultsWhereNotGiven) {
+  // fuzz3's h10: Unity's FastSign(s, positiveZero = true).
+  const char* source = R"(
+float FastSign(float s, bool positiveZero = true) {
+  return positiveZero ? (s >= 0.0 ? 1.0 : -1.0) : (s > 0.0 ? 1.0 : -1.0);
+}
+float scale(float x, float k = 2.0, float b = (1.0)) { return x * k + b; }
+float f(float x) { return FastSign(x) + 10.0 * FastSign(x, false) + 100.0 * scale(x) +
+                          1000.0 * scale(x, 3.0) + 1e4 * scale(x, 3.0, 0.0); }
+)";
+  const Program p = shader(source, "f", {}, "test.hlsl");
+  EXPECT_EQ(at(p, {0.0}), 1.0 - 10.0 + 100.0 * 1.0 + 1000.0 * 1.0 + 0.0);
+  EXPECT_EQ(at(p, {1.0}), 1.0 + 10.0 + 100.0 * 3.0 + 1000.0 * 4.0 + 1e4 * 3.0);
+  EXPECT_EQ(located(shader_error(std::string(source) +
+                                 "float g(float x) { return scale(); }", "g")),
+            "8:27: scale takes 1 to 3 arguments, got 0");
+}
+
 // --- HLSL's sincos ----------------------------------------------------------------------------
 
 TEST(ShaderSincos, WritesTheSineAndCosineOfScalarsAndVectors) {

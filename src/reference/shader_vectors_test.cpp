@@ -162,6 +162,11 @@ float f(float LoV, float NoL, float NoV) {
                            "f", {}, "test.hlsl");
   EXPECT_EQ(formula_of(p), "LoV - NoL * NoV");
   EXPECT_DOUBLE_EQ(at(p, {0.5, 0.25, 0.75}), 0.5 - 0.25 * 0.75);
+  // A zero component times anything is nothing (fuzz3's Kajiya-Kay: normalize(T + N * shift)
+  // with T and N constant axes).
+  EXPECT_EQ(formula_of(shader("float f(float s) { return dot(vec3(0.0, 0.0, 1.0), vec3(s, 2.0 * "
+                              "s, 3.0 * s)); }")),
+            "3 * s");
 }
 
 TEST(ShaderVectors, TwoLobePhaseFunctionBlendedByADot) {
