@@ -148,7 +148,7 @@ TEST(CmdReference, BadInputsAreOneClearLine) {
                                         "  return s;\n"
                                         "}\n");
   expect_bad_input({"search", "--reference-file", loop, "--function", "f", "--domain", "x=0:1"},
-                   "loop.glsl:3:3:");
+                   "loop.glsl:3:10: the condition of this while loop is not a constant");
   expect_bad_input({"search", "--data", scratch_file("one.csv", "x\n1\n2\n3\n")}, "one column");
   expect_bad_input({"eval", "--data", scratch_file("xy2.csv", "x,y\n1,2\n2,3\n"), "--certify", "x"},
                    "--certify");

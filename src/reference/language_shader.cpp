@@ -59,14 +59,24 @@ struct Variable {
   bool out = false;  // an out parameter (for messages)
 };
 
+// A return taken: on the paths where `taken` (a 0/1 register) holds and no earlier return was
+// taken, the function's result is `value`.
+struct Return {
+  Reg taken = 0;
+  Value value;
+};
+
 // What the code computed so far: the variables by scope (innermost last), whether the function
-// has returned (a 0/1 register), its result and its out parameters' values where it has, and
-// inside a loop which paths have left the iteration (0/1 registers): `broken` by break,
-// `continued` by continue, `skipped` either of them or a path the loop's start skipped.
+// has returned (a 0/1 register), the returns taken in order (the result is the first whose
+// `taken` holds: select(t1, v1, select(t2, v2, ...)), a chain for guard clauses where a select
+// per return over the result so far would repeat it in the formula), its out parameters'
+// values where it has returned, and inside a loop which paths have left the iteration (0/1
+// registers): `broken` by break, `continued` by continue, `skipped` either of them or a path the
+// loop's start skipped.
 struct State {
   std::vector<std::vector<Variable>> scopes;
   Reg returned = 0;
-  Value result;
+  std::vector<Return> returns;
   std::vector<Held> outs;  // by parameter
   Reg skipped = 0;
   Reg broken = 0;
@@ -200,7 +210,6 @@ class FunctionCompiler : public ExpressionParser {
     for (std::size_t k = 0; k < params.size(); ++k)
       if (params[k].mode != Mode::In) written_.push_back(k);
     state_.returned = state_.skipped = state_.broken = state_.continued = zero;
-    state_.result = *convert(b, Value{zero, Type::Float}, result_type_.value_or(Shape{}));
     seek(f_.body);
     block();
     const Token& close = tokens_[f_.end];
@@ -212,7 +221,12 @@ class FunctionCompiler : public ExpressionParser {
            close);
     }
     CallResult out;
-    out.result = state_.result;
+    // The result: the returns' values chained, the last taken wherever the earlier were not.
+    if (result_type_ && !state_.returns.empty()) {
+      out.result = state_.returns.back().value;
+      for (std::size_t k = state_.returns.size() - 1; k-- > 0;)
+        out.result = select(b, state_.returns[k].taken, state_.returns[k].value, out.result);
+    }
     out.outs.resize(params.size());
     for (const std::size_t k : written_) {
       // At the end: the value at the return where one was taken, else the last one.
@@ -306,6 +320,13 @@ class FunctionCompiler : public ExpressionParser {
   }
   // No path reaches here: every one has returned or left the loop's iteration.
   bool unreachable() const { return is_true(state_.returned) || is_true(state_.skipped); }
+
+  // a && b of 0/1 registers, folded where either is a constant.
+  Reg both(Reg a, Reg b) {
+    if (is_true(a) || is_false(b)) return b;
+    if (is_true(b) || is_false(a)) return a;
+    return builder().emit(ProgramOp::And, a, b);
+  }
 
   // a || b of 0/1 registers, folded where either is a constant.
   Reg either(Reg a, Reg b) {
@@ -666,13 +687,28 @@ class FunctionCompiler : public ExpressionParser {
         v.defined = h.defined;
       }
     }
-    // The out parameters' values at the returns: from the branches that returned somewhere.
+    // The result and the out parameters' values at the returns matter only on the paths that
+    // returned, where neither branch changes those of the paths that returned before it: a branch
+    // that returned on no new path leaves them to the other. (So guard clauses, `if (c) return
+    // k;` one after another, make a chain, not a tree that doubles with each.)
+    const bool then_new = then.returned != before.returned,
+               else_new = state_.returned != before.returned;
     for (const std::size_t k : written_) {
-      if (is_false(then.returned)) continue;
-      state_.outs[k] =
-          is_false(state_.returned) ? then.outs[k] : pick(c, then.outs[k], state_.outs[k]);
+      if (!then_new) continue;
+      state_.outs[k] = else_new ? pick(c, then.outs[k], state_.outs[k]) : then.outs[k];
     }
-    state_.result = select(b, c, then.result, state_.result);
+    // The branches' new returns, each taken where its branch is (they exclude each other).
+    std::vector<Return> returns(then.returns.begin(),
+                                then.returns.begin() +
+                                    static_cast<std::ptrdiff_t>(before.returns.size()));
+    for (std::size_t k = before.returns.size(); k < then.returns.size(); ++k)
+      returns.push_back({both(c, then.returns[k].taken), then.returns[k].value});
+    if (state_.returns.size() > before.returns.size()) {
+      const Reg not_c = b.emit(ProgramOp::Not, c);
+      for (std::size_t k = before.returns.size(); k < state_.returns.size(); ++k)
+        returns.push_back({both(not_c, state_.returns[k].taken), state_.returns[k].value});
+    }
+    state_.returns = std::move(returns);
     state_.returned = b.emit(ProgramOp::Select, c, then.returned, state_.returned);
     state_.skipped = b.emit(ProgramOp::Select, c, then.skipped, state_.skipped);
     state_.broken = b.emit(ProgramOp::Select, c, then.broken, state_.broken);
@@ -704,9 +740,8 @@ class FunctionCompiler : public ExpressionParser {
     const Reg skipped = state_.skipped;
     const bool some_skipped = !is_false(skipped);
     if (result_type_) {
-      Value r = select(b, state_.returned, state_.result, v);
-      if (some_skipped) r = select(b, skipped, state_.result, r);
-      state_.result = r;
+      // Taken on the paths still here: those that returned before took an earlier return.
+      state_.returns.push_back({some_skipped ? b.emit(ProgramOp::Not, skipped) : b.constant(1.0), v});
     }
     for (const std::size_t k : written_) {
       const Variable& p = state_.scopes[0][k];

@@ -514,6 +514,47 @@ float f(float x) {
   EXPECT_NEAR(at(p, {x}), 2 * series + 3, 1e-12);
 }
 
+// --- early returns -------------------------------------------------------------------------------
+
+TEST(ShaderReturns, GuardClausesMakeAChainOfSelects) {
+  // Each `if (c) return k;` is one select around the rest: 20 of them lower to 20 selects, where
+  // a select per return over the result so far repeated it (fuzz3's five_early_returns.glsl was
+  // more than 4096 nodes).
+  std::string source = "float f(float x) {\n  float s = x;\n";
+  for (int k = 1; k <= 20; ++k)
+    source += "  if (x > " + std::to_string(k) + ".0) return " + std::to_string(k) + ".0;\n  s *= 0.5;\n";
+  source += "  return s;\n}\n";
+  const Program p = shader(source);
+  EXPECT_EQ(at(p, {0.5}), 0.5 * std::pow(0.5, 20));
+  EXPECT_EQ(at(p, {7.5}), 1.0);
+  const std::string f = formula_of(p);
+  EXPECT_EQ(f.rfind("select(1 - x >= 0, select(2 - x >= 0, select(3 - x >= 0, ", 0), 0u) << f;
+  EXPECT_LT(f.size(), 700u) << f;
+  // Returns in nested branches and in a loop keep their order: the first taken is the result.
+  const Program q = shader(R"(
+float f(float x) {
+  if (x > 0.0) {
+    if (x > 2.0) return 2.0;
+    if (x > 1.0) return 1.0;
+  } else {
+    return -1.0;
+  }
+  for (int i = 0; i < 3; i++) {
+    if (x > 0.25 * float(i + 1)) continue;
+    return float(i) + 10.0;
+  }
+  return 100.0;
+}
+)");
+  EXPECT_EQ(at(q, {3.0}), 2.0);
+  EXPECT_EQ(at(q, {1.5}), 1.0);
+  EXPECT_EQ(at(q, {-1.0}), -1.0);
+  EXPECT_EQ(at(q, {0.1}), 10.0);
+  EXPECT_EQ(at(q, {0.3}), 11.0);
+  EXPECT_EQ(at(q, {0.6}), 12.0);
+  EXPECT_EQ(at(q, {0.9}), 100.0);
+}
+
 // --- HLSL's default parameter values ------------------------------------------------------------
 
 TEST(ShaderDefaultParameters, TheLastParametersTakeTheirDefaultsWhereNotGiven) {
