@@ -555,7 +555,8 @@ Expression with_shared_literal_parameters(const Expression& e) {
 }
 
 std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOptions& options,
-                                         const SearchProblem& rows) {
+                                         const SearchProblem& rows,
+                                         const std::function<bool()>& stop) {
   const double cost = formula_cost(e, options);
   std::vector<Expression> out;
   std::set<std::uint64_t> seen{structural_hash(e)};
@@ -577,6 +578,7 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
     for (std::size_t i = from->nodes.size(); i-- > 0;) {
       const Node& n = from->nodes[i];
       if (n.arity == 0 || !done.insert(hashes[i]).second) continue;
+      if (stop && stop()) return out;
       const Column s = subtree_values(*from, i, rows);
       if (!all_finite(s)) continue;
       for (const Fragment& f : replacements(*from, i, s, rows)) {

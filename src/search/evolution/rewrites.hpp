@@ -19,6 +19,8 @@
 // are fitted to the part it replaces; the formula's own stay as they are.
 #pragma once
 
+#include <functional>
+
 #include <cstddef>
 #include <vector>
 
@@ -33,9 +35,12 @@ inline constexpr std::size_t kRewriteRows = 512;
 SearchProblem descent_rows(const SearchProblem& problem, std::size_t count = kRewriteRows);
 
 // Every rewrite of e (over the problem's inputs) that costs less than e under `options`, the
-// introduced constants fitted on `rows`. Deterministic.
+// introduced constants fitted on `rows`. Deterministic. `stop`, when given, is asked between
+// subexpressions whether to end early, with the rewrites made so far (a large formula's are
+// many fits).
 std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOptions& options,
-                                         const SearchProblem& rows);
+                                         const SearchProblem& rows,
+                                         const std::function<bool()>& stop = {});
 
 // One rewrite of a random subexpression of e, chosen by `rng`, in its cheapest form; empty when
 // none applies. It may cost as much as e or more (a mutation).

@@ -179,8 +179,15 @@ std::vector<Expression> offer_derived_starts(search_detail::SearchContext& ctx,
     return search_detail::offer_start_formulas(
         ctx, {start_over_indexed_inputs(*sum, names, "power sum", SearchPhase::PowerSum)});
   std::vector<search_detail::StartFormula> material;
+  // A time-limited search gives the fits their share of the time; a count-budgeted one all of
+  // them (so that it stays reproducible).
+  const double deadline =
+      ctx.elapsed() + search_detail::kUniformStartShare * ctx.options.time_limit_s;
+  const auto over = [&] {
+    return ctx.should_stop() || (!ctx.options.max_candidates && ctx.elapsed() > deadline);
+  };
   for (const std::string& text :
-       search_detail::uniform_starts(problem, ctx.options, ctx.terminals)) {
+       search_detail::uniform_starts(problem, ctx.options, ctx.terminals, over)) {
     material.push_back(
         start_over_indexed_inputs(text, names, "per-material start", SearchPhase::Material));
     material.back().fitted = true;

@@ -73,7 +73,7 @@ std::vector<Expression> descend(SearchContext& ctx, std::span<const Expression> 
     if (next == nullptr) break;
     next->expanded = true;
     const Expression from = next->e;
-    std::vector<Expression> rewrites = cheaper_rewrites(from, options, rows);
+    std::vector<Expression> rewrites = cheaper_rewrites(from, options, rows, out_of_budget);
     ctx.candidates.fetch_add(rewrites.size(), std::memory_order_relaxed);
     // Screened on the rows; the best few at each cost go on.
     std::map<double, std::vector<std::pair<double, std::size_t>>> screened;

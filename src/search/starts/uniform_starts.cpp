@@ -60,7 +60,9 @@ std::vector<Column> bases_of(const std::string& x, const std::vector<double>& v)
 }  // namespace
 
 std::vector<std::string> uniform_starts(const SearchProblem& problem, const SearchOptions& options,
-                                        std::span<const Expression> terminals) {
+                                        std::span<const Expression> terminals,
+                                        const std::function<bool()>& over) {
+  const auto stop = [&] { return over && over(); };
   const std::size_t inputs = problem.inputs.size(), all_rows = problem.target.size();
   if (options.uniform.empty() || all_rows == 0) return {};
   std::vector<std::string> names;
@@ -220,6 +222,7 @@ std::vector<std::string> uniform_starts(const SearchProblem& problem, const Sear
   for (std::size_t j = 0; j < all.size(); ++j) all[j] = j;
   std::vector<Fit> ranked;
   for (const auto& b : sets) {
+    if (stop()) break;
     ranked.push_back(fit(b, all, Form::Linear, 0));
     if (positive) ranked.push_back(fit(b, all, Form::Exp2, 0));
     if (b.size() == 1)
@@ -253,6 +256,7 @@ std::vector<std::string> uniform_starts(const SearchProblem& problem, const Sear
       if (r.bases.size() != shape.size || r.form != shape.form || r.degree != shape.degree)
         continue;
       if (!std::isfinite(r.error) || taken++ == kUniformStartBases) break;
+      if (stop()) break;
       Fit best;
       for (const auto& t : subsets) {
         Fit f = fit(r.bases, t, r.form, r.degree);

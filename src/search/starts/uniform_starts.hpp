@@ -13,6 +13,7 @@
 // SearchPhase::Material).
 #pragma once
 
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -29,9 +30,16 @@ inline constexpr std::size_t kUniformStartRows = 2048;
 // fit with all of them.
 inline constexpr std::size_t kUniformStartBases = 6;
 
+// The share of a time-limited search's time the fits may take (they stop early, with the fits
+// made so far, where `over` says so; with many inputs and coefficient functions they are
+// seconds of least squares).
+inline constexpr double kUniformStartShare = 0.1;
+
 // Formulas over x0, x1, ... (input k is xk) with constants in full precision, cheapest first;
 // empty without uniform inputs or without a varying input. `terminals` over problem.input_names.
+// `over`, when given, is asked between fits whether to stop.
 std::vector<std::string> uniform_starts(const SearchProblem& problem, const SearchOptions& options,
-                                        std::span<const Expression> terminals);
+                                        std::span<const Expression> terminals,
+                                        const std::function<bool()>& over = {});
 
 }  // namespace shaderfit::search_detail
