@@ -111,9 +111,18 @@ Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
   // The knee is a formula to use instead of the reference: the reference's own member (the
   // function as written) takes no part while there is another, nor do the minor steps the front
   // does not show (a cost or error limit above takes the best of every member).
+  // One other member alone is no front to find a knee on: beside the reference (a constant,
+  // say) it is chosen only where it is as accurate.
   std::vector<std::size_t> others;
   for (std::size_t i : members)
     if (front[i].origin != SearchPhase::Reference && !front[i].minor_step) others.push_back(i);
+  if (others.size() == 1 && others.size() < members.size() && err(best) < err(others[0]) &&
+      front[best].origin == SearchPhase::Reference) {
+    return {best, fmt::format("the only other member (cost {:g}) has {} {:.3g}: the reference as "
+                              "written, {} {:.3g} at cost {:g}",
+                              cost(others[0]), error_name, err(others[0]), error_name, err(best),
+                              cost(best))};
+  }
   if (!others.empty() && others.size() < members.size()) {
     members = std::move(others);
     cheapest = best = members.front();
@@ -142,11 +151,13 @@ Choice choose_member(std::span<const FrontMember> front, const ChoiceRule& rule,
             fmt::format("the front has no knee (no member lies below the line from the "
                         "cheapest to the most accurate); the most accurate: {} {:.3g} at cost {:g}",
                         error_name, err(best), cost(best))};
+  const double first = err(cheapest) / std::max(err(knee), 1e-300),
+               further = err(knee) / std::max(err(best), 1e-300);
   return {knee,
           fmt::format("the knee of the front: cost {:g} cuts the {} {:.3g}x from the cheapest "
-                      "member (cost {:g}); the most accurate (cost {:g}) cuts it only {:.3g}x more",
-                      cost(knee), error_name, err(cheapest) / std::max(err(knee), 1e-300), c0, c1,
-                      err(knee) / std::max(err(best), 1e-300))};
+                      "member (cost {:g}); the most accurate (cost {:g}) cuts it {}{:.3g}x more",
+                      cost(knee), error_name, first, c0, c1, further < first ? "only " : "",
+                      further)};
 }
 
 }  // namespace shaderfit

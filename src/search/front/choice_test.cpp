@@ -53,6 +53,19 @@ TEST(Choice, TheKneePassesOverTheReferenceItself) {
   auto alone = front({{24, 1e-30}});
   alone.back().origin = SearchPhase::Reference;
   EXPECT_EQ(choose_member(alone, ChoiceRule{}).index, 0u);
+  // Beside one other member, less accurate (a constant): the reference, said so (fuzz3's
+  // exposure at 1 instruction per pixel).
+  auto two = front({{0, 7.7e4}, {1, 1.6e-27}});
+  two.back().origin = SearchPhase::Reference;
+  const Choice c = choose_member(two, ChoiceRule{}, "mse");
+  EXPECT_EQ(c.index, 1u);
+  EXPECT_EQ(c.why,
+            "the only other member (cost 0) has mse 7.7e+04: the reference as written, mse "
+            "1.6e-27 at cost 1");
+  // A further cut larger than the knee's own is not "only".
+  const Choice steep = choose_member(front({{0, 1}, {1, 1e-3}, {19, 1e-30}}), ChoiceRule{}, "mse");
+  EXPECT_EQ(steep.index, 1u);
+  EXPECT_EQ(steep.why.find("only"), std::string::npos) << steep.why;
 }
 
 // A minor step (less than the minimum step below the member shown before it) is never the knee;
