@@ -96,8 +96,10 @@ class FormulaWriter {
     // The arithmetic, min, max, pow and sign: the operator of the same name and meaning.
     if (const Op same = same_operator(in.op); same != Op::Count_) return op(same, arity(same));
     const std::string name(program_op_name(in.op));
+    // Shader code truncates by conversion too: int(x), (int)x, an int variable given a float.
+    const std::string also = in.op == ProgramOp::Trunc ? " (or converts a float to int)" : "";
     why = std::isalpha(static_cast<unsigned char>(name[0]))
-              ? "it calls " + name + ", which the search's operators cannot write"
+              ? "it calls " + name + also + ", which the search's operators cannot write"
               : "it reads '" + name + "' as a number, which the search's operators cannot write";
     return false;
   }

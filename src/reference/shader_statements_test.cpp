@@ -514,6 +514,12 @@ float f(float x) {
   EXPECT_NEAR(at(p, {x}), 2 * series + 3, 1e-12);
 }
 
+TEST(ShaderConversions, TruncationByIntIsSaidAsSuch) {
+  EXPECT_EQ(formula_of(shader("float f(float x) { return float(int(x * 4.0)) * 0.25; }")),
+            "(none: it calls trunc (or converts a float to int), which the search's operators "
+            "cannot write)");
+}
+
 // --- early returns -------------------------------------------------------------------------------
 
 TEST(ShaderReturns, GuardClausesMakeAChainOfSelects) {
