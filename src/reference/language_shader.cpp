@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <deque>
 #include <limits>
 
 #include "shaderfit/reference/program_evaluate.hpp"
@@ -50,13 +51,16 @@ struct Held {
   Defined defined = kAssigned;
 };
 
+// A local array is its elements, each a variable of its own named "name[k]" (so that branches
+// and loops merge them as any other), after a variable that stands for the array as a whole.
 struct Variable {
   std::string_view name;
   Value value;
   bool is_const = false;
   int line = 0;
   Defined defined = kAssigned;
-  bool out = false;  // an out parameter (for messages)
+  bool out = false;     // an out parameter (for messages)
+  int array_size = 0;   // an array's elements follow it in its scope
 };
 
 // A return taken: on the paths where `taken` (a 0/1 register) holds and no earlier return was
@@ -247,8 +251,17 @@ class FunctionCompiler : public ExpressionParser {
   Value name(const Token& t) override {
     if (t.is_word("true") || t.is_word("false"))
       return {builder().constant(t.is_word("true") ? 1.0 : 0.0), Type::Bool};
-    if (const auto slot = locate(t.text)) return read(variable(*slot), t);
-    if (Global* g = file_.global(t.text)) return file_.global_value(*g, t);
+    if (auto slot = locate(t.text)) {
+      if (variable(*slot).array_size > 0) slot = element(*slot, t);
+      return read(variable(*slot), t);
+    }
+    if (Global* g = file_.global(t.text)) {
+      if (g->kind == Global::Array) {
+        const int k = subscript(g->array_size, t);
+        return file_.global_value(*file_.global(element_name(t.text, k)), t);
+      }
+      return file_.global_value(*g, t);
+    }
     if (!file_.find(t.text).empty())
       fail("function '" + std::string(t.text) + "' needs arguments in parentheses", t);
     if (scalar_type(t.text) || is_vector_type(t.text))
@@ -369,6 +382,37 @@ class FunctionCompiler : public ExpressionParser {
     if (const Global* g = file_.global(t.text); g != nullptr && g->what == "structs")
       unsupported("structs", file_.path(), t);
     fail("unknown type " + describe(t) + " (float, half, double, int or bool)", t);
+  }
+
+  // The constant subscript `[k]` after an array's name `at`, read: k, from 0 to size - 1.
+  int subscript(int size, const Token& at) {
+    if (!peek().is("[")) {
+      fail("the array '" + std::string(at.text) + "' is used whole: only its elements (" +
+               std::string(at.text) + "[k]) are values",
+           at);
+    }
+    const Token& open = next();
+    const Value k = expression();
+    expect("]", "to close the subscript at column " + std::to_string(open.column));
+    const auto c = k.width == 1 ? builder().constant_value(k.reg) : std::nullopt;
+    if (!c || *c != std::trunc(*c) || *c < 0 || *c >= size) {
+      fail("a subscript of '" + std::string(at.text) + "' must be a constant from 0 to " +
+               std::to_string(size - 1) +
+               " (arrays are read at constant places: loops are unrolled, so their counter is one)",
+           open);
+    }
+    return static_cast<int>(*c);
+  }
+
+  // The slot of the element of the array at `array` that the subscript after `at` names.
+  Slot element(Slot array, const Token& at) {
+    const int k = subscript(variable(array).array_size, at);
+    return Slot{array.scope, array.index + 1 + static_cast<std::size_t>(k)};
+  }
+
+  // "w[2]".
+  static std::string element_name(std::string_view array, int k) {
+    return std::string(array) + "[" + std::to_string(k) + "]";
   }
 
   std::optional<Slot> locate(std::string_view n) const {
@@ -501,12 +545,17 @@ class FunctionCompiler : public ExpressionParser {
     while (true) {
       const Token& n = next();
       if (n.kind != Token::Ident) fail("expected a variable name, found " + describe(n), n);
-      if (peek().is("[")) unsupported("arrays", file_.path(), peek());
       for (const Variable& v : state_.scopes.back())
         if (v.name == n.text)
           fail("'" + std::string(n.text) + "' is already declared in this scope (line " +
                    std::to_string(v.line) + ")",
                n);
+      if (peek().is("[")) {
+        array_declaration(n, type, is_const);
+        if (accept(",")) continue;
+        expect(";", "after the declaration");
+        return;
+      }
       Variable v{n.text, unassigned(type), is_const, n.line, kUnassigned};
       if (peek().is("=")) {
         const Token& eq = next();
@@ -519,6 +568,68 @@ class FunctionCompiler : public ExpressionParser {
       if (accept(",")) continue;
       expect(";", "after the declaration");
       return;
+    }
+  }
+
+  // name[N] [= {a, b, ...}] or [= type[N](a, b, ...)], N a constant or left out where the values
+  // give it: the array's variable, then its elements'.
+  void array_declaration(const Token& n, Shape type, bool is_const) {
+    const Token& open = next();
+    int size = -1;
+    if (!peek().is("]")) {
+      const Value k = expression();
+      const auto c = k.width == 1 ? builder().constant_value(k.reg) : std::nullopt;
+      if (!c || *c != std::trunc(*c) || *c < 1 || *c > 4096)
+        fail("the size of the array '" + std::string(n.text) + "' must be a constant from 1 to 4096", open);
+      size = static_cast<int>(*c);
+    }
+    expect("]", "to close the size of '" + std::string(n.text) + "'");
+    if (peek().is("[")) unsupported("arrays of arrays", file_.path(), peek());
+    std::vector<Value> values;
+    if (peek().is("=")) {
+      const Token& eq = next();
+      std::string close = "}";
+      if (accept("{")) {
+      } else if (peek().kind == Token::Ident && shader_type(peek().text) && peek(1).is("[")) {
+        next();
+        next();
+        while (!peek().is("]") && peek().kind != Token::End) next();
+        expect("]", "in the array's type");
+        expect("(", "after the array's type");
+        close = ")";
+      } else {
+        fail("expected '{' or an array constructor for the values of '" + std::string(n.text) +
+                 "', found " + describe(peek()),
+             peek());
+      }
+      while (!peek().is(close)) {
+        const Token& at = peek();
+        values.push_back(to_shape(expression(), type, at, "an element of '" + std::string(n.text) + "'"));
+        if (!accept(",")) break;
+      }
+      expect(close, "after the values of '" + std::string(n.text) + "'");
+      if (size < 0) size = static_cast<int>(values.size());
+      if (values.size() != static_cast<std::size_t>(size)) {
+        fail("'" + std::string(n.text) + "' has " + std::to_string(size) + " elements and " +
+                 std::to_string(values.size()) + " values",
+             eq);
+      }
+    } else if (size < 0) {
+      fail("the array '" + std::string(n.text) + "' needs a size or values", open);
+    } else if (is_const) {
+      fail("the constant '" + std::string(n.text) + "' needs a value", n);
+    }
+    Variable whole{n.text, unassigned(type), is_const, n.line, kAssigned};
+    whole.array_size = size;
+    state_.scopes.back().push_back(whole);
+    for (int k = 0; k < size; ++k) {
+      const std::string_view name = element_names_.emplace_back(element_name(n.text, k));
+      Variable v{name, unassigned(type), is_const, n.line, kUnassigned};
+      if (!values.empty()) {
+        v.value = values[static_cast<std::size_t>(k)];
+        v.defined = kAssigned;
+      }
+      state_.scopes.back().push_back(v);
     }
   }
 
@@ -607,7 +718,7 @@ class FunctionCompiler : public ExpressionParser {
     const bool prefix = peek().is("++") || peek().is("--");
     const Token* op = prefix ? &next() : nullptr;
     const Token& n = next();
-    const std::optional<Slot> slot = locate(n.text);
+    std::optional<Slot> slot = locate(n.text);
     if (!slot) {
       if (const Global* g = file_.global(n.text); g != nullptr && g->kind == Global::Other)
         unsupported(g->what, file_.path(), n);
@@ -615,6 +726,7 @@ class FunctionCompiler : public ExpressionParser {
         fail("cannot assign to the file-scope constant '" + std::string(n.text) + "'", n);
       fail("unknown variable '" + std::string(n.text) + "'", n);
     }
+    if (variable(*slot).array_size > 0) slot = element(*slot, n);
     if (variable(*slot).is_const)
       fail("cannot assign to the constant '" + std::string(n.text) + "'", n);
     const std::vector<int> picked = written_components(variable(*slot).value.width);
@@ -1120,6 +1232,7 @@ class FunctionCompiler : public ExpressionParser {
   ShaderFile& file_;
   const FunctionDef& f_;
   std::span<const Token> tokens_;
+  std::deque<std::string> element_names_;  // the names of the arrays' elements ("w[2]")
   State state_;
   std::optional<Shape> result_type_;
   std::vector<std::size_t> written_;       // the out and inout parameters

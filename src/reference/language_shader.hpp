@@ -5,7 +5,6 @@
 // (language_shader_preprocessor.hpp): conditional groups resolved, macros expanded.
 #pragma once
 
-#include <deque>
 #include <functional>
 #include <map>
 #include <optional>
@@ -39,14 +38,17 @@ struct FunctionDef {
   std::size_t parameters = 0;  // how many
 };
 
+// A file-scope name. A constant array is a Global of kind Array and its elements, constants
+// named "name[k]".
 struct Global {
-  enum Kind { Constant, Other } kind = Other;
+  enum Kind { Constant, Array, Other } kind = Other;
   std::string what;  // Other: the construct, as errors name it ("uniforms")
   Token at;          // where it is declared
   Shape type;
   // Constant: the tokens of its value, ending with the token after it (',', ';').
   std::span<const Token> value_tokens;
   int order = 0;  // declaration order: a value may use the names declared before it
+  int array_size = 0;  // Array: its elements
   std::optional<Value> value;
   bool evaluating = false;
 };
@@ -80,6 +82,7 @@ class ShaderFile {
  private:
   void scan();
   void declaration(std::size_t begin, std::size_t end);
+  bool constant_array(const Token& name, Shape type, std::size_t value, std::size_t end);
   std::size_t matching(std::size_t open) const;  // the '}' or ')' closing tokens_[open]
   void add(const std::string& name, Global g);
 

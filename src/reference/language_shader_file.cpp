@@ -111,7 +111,8 @@ Global* ShaderFile::global(std::string_view name) {
 
 std::vector<std::string> ShaderFile::global_names() const {
   std::vector<std::string> out;
-  for (const auto& [name, g] : globals_) out.push_back(name);
+  for (const auto& [name, g] : globals_)
+    if (name.find('[') == std::string::npos) out.push_back(name);
   return out;
 }
 
@@ -239,6 +240,12 @@ void ShaderFile::declaration(std::size_t begin, std::size_t end) {
     }
     const std::optional<Shape> shape = shader_type(type.text);
     const std::string what = construct(qualifiers, type.text, array);
+    if (is_const && shape && array && value != 0 &&
+        construct(qualifiers, type.text, false) == "global variables" &&
+        constant_array(name, *shape, value, value_end)) {
+      i = value_end + 1;
+      continue;
+    }
     if (is_const && shape && !array && what == "global variables" && value != 0) {
       Global g{Global::Constant, "", name, *shape};
       g.value_tokens = std::span<const Token>(tokens_).subspan(value, value_end + 1 - value);
@@ -248,6 +255,47 @@ void ShaderFile::declaration(std::size_t begin, std::size_t end) {
     }
     i = value_end + 1;
   }
+}
+
+// A constant array's elements from its values, tokens [value, end): `{a, b, ...}` or
+// `type[N](a, b, ...)`; false where they are not one of these.
+bool ShaderFile::constant_array(const Token& name, Shape type, std::size_t value, std::size_t end) {
+  std::size_t i = value;
+  std::string_view close = "}";
+  if (tokens_[i].is("{")) {
+    ++i;
+  } else if (tokens_[i].kind == Token::Ident && shader_type(tokens_[i].text) &&
+             tokens_[i + 1].is("[")) {
+    i += 2;
+    while (i < end && !tokens_[i].is("]")) ++i;
+    if (i + 1 >= end || !tokens_[i + 1].is("(")) return false;
+    i += 2;
+    close = ")";
+  } else {
+    return false;
+  }
+  int count = 0;
+  for (std::size_t begin = i, depth = 0; i < end; ++i) {
+    const Token& u = tokens_[i];
+    const bool last = depth == 0 && u.is(close);
+    if ((depth == 0 && u.is(",")) || last) {
+      if (i > begin) {
+        Global g{Global::Constant, "", name, type};
+        g.value_tokens = std::span<const Token>(tokens_).subspan(begin, i + 1 - begin);
+        add(std::string(name.text) + "[" + std::to_string(count++) + "]", std::move(g));
+      }
+      begin = i + 1;
+      if (last) break;
+      continue;
+    }
+    if (u.is("(") || u.is("[") || u.is("{")) ++depth;
+    if (u.is(")") || u.is("]") || u.is("}")) --depth;
+  }
+  if (count == 0) return false;
+  Global whole{Global::Array, "", name, type};
+  whole.array_size = count;
+  add(std::string(name.text), std::move(whole));
+  return true;
 }
 
 namespace {
@@ -283,6 +331,11 @@ class ConstantParser : public ExpressionParser {
 
 Value ShaderFile::global_value(Global& g, const Token& use) {
   if (g.kind == Global::Other) unsupported(g.what, path_, use);
+  if (g.kind == Global::Array) {
+    fail_at("the array '" + std::string(g.at.text) + "' is used whole: only its elements (" +
+                std::string(g.at.text) + "[k]) are values",
+            path_, use);
+  }
   if (g.value) return *g.value;
   if (g.evaluating)
     fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);

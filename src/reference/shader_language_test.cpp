@@ -207,8 +207,8 @@ TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
             "3:7: textures are not supported (texture)" + more);
   EXPECT_EQ(located(shader_error(body("y = t.Sample(s, x);"))),
             "3:8: textures are not supported (.Sample)" + more);
-  EXPECT_EQ(located(shader_error(body("float a[4];"))),
-            "3:10: arrays are not supported ([)" + more);
+  EXPECT_EQ(located(shader_error(body("float a[4][2];"))),
+            "3:13: arrays of arrays are not supported ([)" + more);
   EXPECT_EQ(located(shader_error(body("switch (int(y)) { case 0: y = 1.0; }"))),
             "3:3: switch statements are not supported (switch)" + more);
   EXPECT_EQ(located(shader_error(body("if (y < 0.0) discard;"))),

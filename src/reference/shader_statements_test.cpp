@@ -520,6 +520,54 @@ TEST(ShaderConversions, TruncationByIntIsSaidAsSuch) {
             "cannot write)");
 }
 
+// --- arrays read at constant places ---------------------------------------------------------------
+
+TEST(ShaderArrays, ConstantTablesAndLocalArraysInUnrolledLoops) {
+  // fuzz3's h06: a sum of Gaussians from static const tables, read by an unrolled loop.
+  const Program p = shader(R"(
+static const float kWeight[3] = { 0.25, 0.5, 0.25 };
+static const float3 kScale[] = { float3(1.0, 2.0, 3.0), float3(4.0, 5.0, 6.0),
+                                 float3(7.0, 8.0, 9.0) };
+float f(float r) {
+  float sum = 0.0;
+  [unroll] for (uint i = 0; i < 3; i++)
+    sum += kWeight[i] * exp(-r * r / kScale[i].y);
+  float acc[2];
+  acc[0] = sum;
+  acc[1] = 2.0 * acc[0];
+  float w[] = float[](1.0, 10.0);
+  acc[1] += w[1];
+  return acc[1];
+}
+)",
+                           "f", {}, "test.hlsl");
+  const double r = 0.7;
+  const double sum = 0.25 * std::exp(-r * r / 2) + 0.5 * std::exp(-r * r / 5) +
+                     0.25 * std::exp(-r * r / 8);
+  EXPECT_NEAR(at(p, {r}), 2 * sum + 10, 1e-12);
+  // Elements merge across branches as variables do.
+  const Program q = shader(R"(
+float f(float x) {
+  float a[2] = {1.0, 2.0};
+  if (x > 0.5) a[1] = x;
+  return a[0] + a[1];
+}
+)");
+  EXPECT_EQ(at(q, {0.25}), 3.0);
+  EXPECT_EQ(at(q, {0.75}), 1.75);
+  const auto body = testing::function_with;
+  EXPECT_EQ(located(shader_error(body("float a[2] = {1.0, 2.0}; y = a[2];"))),
+            "3:33: a subscript of 'a' must be a constant from 0 to 1 (arrays are read at constant "
+            "places: loops are unrolled, so their counter is one)");
+  EXPECT_EQ(located(shader_error(body("float a[2] = {1.0, 2.0}; y = a;"))),
+            "3:32: the array 'a' is used whole: only its elements (a[k]) are values");
+  EXPECT_EQ(located(shader_error(body("float a[3] = {1.0, 2.0};"))),
+            "3:14: 'a' has 3 elements and 2 values");
+  EXPECT_EQ(located(shader_error(body("float a[2] = {1.0, 2.0}; y = a[int(x)];"))),
+            "3:33: a subscript of 'a' must be a constant from 0 to 1 (arrays are read at constant "
+            "places: loops are unrolled, so their counter is one)");
+}
+
 // --- early returns -------------------------------------------------------------------------------
 
 TEST(ShaderReturns, GuardClausesMakeAChainOfSelects) {

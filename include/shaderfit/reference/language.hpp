@@ -19,7 +19,8 @@
 //             anywhere, ?:, calls of the other functions of the same file (inlined; out and
 //             inout arguments), for, while and do loops with a constant trip count (unrolled), the
 //             preprocessor (#define with arguments, #if / #ifdef), vectors inside the function
-//             (vec3, float3, swizzles, dot, normalize, ...), and the shading languages'
+//             (vec3, float3, swizzles, dot, normalize, ...), constant tables and local arrays
+//             read at constant places, and the shading languages'
 //             built-ins (saturate, mix, lerp, smoothstep, step, clamp, fract, frac, mod, fmod,
 //             rsqrt, inversesqrt, rcp, radians, degrees, exp2, log2, pow, ...). Loops without
 //             a constant trip count, matrices, textures, #include, recursion and anything else
