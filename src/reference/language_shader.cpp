@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <deque>
 #include <limits>
+#include <utility>
 
 #include "shaderfit/reference/program_evaluate.hpp"
 
@@ -941,15 +942,23 @@ class FunctionCompiler : public ExpressionParser {
   void while_statement() {
     const Token& t = next();
     const Nest nest(*this, t);
+    const auto [condition, close] = while_condition("while");
+    state_.scopes.emplace_back();
+    unroll({"while", t, condition, ")", 0, close + 1, true, false});
+    state_.scopes.pop_back();
+  }
+
+  // `( condition )` after `while` (of a while or a do loop `kind`): where the condition starts,
+  // and its ')'.
+  std::pair<std::size_t, std::size_t> while_condition(std::string_view kind) {
     expect("(", "after 'while'");
     const std::size_t condition = position();
     const std::size_t close = header_end(condition);
     if (!token_at(close).is(")"))
       fail("expected ')' to close the condition of 'while', found ';'", token_at(close));
-    if (close == condition) fail("a while loop needs a condition", token_at(condition));
-    state_.scopes.emplace_back();
-    unroll({"while", t, condition, ")", 0, close + 1, true, false});
-    state_.scopes.pop_back();
+    if (close == condition)
+      fail("a " + std::string(kind) + " loop needs a condition", token_at(condition));
+    return {condition, close};
   }
 
   // do statement while ( condition ) ; : unrolled, the condition checked after each iteration.
@@ -969,12 +978,7 @@ class FunctionCompiler : public ExpressionParser {
     if (!peek().is_word("while"))
       fail("expected 'while' after the body of 'do', found " + describe(peek()), peek());
     next();
-    expect("(", "after 'while'");
-    const std::size_t condition = position();
-    const std::size_t close = header_end(condition);
-    if (!token_at(close).is(")"))
-      fail("expected ')' to close the condition of 'while', found ';'", token_at(close));
-    if (close == condition) fail("a do loop needs a condition", token_at(condition));
+    const auto [condition, close] = while_condition("do");
     state_.scopes.emplace_back();
     unroll({"do", t, condition, ")", 0, body, false, false});
     state_.scopes.pop_back();
