@@ -279,21 +279,26 @@ Value ExpressionParser::postfix(Value v) {
     } else if (peek().is("[")) {
       const Token& open = next();
       if (v.width == 1) fail("a subscript of a scalar: arrays are not supported", open);
-      const Value k = expression();
-      expect("]", "to close the subscript at column " + std::to_string(open.column));
-      const auto c = k.width == 1 ? b_.constant_value(k.reg) : std::nullopt;
-      if (!c || *c != std::trunc(*c) || *c < 0 || *c >= v.width) {
-        fail("a subscript of a " + shape_name(v.shape()) + " must be a constant from 0 to " +
-                 std::to_string(v.width - 1),
-             open);
-      }
-      v = part(v, static_cast<int>(*c));
+      v = part(v, constant_subscript(open, v.width, "a " + shape_name(v.shape())));
     } else {
       break;
     }
   }
   check_postfix();
   return v;
+}
+
+int ExpressionParser::constant_subscript(const Token& open, int size, const std::string& of,
+                                         std::string_view why) {
+  const Value k = expression();
+  expect("]", "to close the subscript at column " + std::to_string(open.column));
+  const auto c = k.width == 1 ? b_.constant_value(k.reg) : std::nullopt;
+  if (!c || *c != std::trunc(*c) || *c < 0 || *c >= size) {
+    fail("a subscript of " + of + " must be a constant from 0 to " + std::to_string(size - 1) +
+             std::string(why),
+         open);
+  }
+  return static_cast<int>(*c);
 }
 
 Value ExpressionParser::swizzle(const Value& v, const Token& member) {

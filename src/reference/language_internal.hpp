@@ -228,6 +228,10 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   Value apply_binary(const Token& at, std::string_view op, Value a, Value b);
   // The shader's swizzle `.member` of v (is_swizzle(member)); an error for a component v lacks.
   Value swizzle(const Value& v, const Token& member);
+  // After a subscript's '[' (`open`, just read): its index up to the ']', which must be a
+  // constant from 0 to size - 1; else the error "a subscript of <of> must be ..." + `why`.
+  int constant_subscript(const Token& open, int size, const std::string& of,
+                         std::string_view why = {});
 
   // The grammar's hooks.
   int precedence(const Token& t) override;

@@ -393,16 +393,9 @@ class FunctionCompiler : public ExpressionParser {
            at);
     }
     const Token& open = next();
-    const Value k = expression();
-    expect("]", "to close the subscript at column " + std::to_string(open.column));
-    const auto c = k.width == 1 ? builder().constant_value(k.reg) : std::nullopt;
-    if (!c || *c != std::trunc(*c) || *c < 0 || *c >= size) {
-      fail("a subscript of '" + std::string(at.text) + "' must be a constant from 0 to " +
-               std::to_string(size - 1) +
-               " (arrays are read at constant places: loops are unrolled, so their counter is one)",
-           open);
-    }
-    return static_cast<int>(*c);
+    return constant_subscript(
+        open, size, "'" + std::string(at.text) + "'",
+        " (arrays are read at constant places: loops are unrolled, so their counter is one)");
   }
 
   // The slot of the element of the array at `array` that the subscript after `at` names.
@@ -687,15 +680,7 @@ class FunctionCompiler : public ExpressionParser {
         }
       } else {
         if (now == 1) fail("a subscript of a scalar: arrays are not supported", at);
-        const Value k = expression();
-        expect("]", "to close the subscript at column " + std::to_string(at.column));
-        const auto c = k.width == 1 ? builder().constant_value(k.reg) : std::nullopt;
-        if (!c || *c != std::trunc(*c) || *c < 0 || *c >= now) {
-          fail("a subscript of a " + shape_name(Shape{Type::Float, now}) +
-                   " must be a constant from 0 to " + std::to_string(now - 1),
-               at);
-        }
-        local = {static_cast<int>(*c)};
+        local = {constant_subscript(at, now, "a " + shape_name(Shape{Type::Float, now}))};
       }
       if (picked.empty()) {
         picked = local;
