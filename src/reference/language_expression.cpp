@@ -114,6 +114,11 @@ Value ExpressionParser::expression() {
   expect(":", "after the first branch of '?' at column " + std::to_string(question.column));
   const Value b = expression();
   if (c.width != 1) fail("the condition of '?' is a " + shape_name(c.shape()) + ", not a scalar", question);
+  if (a.record != b.record) {
+    fail("the branches of '?' have different types (" + shape_name(a.shape()) + " and " +
+             shape_name(b.shape()) + ")",
+         question);
+  }
   if (a.width != 1 && b.width != 1 && a.width != b.width) {
     fail("the branches of '?' have different sizes (" + shape_name(a.shape()) + " and " +
              shape_name(b.shape()) + ")",
@@ -147,6 +152,8 @@ Value ExpressionParser::binary_op(const Token& op, Value a, Value b) {
 }
 
 Value ExpressionParser::apply_binary(const Token& at, std::string_view s, Value a, Value b) {
+  for (const Value* v : {&a, &b})
+    if (v->record != nullptr) fail(not_a_number("'" + std::string(s) + "'", *v), at);
   if (a.width == 1 && b.width == 1) return scalar_binary(s, a, b);
   const bool arithmetic = s == "+" || s == "-" || s == "*" || s == "/" || s == "%";
   if (!arithmetic) {
@@ -199,6 +206,7 @@ std::optional<Value> ExpressionParser::prefix() {
   if (peek().is("!")) {
     const Token& bang = next();
     const Value v = unary();
+    if (v.record != nullptr) fail(not_a_number("'!'", v), bang);
     if (v.width != 1) fail("'!' of a vector is not supported (negate its components)", bang);
     return Value{b_.emit(ProgramOp::Not, v.reg), Type::Bool};
   }
@@ -206,6 +214,7 @@ std::optional<Value> ExpressionParser::prefix() {
 }
 
 Value ExpressionParser::negate(Value v) {
+  if (v.record != nullptr) fail(not_a_number("'-'", v), token_at(position() - 1));
   for (int i = 0; i < v.width; ++i) v.set_component(i, b_.emit(ProgramOp::Neg, v.component(i)));
   if (v.type == Type::Bool) v.type = Type::Int;
   return v;
@@ -257,13 +266,17 @@ std::optional<std::int32_t> ExpressionParser::integer_literal(std::size_t begin,
 // A C-style cast in shaders, (float)x, (float3)x.
 std::optional<Value> ExpressionParser::special_primary() {
   if (!(peek().is("(") && dialect_ == Dialect::Shader && peek(1).kind == Token::Ident &&
-        shader_type(peek(1).text) && peek(2).is(")")))
+        peek(2).is(")")))
     return std::nullopt;
+  const std::optional<Shape> type_named = named_type(peek(1).text);
+  if (!type_named) return std::nullopt;
   next();
   const Token& type = next();
   next();
-  const Shape to = *shader_type(type.text);
+  const Shape to = *type_named;
   const Value v = unary();
+  // HLSL: a scalar cast to a struct gives every member its value, (S)0.
+  if (to.record != nullptr && v.record == nullptr && v.width == 1) return filled(b_, v, to);
   const std::optional<Value> out = convert(b_, v, to);
   if (!out) fail("cannot cast a " + shape_name(v.shape()) + " to " + std::string(type.text), type);
   return *out;
@@ -273,9 +286,21 @@ std::optional<Value> ExpressionParser::special_primary() {
 // scalar; formulas have none.
 Value ExpressionParser::postfix(Value v) {
   while (dialect_ == Dialect::Shader) {
-    if (peek().is(".") && peek(1).kind == Token::Ident && is_swizzle(peek(1).text)) {
+    if (v.record != nullptr && peek().is(".") && peek(1).kind == Token::Ident) {
       next();
-      v = swizzle(v, next());
+      v = Value(v.members[static_cast<std::size_t>(member_of(*v.record, next()))]);
+    } else if (v.record != nullptr && peek().is("[")) {
+      fail("a subscript of a " + v.record->name + ": a struct has members, not components",
+           peek());
+    } else if (peek().is(".") && peek(1).kind == Token::Ident) {
+      next();
+      const Token& member = next();
+      if (!is_swizzle(member.text)) {
+        fail("'." + std::string(member.text) + "' of a " + shape_name(v.shape()) +
+                 ": only structs have members",
+             member);
+      }
+      v = swizzle(v, member);
     } else if (peek().is("[")) {
       const Token& open = next();
       if (v.width == 1) fail("a subscript of a scalar: arrays are not supported", open);
@@ -286,6 +311,22 @@ Value ExpressionParser::postfix(Value v) {
   }
   check_postfix();
   return v;
+}
+
+int ExpressionParser::member_of(const StructType& type, const Token& member) {
+  const int k = type.member(member.text);
+  if (k < 0) {
+    std::vector<std::string> names;
+    for (const StructMember& m : type.members) names.push_back(m.name);
+    fail("'" + type.name + "' has no member '" + std::string(member.text) + "' (its members: " +
+             join_names(names) + ")",
+         member);
+  }
+  return k;
+}
+
+std::string ExpressionParser::not_a_number(const std::string& what, const Value& v) {
+  return what + " of a " + v.record->name + ": a struct is not a number (use its members)";
 }
 
 int ExpressionParser::constant_subscript(const Token& open, int size, const std::string& of,
@@ -320,6 +361,8 @@ Value ExpressionParser::swizzle(const Value& v, const Token& member) {
 Value ExpressionParser::construct(const Token& name, Shape to, std::span<const Value> args) {
   const std::string type(name.text);
   if (args.empty()) fail(type + "(...) needs a value", name);
+  for (const Value& a : args)
+    if (a.record != nullptr) fail(not_a_number(type + "(...)", a), name);
   if (args.size() == 1 && (args[0].width == 1 || args[0].width >= to.width)) {
     return *convert(b_, args[0], to);
   }
@@ -370,6 +413,8 @@ Value ExpressionParser::call(const Token& name) {
   const std::vector<const LibraryFunction*> found = find_library_function(
       name.text, dialect_ == Dialect::Formula ? kFormulaLibrary : kShaderLibrary);
   if (!found.empty()) {
+    for (const Value& a : args)
+      if (a.record != nullptr) fail(not_a_number(std::string(name.text), a), name);
     const LibraryFunction* fn = nullptr;
     for (const LibraryFunction* c : found)
       if (c->arity == static_cast<int>(args.size())) fn = c;

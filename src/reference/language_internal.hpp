@@ -114,23 +114,41 @@ enum class Type : std::uint8_t { Float, Int, Bool };
 // The components of a shader vector at most (vec4, float4).
 inline constexpr int kMaxWidth = 4;
 
-// A shader type: a scalar (width 1) or a vector of `type`.
+struct StructType;
+
+// A shader type: a scalar (width 1), a vector of `type`, or a struct (`record`, width 0).
 struct Shape {
   Type type = Type::Float;
   int width = 1;
+  const StructType* record = nullptr;
 };
 
-// A value: a scalar's register, or a shader vector's, one register per component (vectors are
-// the shader dialect's; they exist only while a function is compiled, its result is a scalar).
+// A shader struct: its members in order (scalars, vectors, structs).
+struct StructMember {
+  std::string name;
+  Shape shape;
+};
+struct StructType {
+  std::string name;
+  std::vector<StructMember> members;
+  // The member called `name`'s index, or -1.
+  [[nodiscard]] int member(std::string_view name) const;
+};
+
+// A value: a scalar's register, a shader vector's, one register per component, or a struct's
+// members (vectors and structs are the shader dialect's; they exist only while a function is
+// compiled, its result is a scalar). A struct has width 0, so that what takes numbers refuses it.
 struct Value {
   Reg reg = 0;  // the scalar; a vector's first component
   Type type = Type::Float;
-  int width = 1;                           // 2 to kMaxWidth: a vector
+  int width = 1;                           // 2 to kMaxWidth: a vector; 0: a struct
   std::array<Reg, kMaxWidth - 1> more{};  // a vector's other components
+  const StructType* record = nullptr;     // a struct's type
+  std::vector<Value> members;             // a struct's members, in its type's order
 
   [[nodiscard]] Reg component(int i) const { return i == 0 ? reg : more[i - 1]; }
   void set_component(int i, Reg r) { (i == 0 ? reg : more[i - 1]) = r; }
-  [[nodiscard]] Shape shape() const { return {type, width}; }
+  [[nodiscard]] Shape shape() const { return {type, width, record}; }
 };
 
 // The value whose components are `regs` (a scalar for one).
@@ -185,9 +203,19 @@ Value convert(ProgramBuilder& b, Value v, Type to);
 // vector gives up its last components to a narrower shape (as HLSL's implicit conversions do).
 // nullopt where a vector would have to widen.
 std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to);
-// c ? a : b component by component, for a scalar condition; a and b have one width, or one is a
-// scalar.
+// c ? a : b component by component (member by member), for a scalar condition; a and b have one
+// shape, or one is a scalar and the other a vector.
 Value select(ProgramBuilder& b, Reg c, const Value& a, const Value& b2);
+
+// A value of `shape` whose every component is the scalar `v` (converted): HLSL's cast of a
+// scalar to a struct, `(S)0`, and a vector's fill.
+Value filled(ProgramBuilder& b, const Value& v, Shape shape);
+// A value's scalar components in order, a struct's members' in turn.
+void scalar_components(const Value& v, std::vector<Value>& out);
+// The value of `shape` made of the scalars `parts[at]`, `parts[at + 1]`, ... (converted), `at`
+// moved past them; nullopt where too few are left.
+std::optional<Value> from_components(ProgramBuilder& b, Shape shape, std::span<const Value> parts,
+                                     std::size_t& at);
 
 // expr/grammar.hpp's formula grammar over a token range, extended to the reference language:
 // C's operators and precedence (?: || && == != < <= > >= + - * / %, unary - + !), the formula's
@@ -216,6 +244,8 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   [[nodiscard]] Dialect dialect() const { return dialect_; }
 
  protected:
+  // The type a name stands for in casts, `(float3)x`: shader_type's; shaders add their structs.
+  virtual std::optional<Shape> named_type(std::string_view name) { return shader_type(name); }
   // Called at a call's name before its arguments are read (shader: matrix constructors and
   // texture functions are errors at the name).
   virtual void before_call(const Token& /*name*/) {}
@@ -232,6 +262,10 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   // constant from 0 to size - 1; else the error "a subscript of <of> must be ..." + `why`.
   int constant_subscript(const Token& open, int size, const std::string& of,
                          std::string_view why = {});
+  // The index of the member of `type` that `member` names; an error naming its members else.
+  int member_of(const StructType& type, const Token& member);
+  // "<what> of a S: a struct is not a number ...", for a struct value `v` where a number belongs.
+  static std::string not_a_number(const std::string& what, const Value& v);
 
   // The grammar's hooks.
   int precedence(const Token& t) override;

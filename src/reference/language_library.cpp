@@ -148,7 +148,14 @@ std::optional<Shape> shader_type(std::string_view name) {
   return std::nullopt;
 }
 
+int StructType::member(std::string_view n) const {
+  for (std::size_t k = 0; k < members.size(); ++k)
+    if (members[k].name == n) return static_cast<int>(k);
+  return -1;
+}
+
 std::string shape_name(Shape s) {
+  if (s.record != nullptr) return s.record->name;
   const std::string base = s.type == Type::Float ? "float" : s.type == Type::Int ? "int" : "bool";
   return s.width == 1 ? base : base + std::to_string(s.width);
 }
@@ -164,7 +171,7 @@ Value make_value(std::span<const Reg> regs, Type type) {
 // --- conversions ---------------------------------------------------------------------------
 
 Value convert(ProgramBuilder& b, Value v, Type to) {
-  if (v.type == to) return v;
+  if (v.type == to || v.record != nullptr) return v;
   for (int i = 0; i < v.width; ++i) {
     const Reg r = v.component(i);
     switch (to) {
@@ -180,6 +187,8 @@ Value convert(ProgramBuilder& b, Value v, Type to) {
 }
 
 std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to) {
+  if (v.record != nullptr || to.record != nullptr)
+    return v.record == to.record ? std::optional<Value>(std::move(v)) : std::nullopt;
   if (v.width < to.width && v.width != 1) return std::nullopt;
   v = convert(b, v, to.type);
   Value out;
@@ -190,6 +199,12 @@ std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to) {
 }
 
 Value select(ProgramBuilder& b, Reg c, const Value& x, const Value& y) {
+  if (x.record != nullptr) {
+    Value out = x;
+    for (std::size_t k = 0; k < out.members.size(); ++k)
+      out.members[k] = select(b, c, x.members[k], y.members[k]);
+    return out;
+  }
   Value out;
   out.type = x.type == y.type ? x.type : Type::Float;
   out.width = std::max(x.width, y.width);
@@ -198,6 +213,39 @@ Value select(ProgramBuilder& b, Reg c, const Value& x, const Value& y) {
                                 y.component(y.width == 1 ? 0 : i)));
   }
   return out;
+}
+
+Value filled(ProgramBuilder& b, const Value& v, Shape shape) {
+  if (shape.record == nullptr) return *convert(b, v, shape);
+  Value out;
+  out.width = 0;
+  out.record = shape.record;
+  for (const StructMember& m : shape.record->members) out.members.push_back(filled(b, v, m.shape));
+  return out;
+}
+
+void scalar_components(const Value& v, std::vector<Value>& out) {
+  for (const Value& m : v.members) scalar_components(m, out);
+  for (int i = 0; i < v.width; ++i) out.push_back({v.component(i), v.type});
+}
+
+std::optional<Value> from_components(ProgramBuilder& b, Shape shape, std::span<const Value> parts,
+                                     std::size_t& at) {
+  if (shape.record != nullptr) {
+    Value out;
+    out.width = 0;
+    out.record = shape.record;
+    for (const StructMember& m : shape.record->members) {
+      std::optional<Value> v = from_components(b, m.shape, parts, at);
+      if (!v) return std::nullopt;
+      out.members.push_back(std::move(*v));
+    }
+    return out;
+  }
+  if (parts.size() - at < static_cast<std::size_t>(shape.width)) return std::nullopt;
+  std::vector<Reg> regs;
+  for (int i = 0; i < shape.width; ++i) regs.push_back(convert(b, parts[at++], shape.type).reg);
+  return make_value(regs, shape.type);
 }
 
 // --- the functions -------------------------------------------------------------------------

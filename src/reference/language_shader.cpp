@@ -120,6 +120,12 @@ class FunctionCompiler : public ExpressionParser {
     if (t.is_word("void"))
       fail("function '" + function_name() + "' returns void: a reference returns a float", t);
     const Shape s = *result_type();
+    if (s.record != nullptr) {
+      fail("function '" + function_name() + "' returns a struct (" + s.record->name +
+               "): a reference returns a float (return one member, or call it from a function "
+               "that does)",
+           t);
+    }
     if (s.width != 1) {
       fail("function '" + function_name() + "' returns a " + std::string(t.text) +
                ": a reference returns a float (return one component, or call it from a function "
@@ -129,10 +135,11 @@ class FunctionCompiler : public ExpressionParser {
     return s.type;
   }
 
-  // A helper's return type: a scalar or a vector, or nullopt for void.
+  // A helper's return type: a scalar, a vector or a struct, or nullopt for void.
   std::optional<Shape> result_type() const {
     const Token& t = tokens_[f_.type];
     if (const auto s = shader_type(t.text)) return *s;
+    if (file_.is_struct(t.text)) return declared_type(t);
     if (t.is_word("void")) return std::nullopt;
     if (is_vector_type(t.text)) unsupported("matrix types", file_.path(), t);
     fail("unknown return type '" + std::string(t.text) +
@@ -265,7 +272,7 @@ class FunctionCompiler : public ExpressionParser {
     }
     if (!file_.find(t.text).empty())
       fail("function '" + std::string(t.text) + "' needs arguments in parentheses", t);
-    if (scalar_type(t.text) || is_vector_type(t.text))
+    if (scalar_type(t.text) || is_vector_type(t.text) || file_.is_struct(t.text))
       fail("unexpected type '" + std::string(t.text) + "'", t);
     std::vector<std::string> known = file_.global_names();
     for (const auto& scope : state_.scopes)
@@ -291,21 +298,26 @@ class FunctionCompiler : public ExpressionParser {
   Value call(const Token& t) override {
     if (!file_.find(t.text).empty() && !shader_type(t.text)) return inline_call(t);
     if (t.is_word("sincos")) return sincos(t);
+    if (file_.is_struct(t.text)) return construct_struct(t);
     return ExpressionParser::call(t);
   }
 
-  // Swizzles and subscripts are postfix(); a member that is not a swizzle, or a subscript of a
-  // name that is no vector (an array), is an error.
+  std::optional<Shape> named_type(std::string_view name) override {
+    if (const auto s = shader_type(name)) return s;
+    if (file_.is_struct(name)) return Shape{Type::Float, 0, file_.struct_type(name)};
+    return std::nullopt;
+  }
+
+  // Swizzles, members and subscripts are postfix()'s; a texture's methods are an error here.
   void check_postfix() override {
     const Token& t = peek();
     if (t.is(".")) {
       const Token& member = peek(1);
-      if (member.kind == Token::Ident && is_swizzle(member.text)) return;
       const std::string shown = "." + std::string(member.kind == Token::Ident ? member.text : "");
       for (const std::string_view m : {"Sample", "SampleLevel", "SampleGrad", "SampleBias",
                                        "SampleCmp", "SampleCmpLevelZero", "Load", "Gather"})
         if (member.is_word(m)) unsupported("textures", file_.path(), t, shown);
-      unsupported("structs and members", file_.path(), t, shown);
+      return;  // a swizzle or a struct's member: postfix() reads it
     }
     if (t.is("[")) return;
     if (t.is("++") || t.is("--")) unsupported("increments inside expressions", file_.path(), t);
@@ -359,8 +371,8 @@ class FunctionCompiler : public ExpressionParser {
 
   // A variable of `shape` that holds no value yet (NaN in every component; see Defined).
   Value unassigned(Shape shape) {
-    return *convert(builder(), Value{builder().constant(std::numeric_limits<double>::quiet_NaN())},
-                    shape);
+    return filled(builder(), Value{builder().constant(std::numeric_limits<double>::quiet_NaN())},
+                  shape);
   }
 
   // `v` converted to `shape` for `what` (a variable, a parameter, the result): an error at `at`
@@ -377,11 +389,10 @@ class FunctionCompiler : public ExpressionParser {
   // A declared type: scalar or vector, or an error naming the construct.
   Shape declared_type(const Token& t) const {
     if (const auto s = shader_type(t.text)) return *s;
+    if (file_.is_struct(t.text)) return Shape{Type::Float, 0, file_.struct_type(t.text)};
     if (is_vector_type(t.text)) unsupported("matrix types", file_.path(), t);
     if (is_texture_type(t.text)) unsupported("textures", file_.path(), t);
     if (t.is_word("struct")) unsupported("structs", file_.path(), t);
-    if (const Global* g = file_.global(t.text); g != nullptr && g->what == "structs")
-      unsupported("structs", file_.path(), t);
     fail("unknown type " + describe(t) + " (float, half, double, int or bool)", t);
   }
 
@@ -503,7 +514,7 @@ class FunctionCompiler : public ExpressionParser {
         unsupported("switch statements", file_.path(), t);
       if (w == "discard") unsupported("discard statements", file_.path(), t);
       if (w == "goto") unsupported("goto statements", file_.path(), t);
-      if (w == "struct") unsupported("structs", file_.path(), t);
+      if (w == "struct") unsupported("structs declared inside functions", file_.path(), t);
       if (w == "out" || w == "inout") unsupported("out and inout variables", file_.path(), t);
       if (is_declaration_start(t)) return declaration();
       if (at_assignment()) return assignment();
@@ -553,7 +564,8 @@ class FunctionCompiler : public ExpressionParser {
       Variable v{n.text, unassigned(type), is_const, n.line, kUnassigned};
       if (peek().is("=")) {
         const Token& eq = next();
-        v.value = to_shape(expression(), type, eq, "'" + std::string(n.text) + "'");
+        v.value = peek().is("{") ? initializer_list(type, "'" + std::string(n.text) + "'")
+                                 : to_shape(expression(), type, eq, "'" + std::string(n.text) + "'");
         v.defined = kAssigned;
       } else if (is_const) {
         fail("the constant '" + std::string(n.text) + "' needs a value", n);
@@ -598,7 +610,9 @@ class FunctionCompiler : public ExpressionParser {
       }
       while (!peek().is(close)) {
         const Token& at = peek();
-        values.push_back(to_shape(expression(), type, at, "an element of '" + std::string(n.text) + "'"));
+        const std::string what = "an element of '" + std::string(n.text) + "'";
+        values.push_back(peek().is("{") ? initializer_list(type, what)
+                                        : to_shape(expression(), type, at, what));
         if (!accept(",")) break;
       }
       expect(close, "after the values of '" + std::string(n.text) + "'");
@@ -625,6 +639,63 @@ class FunctionCompiler : public ExpressionParser {
       }
       state_.scopes.back().push_back(v);
     }
+  }
+
+  // HLSL's `{ a, b, ... }` for `what`, a value of `shape`, from its '{': the values' scalar
+  // components fill the shape's in order (inner braces group nothing).
+  Value initializer_list(Shape shape, const std::string& what) {
+    const Token& open = peek();
+    std::vector<Value> parts;
+    initializer_parts(parts);
+    std::size_t at = 0;
+    std::optional<Value> v = from_components(builder(), shape, parts, at);
+    if (!v || at != parts.size()) {
+      std::vector<Value> want;
+      scalar_components(unassigned(shape), want);
+      fail("the values in braces for " + what + " have " + count(parts.size(), "component") +
+               ", and a " + shape_name(shape) + " has " + std::to_string(want.size()),
+           open);
+    }
+    return *v;
+  }
+
+  // `{ value (, value)* [,] }`, each value an expression or braces again: their scalars in order.
+  void initializer_parts(std::vector<Value>& parts) {
+    const Token& open = next();
+    while (!peek().is("}")) {
+      if (peek().kind == Token::End) fail("'{' is not closed", open);
+      if (peek().is("{")) {
+        initializer_parts(parts);
+      } else {
+        scalar_components(expression(), parts);
+      }
+      if (!accept(",")) break;
+    }
+    expect("}", "after the values in braces");
+  }
+
+  // "1 value", "2 values".
+  static std::string count(std::size_t n, const std::string& noun) {
+    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+  }
+
+  // GLSL's struct constructor, S(a, b, ...): one value per member, in order.
+  Value construct_struct(const Token& t) {
+    const StructType& type = *file_.struct_type(t.text);
+    std::vector<Value> args;
+    arguments(t, [&](int) { args.push_back(expression()); });
+    next();
+    if (args.size() != type.members.size()) {
+      fail(type.name + "(...) is given " + count(args.size(), "value") + ", and has " +
+               count(type.members.size(), "member"),
+           t);
+    }
+    Value out = unassigned(Shape{Type::Float, 0, &type});
+    for (std::size_t k = 0; k < args.size(); ++k) {
+      out.members[k] = to_shape(args[k], type.members[k].shape, t,
+                                "the member '" + type.members[k].name + "' of " + type.name);
+    }
+    return out;
   }
 
   // Whether an assignment or an increment starts here.
@@ -666,7 +737,9 @@ class FunctionCompiler : public ExpressionParser {
       std::vector<int> local;
       if (at.is(".")) {
         const Token& m = next();
-        if (!is_swizzle(m.text)) unsupported("structs and members", file_.path(), at, "." + std::string(m.text));
+        if (!is_swizzle(m.text)) {
+          fail("'." + std::string(m.text) + "' is neither a swizzle nor a member: only structs have members", at);
+        }
         local = swizzle_components(m.text);
         for (std::size_t k = 0; k < local.size(); ++k) {
           if (local[k] >= now) {
@@ -715,35 +788,64 @@ class FunctionCompiler : public ExpressionParser {
     if (variable(*slot).array_size > 0) slot = element(*slot, n);
     if (variable(*slot).is_const)
       fail("cannot assign to the constant '" + std::string(n.text) + "'", n);
-    const std::vector<int> picked = written_components(variable(*slot).value.width);
+    // The members written (outermost first), then the components of the vector there.
+    std::vector<int> path;
+    std::string written(n.text);
+    Shape target = variable(*slot).value.shape();
+    while (target.record != nullptr && peek().is(".")) {
+      next();
+      const Token& m = next();
+      const int k = member_of(*target.record, m);
+      path.push_back(k);
+      written += "." + std::string(m.text);
+      target = target.record->members[static_cast<std::size_t>(k)].shape;
+    }
+    if (target.record != nullptr && peek().is("[")) {
+      fail("a subscript of a " + target.record->name + ": a struct has members, not components",
+           peek());
+    }
+    const std::vector<int> picked = written_components(target.width);
     if (!prefix) op = &next();
+    auto at_path = [&](Value& whole) -> Value& {
+      Value* v = &whole;
+      for (const int k : path) v = &v->members[static_cast<std::size_t>(k)];
+      return *v;
+    };
     // The part written, as it is now (read only by compound assignments and increments).
     auto current = [&] {
-      const Value whole = read(variable(*slot), n);
-      if (picked.empty()) return whole;
+      Value whole = read(variable(*slot), n);
+      const Value part = at_path(whole);
+      if (picked.empty()) return part;
       std::vector<Reg> regs;
-      for (const int c : picked) regs.push_back(whole.component(c));
-      return make_value(regs, whole.type);
+      for (const int c : picked) regs.push_back(part.component(c));
+      return make_value(regs, part.type);
     };
     Value value;
     if (op->is("++") || op->is("--")) {
       value = apply_binary(*op, op->is("++") ? "+" : "-", current(),
                            {builder().constant(1.0), Type::Int});
     } else {
-      const Value rhs = expression();
+      const Value rhs = peek().is("{") && path.empty() && picked.empty()
+                            ? initializer_list(target, "'" + written + "'")
+                            : expression();
       value = op->is("=") ? rhs : apply_binary(*op, op->text.substr(0, 1), current(), rhs);
     }
-    if (!picked.empty()) {
-      // The other components keep their values; those of a variable that holds none yet are
-      // 0 (any value is allowed there, see Defined).
+    if (!picked.empty() || !path.empty()) {
+      // The other components and members keep their values; those of a variable that holds
+      // none yet are 0 (any value is allowed there, see Defined).
       const Variable& v = variable(*slot);
       Value whole = v.value;
-      if ((v.defined & kAssigned) == 0) whole = *convert(builder(), Value{builder().constant(0.0)}, v.value.shape());
-      const Value part =
-          to_shape(value, Shape{v.value.type, static_cast<int>(picked.size())}, *op,
-                   "components of '" + std::string(n.text) + "'");
-      for (std::size_t k = 0; k < picked.size(); ++k)
-        whole.set_component(picked[k], part.component(static_cast<int>(k)));
+      if ((v.defined & kAssigned) == 0)
+        whole = filled(builder(), Value{builder().constant(0.0)}, v.value.shape());
+      Value& part = at_path(whole);
+      if (picked.empty()) {
+        part = to_shape(value, part.shape(), *op, "'" + written + "'");
+      } else {
+        const Value given = to_shape(value, Shape{part.type, static_cast<int>(picked.size())},
+                                     *op, "components of '" + written + "'");
+        for (std::size_t k = 0; k < picked.size(); ++k)
+          part.set_component(picked[k], given.component(static_cast<int>(k)));
+      }
       value = whole;
     }
     assign(*slot, {value, kAssigned}, *op);
@@ -1135,8 +1237,10 @@ class FunctionCompiler : public ExpressionParser {
                                 std::string(params[k].name->text) + "' of " +
                                 std::string(t.text));
         const Variable& v = variable(slots[k]);
-        // An inout argument is read: one that holds no value is an error here.
-        if (params[k].mode == Mode::InOut) (void)read(v, a);
+        // An inout argument is read: one that holds no value is an error here, but for a
+        // struct, which the callee may fill (Unreal's Init(Context, ...)): its members hold
+        // none until written.
+        if (params[k].mode == Mode::InOut && v.value.record == nullptr) (void)read(v, a);
         args.push_back({v.value, v.defined});
       } else {
         args.push_back({expression(), kAssigned});

@@ -74,6 +74,11 @@ class ShaderFile {
   Value global_value(Global& g, const Token& use);
   // The names a message may suggest: the file-scope ones.
   [[nodiscard]] std::vector<std::string> global_names() const;
+  // Whether the file declares a struct called `name`.
+  [[nodiscard]] bool is_struct(std::string_view name) const;
+  // The struct called `name`, its members read on first use; nullptr where there is none, an
+  // error at the member for one outside the subset (arrays, matrices, textures, functions).
+  const StructType* struct_type(std::string_view name);
 
   ProgramBuilder& builder;
   int nesting = 0;                      // shared by every parser of this file
@@ -85,11 +90,20 @@ class ShaderFile {
   bool constant_array(const Token& name, Shape type, std::size_t value, std::size_t end);
   std::size_t matching(std::size_t open) const;  // the '}' or ')' closing tokens_[open]
   void add(const std::string& name, Global g);
+  StructType read_struct(std::size_t open, std::size_t close, const std::string& name);
+
+  // A struct's declaration: its name and the braces of its members, read when first used.
+  struct StructDef {
+    std::size_t open = 0, close = 0;
+    std::optional<StructType> type;
+    bool reading = false;
+  };
 
   std::string path_;
   std::vector<Token> tokens_;
   std::vector<FunctionDef> functions_;
   std::map<std::string, Global, std::less<>> globals_;
+  std::map<std::string, StructDef, std::less<>> structs_;
 };
 
 }  // namespace shaderfit::reference_detail

@@ -210,8 +210,16 @@ void ShaderFile::scan() {
 void ShaderFile::declaration(std::size_t begin, std::size_t end) {
   std::size_t i = begin;
   if (tokens_[i].is_word("struct")) {
-    if (tokens_[i + 1].kind == Token::Ident)
-      add(std::string(tokens_[i + 1].text), Global{Global::Other, "structs", tokens_[i + 1]});
+    // struct Name { members } [variables];
+    if (tokens_[i + 1].kind == Token::Ident && tokens_[i + 2].is("{")) {
+      StructDef def;
+      def.open = i + 2;
+      def.close = matching(def.open);
+      structs_.insert_or_assign(std::string(tokens_[i + 1].text), std::move(def));
+      for (std::size_t k = matching(i + 2) + 1; k < end; ++k)
+        if (tokens_[k].kind == Token::Ident)
+          add(std::string(tokens_[k].text), Global{Global::Other, "global variables", tokens_[k]});
+    }
     return;
   }
   if (tokens_[i].is_word("precision")) return;
@@ -255,6 +263,89 @@ void ShaderFile::declaration(std::size_t begin, std::size_t end) {
     }
     i = value_end + 1;
   }
+}
+
+bool ShaderFile::is_struct(std::string_view name) const {
+  return structs_.find(name) != structs_.end();
+}
+
+const StructType* ShaderFile::struct_type(std::string_view name) {
+  const auto it = structs_.find(name);
+  if (it == structs_.end()) return nullptr;
+  StructDef& def = it->second;
+  if (!def.type) {
+    if (def.reading) {
+      fail_at("struct '" + it->first + "' contains itself", path_, tokens_[def.open - 1]);
+    }
+    def.reading = true;
+    def.type = read_struct(def.open, def.close, it->first);
+    def.reading = false;
+  }
+  return &*def.type;
+}
+
+// A struct's members, tokens (open, close): `[qualifiers] type name [: semantic] (, name)* ;`.
+StructType ShaderFile::read_struct(std::size_t open, std::size_t close, const std::string& name) {
+  StructType out;
+  out.name = name;
+  std::size_t i = open + 1;
+  while (i < close) {
+    if (tokens_[i].is(";")) {
+      ++i;
+      continue;
+    }
+    // Interpolation and precision qualifiers change no value.
+    while (tokens_[i].kind == Token::Ident &&
+           (is_qualifier(tokens_[i].text) || tokens_[i].is_word("linear") ||
+            tokens_[i].is_word("nointerpolation") || tokens_[i].is_word("sample")))
+      ++i;
+    const Token& type = tokens_[i];
+    Shape shape;
+    if (const auto s = shader_type(type.text)) {
+      shape = *s;
+    } else if (is_struct(type.text)) {
+      shape = Shape{Type::Float, 0, struct_type(type.text)};
+    } else if (type.is_word("struct")) {
+      unsupported("structs declared inside structs", path_, type);
+    } else {
+      const std::string what = construct({}, type.text, false);
+      if (what != "global variables") unsupported(what, path_, type);
+      fail_at("unknown type " + describe(type, Dialect::Shader) + " of a member of '" + name + "'",
+              path_, type);
+    }
+    ++i;
+    while (true) {
+      const Token& member = tokens_[i];
+      if (member.kind != Token::Ident) {
+        fail_at("expected a member name in struct '" + name + "', found " +
+                    describe(member, Dialect::Shader),
+                path_, member);
+      }
+      ++i;
+      if (tokens_[i].is("(")) unsupported("functions inside structs", path_, member);
+      if (tokens_[i].is("["))
+        unsupported("arrays inside structs", path_, member, std::string(member.text) + "[]");
+      if (out.member(member.text) >= 0) {
+        fail_at("struct '" + name + "' has two members called '" + std::string(member.text) + "'",
+                path_, member);
+      }
+      out.members.push_back({std::string(member.text), shape});
+      if (tokens_[i].is(":") && tokens_[i + 1].kind == Token::Ident) i += 2;  // a semantic
+      if (tokens_[i].is(",")) {
+        ++i;
+        continue;
+      }
+      if (!tokens_[i].is(";")) {
+        fail_at("expected ';' after a member of struct '" + name + "', found " +
+                    describe(tokens_[i], Dialect::Shader),
+                path_, tokens_[i]);
+      }
+      ++i;
+      break;
+    }
+  }
+  if (out.members.empty()) fail_at("struct '" + name + "' has no members", path_, tokens_[open]);
+  return out;
 }
 
 // A constant array's elements from its values, tokens [value, end): `{a, b, ...}` or

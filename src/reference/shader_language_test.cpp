@@ -202,7 +202,7 @@ TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
   EXPECT_EQ(located(shader_error(body("float s, c; sinecos(x, s, c);"))),
             "3:15: unknown function 'sinecos' (did you mean sincos?)");
   EXPECT_EQ(located(shader_error(body("y = y.foo;"))),
-            "3:8: structs and members are not supported (.foo)" + more);
+            "3:9: '.foo' of a float: only structs have members");
   EXPECT_EQ(located(shader_error(body("y = texture(s, vec2(x)).r;"))),
             "3:7: textures are not supported (texture)" + more);
   EXPECT_EQ(located(shader_error(body("y = t.Sample(s, x);"))),
@@ -226,7 +226,7 @@ TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
   EXPECT_EQ(located(shader_error(body("float rough = x; y = 2.0 * roughh;"))),
             "3:30: unknown identifier 'roughh' (did you mean rough?)");
   EXPECT_EQ(located(shader_error(body("struct S { float a; };"))),
-            "3:3: structs are not supported (struct)" + more);
+            "3:3: structs declared inside functions are not supported (struct)" + more);
   EXPECT_EQ(located(shader_error(body("#ifdef FOO"))),
             "3:3: #ifdef is not closed: its #endif is missing");
   EXPECT_EQ(located(shader_error(body("const float k;"))), "3:15: the constant 'k' needs a value");

@@ -215,7 +215,7 @@ TEST(ShaderVectors, BadInputsAtTheirLineAndColumn) {
   EXPECT_EQ(located(shader_error(body("if (vec2(x)) y = 1.0;"))),
             "3:3: the condition of 'if' is a float2, not a scalar");
   EXPECT_EQ(located(shader_error(body("y = y.color;"))),
-            "3:8: structs and members are not supported (.color)" + kSubsetNote);
+            "3:9: '.color' of a float: only structs have members");
   EXPECT_EQ(located(shader_error(body("y = y[0];"))),
             "3:8: a subscript of a scalar: arrays are not supported");
   EXPECT_EQ(located(shader_error("vec3 f(float x) { return vec3(x); }")),
