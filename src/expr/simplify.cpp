@@ -45,6 +45,7 @@ std::pair<Frag, int> as_power(const Frag& f) {
 }
 
 Frag constant(double v) { return Frag{Node::constant(v)}; }
+
 std::optional<Frag> finite_constant(double v) {
   if (!std::isfinite(v)) return std::nullopt;
   return constant(v);
@@ -60,6 +61,21 @@ std::vector<Frag> children(const Frag& f) {
     end = begin;
   }
   return kids;
+}
+
+// A term as a multiple k x of a non-constant x: c * x or x * c (k = c), -x (k = -1), x (k = 1).
+std::optional<std::pair<double, Frag>> as_multiple(const Frag& f) {
+  if (is_const(f)) return std::nullopt;
+  if (root(f).op == Op::Neg) return std::make_pair(-1.0, operand(f));
+  if (root(f).op == Op::Mul) {
+    std::vector<Frag> kids = children(f);
+    for (int side = 0; side < 2; ++side) {
+      const Frag &c = kids[static_cast<std::size_t>(side)],
+                 &x = kids[static_cast<std::size_t>(1 - side)];
+      if (is_const(c) && !is_const(x)) return std::make_pair(c[0].value, x);
+    }
+  }
+  return std::make_pair(1.0, f);
 }
 
 // The rules, with the options and the tables that cost callbacks need.
@@ -210,6 +226,7 @@ class Rules {
   std::optional<Frag> merged(Op op, const std::vector<Frag>& kids) const;
   std::optional<Frag> merged_pair(Op op, const Frag& x, const Frag& y) const;
   std::optional<Frag> regrouped(Op op, const std::vector<Frag>& kids) const;
+  std::optional<Frag> like_terms(Op op, const Frag& x, const Frag& y) const;
   std::optional<Frag> scaled(const Frag& f, double k) const;
   std::optional<Frag> shifted(const Frag& f, double d) const;
   Frag power_of_power(const Frag& a, const Frag& y, const Frag& z) const;
@@ -362,6 +379,33 @@ std::optional<Frag> Rules::merged(Op op, const std::vector<Frag>& kids) const {
   return std::nullopt;
 }
 
+// x op y (op + or -) with like terms collected: a x + b x = (a + b) x, a x - b x = (a - b) x,
+// also where x (y) is a sum whose one term is like y (x): (u + a x) + b x = u + (a + b) x;
+// nullopt where no two terms are alike (or both are x itself: x + x stays). Never adds a node.
+std::optional<Frag> Rules::like_terms(Op op, const Frag& x, const Frag& y) const {
+  const auto mx = as_multiple(x), my = as_multiple(y);
+  if (mx && my && same(mx->second, my->second) && (mx->first != 1 || my->first != 1)) {
+    const double k = op == Op::Add ? mx->first + my->first : mx->first - my->first;
+    if (!std::isfinite(k)) return std::nullopt;
+    return make(Op::Mul, {constant(k), mx->second}, false);
+  }
+  // One level into a sum or difference on the left: (u +- v) op y.
+  const Op inner = root(x).op;
+  if (inner != Op::Add && inner != Op::Sub) return std::nullopt;
+  const std::vector<Frag> uv = children(x);
+  auto alike = [&](const Frag& a) {
+    const auto ma = as_multiple(a);
+    return ma && my && same(ma->second, my->second) && (ma->first != 1 || my->first != 1);
+  };
+  if (alike(uv[0])) return make(inner, {make(op, {uv[0], y}, false), uv[1]}, false);
+  if (alike(uv[1])) {
+    // u + v op y = u + (v op y); u - v op y = u - (v -op y).
+    const Op back = inner == Op::Add ? op : (op == Op::Add ? Op::Sub : Op::Add);
+    return make(inner, {uv[0], make(back, {uv[1], y}, false)}, false);
+  }
+  return std::nullopt;
+}
+
 // The rules of regroup_constants, for a result whose sign of zero does not matter; nullopt when
 // none applies. `kids` are simplified.
 std::optional<Frag> Rules::regrouped(Op op, const std::vector<Frag>& kids) const {
@@ -386,6 +430,7 @@ std::optional<Frag> Rules::regrouped(Op op, const std::vector<Frag>& kids) const
         return scaled(kids[0], 1 / value(kids[1]));
       return std::nullopt;
     case Op::Add:
+      if (std::optional<Frag> r = like_terms(op, kids[0], kids[1])) return r;
       // (a - b) + b = a, either side.
       for (int side = 0; side < 2; ++side) {
         const Frag &x = kids[static_cast<std::size_t>(side)],
@@ -397,6 +442,7 @@ std::optional<Frag> Rules::regrouped(Op op, const std::vector<Frag>& kids) const
       if (is_const(kids[0]) && !is_const(kids[1])) return shifted(kids[1], value(kids[0]));
       return std::nullopt;
     case Op::Sub:
+      if (std::optional<Frag> r = like_terms(op, kids[0], kids[1])) return r;
       // (a + b) - b = a and (a + b) - a = b.
       if (root(kids[0]).op == Op::Add) {
         std::vector<Frag> ab = children(kids[0]);

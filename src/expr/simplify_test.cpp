@@ -82,6 +82,19 @@ TEST(Simplify, MergesConstantProducts) {
   EXPECT_EQ(regroup("2 * (x + y)"), "2 * (x + y)");
 }
 
+TEST(Simplify, CollectsLikeTerms) {
+  EXPECT_EQ(regroup("0.25 * x + 0.5 * x"), "0.75 * x");
+  EXPECT_EQ(regroup("x * 3 - x"), "2 * x");
+  EXPECT_EQ(regroup("0.5 * x^2 - -x^2"), "1.5 * x^2");
+  // A luminance of a gray color: dot(vec3(y), vec3(0.25, 0.5, 0.25)) written out.
+  EXPECT_EQ(regroup("0.25 * y + 0.5 * y + 0.25 * (y * 1)"), "y");
+  EXPECT_EQ(regroup("(x + 0.5 * y) + 0.25 * y"), "x + 0.75 * y");
+  EXPECT_EQ(regroup("(0.5 * y - x) + 0.25 * y"), "0.75 * y - x");
+  EXPECT_EQ(regroup("(x - 0.5 * y) + 0.25 * y"), "x - 0.25 * y");
+  EXPECT_EQ(regroup("x + x"), "x + x");  // no constant: stays as written
+  EXPECT_EQ(simp("0.25 * x + 0.5 * x"), "0.25 * x + 0.5 * x");  // rounds differently
+}
+
 TEST(Simplify, AbsorbsScaleAndOffsetWrappers) {
   EXPECT_EQ(regroup("2 * (3 * x + 1) + 5"), "6 * x + 7");
   EXPECT_EQ(regroup("0.5 * (x * 4 - y * 2) - 1"), "2 * x - y - 1");

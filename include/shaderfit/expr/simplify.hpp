@@ -11,7 +11,8 @@
 // SimplifyOptions::regroup_constants adds rules that hold in real arithmetic but round
 // differently (used by the search's final tidy step, docs/search.md "Tidy front"):
 //   c1 * (c2 * x) = (c1 c2) x, c1 * (x / c2) = x / (c2 / c1), (c1 * x) / c2 = (c1 / c2) x,
-//   c * -x = -c * x;
+//   c * -x = -c * x; like terms collected, a x + b x = (a + b) x, a x - x = (a - 1) x, also one
+//   level into a sum ((u + a x) + b x = u + (a + b) x);
 //   a factor or an offset taken by a subtree's own constants, never adding a node:
 //   p0 * (a x + b) + p1 = (p0 a) x + (p0 b + p1), c * (x - k) + d = c * (x - (k - d / c)),
 //   (x + k1) + k2 = x + (k1 + k2), c - (x - k) = (c + k) - x;
