@@ -114,7 +114,8 @@ Value ExpressionParser::expression() {
   expect(":", "after the first branch of '?' at column " + std::to_string(question.column));
   const Value b = expression();
   if (c.width != 1) fail("the condition of '?' is a " + shape_name(c.shape()) + ", not a scalar", question);
-  if (a.record != b.record) {
+  if ((!a.is_number() || !b.is_number()) &&
+      (a.record != b.record || a.rows != b.rows || a.columns != b.columns)) {
     fail("the branches of '?' have different types (" + shape_name(a.shape()) + " and " +
              shape_name(b.shape()) + ")",
          question);
@@ -154,6 +155,7 @@ Value ExpressionParser::binary_op(const Token& op, Value a, Value b) {
 Value ExpressionParser::apply_binary(const Token& at, std::string_view s, Value a, Value b) {
   for (const Value* v : {&a, &b})
     if (v->record != nullptr) fail(not_a_number("'" + std::string(s) + "'", *v), at);
+  if (a.is_matrix() || b.is_matrix()) return matrix_binary(at, s, a, b);
   if (a.width == 1 && b.width == 1) return scalar_binary(s, a, b);
   const bool arithmetic = s == "+" || s == "-" || s == "*" || s == "/" || s == "%";
   if (!arithmetic) {
@@ -206,7 +208,7 @@ std::optional<Value> ExpressionParser::prefix() {
   if (peek().is("!")) {
     const Token& bang = next();
     const Value v = unary();
-    if (v.record != nullptr) fail(not_a_number("'!'", v), bang);
+    if (!v.is_number()) fail(not_a_number("'!'", v), bang);
     if (v.width != 1) fail("'!' of a vector is not supported (negate its components)", bang);
     return Value{b_.emit(ProgramOp::Not, v.reg), Type::Bool};
   }
@@ -215,6 +217,7 @@ std::optional<Value> ExpressionParser::prefix() {
 
 Value ExpressionParser::negate(Value v) {
   if (v.record != nullptr) fail(not_a_number("'-'", v), token_at(position() - 1));
+  for (Value& row : v.members) row = negate(row);
   for (int i = 0; i < v.width; ++i) v.set_component(i, b_.emit(ProgramOp::Neg, v.component(i)));
   if (v.type == Type::Bool) v.type = Type::Int;
   return v;
@@ -275,8 +278,8 @@ std::optional<Value> ExpressionParser::special_primary() {
   next();
   const Shape to = *type_named;
   const Value v = unary();
-  // HLSL: a scalar cast to a struct gives every member its value, (S)0.
-  if (to.record != nullptr && v.record == nullptr && v.width == 1) return filled(b_, v, to);
+  // HLSL: a scalar cast to a struct or a matrix gives every member its value, (S)0.
+  if ((to.record != nullptr || to.is_matrix()) && v.width == 1) return filled(b_, v, to);
   const std::optional<Value> out = convert(b_, v, to);
   if (!out) fail("cannot cast a " + shape_name(v.shape()) + " to " + std::string(type.text), type);
   return *out;
@@ -291,6 +294,13 @@ Value ExpressionParser::postfix(Value v) {
       v = Value(v.members[static_cast<std::size_t>(member_of(*v.record, next()))]);
     } else if (v.record != nullptr && peek().is("[")) {
       fail("a subscript of a " + v.record->name + ": a struct has members, not components",
+           peek());
+    } else if (v.is_matrix() && peek().is("[")) {
+      const Token& open = next();
+      const int size = v.glsl ? v.columns : v.rows;
+      v = matrix_subscript(v, constant_subscript(open, size, "a " + shape_name(v.shape())));
+    } else if (v.is_matrix() && peek().is(".")) {
+      fail("a member of a " + shape_name(v.shape()) + ": a matrix's elements are read as m[i][j]",
            peek());
     } else if (peek().is(".") && peek(1).kind == Token::Ident) {
       next();
@@ -326,7 +336,33 @@ int ExpressionParser::member_of(const StructType& type, const Token& member) {
 }
 
 std::string ExpressionParser::not_a_number(const std::string& what, const Value& v) {
-  return what + " of a " + v.record->name + ": a struct is not a number (use its members)";
+  if (v.record != nullptr)
+    return what + " of a " + v.record->name + ": a struct is not a number (use its members)";
+  return what + " of a " + shape_name(v.shape()) + ": a matrix is not a number (use m[i][j])";
+}
+
+Value ExpressionParser::matrix_binary(const Token& at, std::string_view op, const Value& a,
+                                      const Value& b) {
+  const Value& m = a.is_matrix() ? a : b;
+  const std::string sizes = shape_name(a.shape()) + " and a " + shape_name(b.shape());
+  if (op == "*" && m.glsl && a.width != 1 && b.width != 1) {
+    if (std::optional<Value> r = matrix_product(b_, a, b)) return *r;
+    fail("'*' of a " + sizes + ": their sizes do not fit", at);
+  }
+  if (op != "+" && op != "-" && op != "*" && op != "/")
+    fail("'" + std::string(op) + "' of matrices is not supported", at);
+  if (a.is_matrix() && b.is_matrix() && (a.rows != b.rows || a.columns != b.columns))
+    fail("'" + std::string(op) + "' of a " + sizes + ": their sizes differ", at);
+  if ((!a.is_matrix() && a.width != 1) || (!b.is_matrix() && b.width != 1)) {
+    fail("'" + std::string(op) + "' of a " + sizes + " (" +
+             (m.glsl ? "a matrix takes vectors only in a product" : "mul() is the product") + ")",
+         at);
+  }
+  std::vector<Value> rows;
+  for (std::size_t i = 0; i < m.members.size(); ++i)
+    rows.push_back(apply_binary(at, op, a.is_matrix() ? a.members[i] : a,
+                                b.is_matrix() ? b.members[i] : b));
+  return make_matrix(m.shape(), std::move(rows));
 }
 
 int ExpressionParser::constant_subscript(const Token& open, int size, const std::string& of,
@@ -356,13 +392,54 @@ Value ExpressionParser::swizzle(const Value& v, const Token& member) {
   return make_value(regs, v.type);
 }
 
+Value ExpressionParser::initializer_list(Shape shape, const std::string& what) {
+  const Token& open = peek();
+  std::vector<Value> parts;
+  initializer_parts(parts);
+  std::size_t at = 0;
+  std::optional<Value> v = from_components(b_, shape, parts, at);
+  if (!v || at != parts.size()) {
+    std::vector<Value> want;
+    scalar_components(filled(b_, Value{b_.constant(0.0)}, shape), want);
+    fail("the values in braces for " + what + " have " + counted(parts.size(), "component") +
+             ", and a " + shape_name(shape) + " has " + std::to_string(want.size()),
+         open);
+  }
+  return *v;
+}
+
+// `{ value (, value)* [,] }`, each value an expression or braces again: their scalars in order.
+void ExpressionParser::initializer_parts(std::vector<Value>& parts) {
+  const Token& open = next();
+  while (!peek().is("}")) {
+    if (peek().kind == Token::End) fail("'{' is not closed", open);
+    if (peek().is("{")) {
+      initializer_parts(parts);
+    } else {
+      scalar_components(expression(), parts);
+    }
+    if (!accept(",")) break;
+  }
+  expect("}", "after the values in braces");
+}
+
 // A shader's type constructor: float(x) converts; float3(x) fills every component with a scalar;
 // float3(a, b.xy) takes the components of its arguments in order, as many as the type has.
 Value ExpressionParser::construct(const Token& name, Shape to, std::span<const Value> args) {
   const std::string type(name.text);
   if (args.empty()) fail(type + "(...) needs a value", name);
+  if (to.is_matrix()) {
+    for (const Value& a : args)
+      if (a.record != nullptr) fail(not_a_number(type + "(...)", a), name);
+    if (std::optional<Value> m = construct_matrix(b_, to, args)) return *m;
+    std::vector<Value> parts;
+    for (const Value& a : args) scalar_components(a, parts);
+    fail(type + "(...) is given " + counted(parts.size(), "component") + ", and has " +
+             std::to_string(to.rows * to.columns),
+         name);
+  }
   for (const Value& a : args)
-    if (a.record != nullptr) fail(not_a_number(type + "(...)", a), name);
+    if (!a.is_number()) fail(not_a_number(type + "(...)", a), name);
   if (args.size() == 1 && (args[0].width == 1 || args[0].width >= to.width)) {
     return *convert(b_, args[0], to);
   }
@@ -375,6 +452,29 @@ Value ExpressionParser::construct(const Token& name, Shape to, std::span<const V
          name);
   }
   return make_value(regs, to.type);
+}
+
+bool is_matrix_function(std::string_view name) { return name == "mul" || name == "transpose"; }
+
+// HLSL's mul(a, b), the product of matrices, vectors and scalars; transpose(m).
+Value ExpressionParser::matrix_function(const Token& name, std::span<const Value> args) {
+  const std::size_t want = name.text == "mul" ? 2 : 1;
+  if (args.size() != want) {
+    fail(std::string(name.text) + " takes " + counted(want, "argument") + ", got " +
+             std::to_string(args.size()),
+         name);
+  }
+  for (const Value& a : args)
+    if (a.record != nullptr) fail(not_a_number(std::string(name.text), a), name);
+  if (name.text == "transpose") {
+    if (!args[0].is_matrix()) fail("transpose of a " + shape_name(args[0].shape()), name);
+    return transpose(args[0]);
+  }
+  if (args[0].width == 1 || args[1].width == 1) return apply_binary(name, "*", args[0], args[1]);
+  if (std::optional<Value> r = matrix_product(b_, args[0], args[1])) return *r;
+  fail("mul of a " + shape_name(args[0].shape()) + " and a " + shape_name(args[1].shape()) +
+           ": their sizes do not fit",
+       name);
 }
 
 // A library function of one set of arguments: scalars, or a geometric one's vectors.
@@ -409,12 +509,13 @@ Value ExpressionParser::call(const Token& name) {
   next();
   if (dialect_ == Dialect::Shader) {
     if (const auto to = shader_type(name.text)) return construct(name, *to, args);
+    if (is_matrix_function(name.text)) return matrix_function(name, args);
   }
   const std::vector<const LibraryFunction*> found = find_library_function(
       name.text, dialect_ == Dialect::Formula ? kFormulaLibrary : kShaderLibrary);
   if (!found.empty()) {
     for (const Value& a : args)
-      if (a.record != nullptr) fail(not_a_number(std::string(name.text), a), name);
+      if (!a.is_number()) fail(not_a_number(std::string(name.text), a), name);
     const LibraryFunction* fn = nullptr;
     for (const LibraryFunction* c : found)
       if (c->arity == static_cast<int>(args.size())) fn = c;

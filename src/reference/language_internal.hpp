@@ -116,11 +116,18 @@ inline constexpr int kMaxWidth = 4;
 
 struct StructType;
 
-// A shader type: a scalar (width 1), a vector of `type`, or a struct (`record`, width 0).
+// A shader type: a scalar (width 1), a vector of `type`, a struct (`record`, width 0) or a
+// matrix (`rows` x `columns` floats, width 0).
 struct Shape {
   Type type = Type::Float;
   int width = 1;
   const StructType* record = nullptr;
+  int rows = 0, columns = 0;  // a matrix's
+  // A matrix of GLSL (mat3, mat2x3): its constructors fill columns, m[i] is a column and `*` is
+  // the matrix product. HLSL's (float3x3) fill rows, m[i] is a row, `*` is component by
+  // component and mul() the product.
+  bool glsl = false;
+  [[nodiscard]] bool is_matrix() const { return rows > 0; }
 };
 
 // A shader struct: its members in order (scalars, vectors, structs).
@@ -135,20 +142,25 @@ struct StructType {
   [[nodiscard]] int member(std::string_view name) const;
 };
 
-// A value: a scalar's register, a shader vector's, one register per component, or a struct's
-// members (vectors and structs are the shader dialect's; they exist only while a function is
-// compiled, its result is a scalar). A struct has width 0, so that what takes numbers refuses it.
+// A value: a scalar's register, a shader vector's, one register per component, a struct's
+// members or a matrix's rows (vectors, structs and matrices are the shader dialect's; they exist
+// only while a function is compiled, its result is a scalar). Structs and matrices have width 0,
+// so that what takes numbers refuses them.
 struct Value {
   Reg reg = 0;  // the scalar; a vector's first component
   Type type = Type::Float;
-  int width = 1;                           // 2 to kMaxWidth: a vector; 0: a struct
+  int width = 1;                           // 2 to kMaxWidth: a vector; 0: a struct or a matrix
   std::array<Reg, kMaxWidth - 1> more{};  // a vector's other components
   const StructType* record = nullptr;     // a struct's type
-  std::vector<Value> members;             // a struct's members, in its type's order
+  int rows = 0, columns = 0;              // a matrix's size
+  bool glsl = false;                      // a GLSL matrix (see Shape)
+  std::vector<Value> members;             // a struct's members in order, a matrix's rows
 
   [[nodiscard]] Reg component(int i) const { return i == 0 ? reg : more[i - 1]; }
   void set_component(int i, Reg r) { (i == 0 ? reg : more[i - 1]) = r; }
-  [[nodiscard]] Shape shape() const { return {type, width, record}; }
+  [[nodiscard]] Shape shape() const { return {type, width, record, rows, columns, glsl}; }
+  [[nodiscard]] bool is_number() const { return width > 0; }
+  [[nodiscard]] bool is_matrix() const { return rows > 0; }
 };
 
 // The value whose components are `regs` (a scalar for one).
@@ -182,6 +194,11 @@ std::string builtin_call_name(const BuiltinFunction& f);
 // Every name a library offers, sorted (formulas: with the built-in references).
 std::vector<std::string> library_function_names(Library library);
 
+// "1 value", "2 values".
+inline std::string counted(std::size_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
 // The name among `known` closest to `name` by edit distance, when it is close enough to be
 // worth suggesting ("" otherwise).
 std::string closest_name(std::string_view name, std::span<const std::string> known);
@@ -190,8 +207,9 @@ std::string join_names(std::span<const std::string> names);
 
 // The scalar type a shader type name denotes (float, half, double, min16float; int, uint; bool).
 std::optional<Type> scalar_type(std::string_view name);
-// The scalar or vector type a shader type name denotes (the scalars above; vec2-vec4, ivec,
-// uvec, bvec, dvec; float2-float4, half3, int2, bool4, ...); nullopt for others (matrices too).
+// The scalar, vector or matrix type a shader type name denotes (the scalars above; vec2-vec4,
+// ivec, uvec, bvec, dvec; float2-float4, half3, int2, bool4, ...; mat2-mat4, mat2x3, dmat3;
+// float3x3, half2x4, ...); nullopt for others (a matrix of ints or bools too).
 std::optional<Shape> shader_type(std::string_view name);
 // "float", "float3", "int2", "bool" (HLSL's spelling, for messages).
 std::string shape_name(Shape s);
@@ -208,8 +226,27 @@ std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to);
 Value select(ProgramBuilder& b, Reg c, const Value& a, const Value& b2);
 
 // A value of `shape` whose every component is the scalar `v` (converted): HLSL's cast of a
-// scalar to a struct, `(S)0`, and a vector's fill.
+// scalar to a struct or a matrix, `(S)0`, and a vector's fill.
 Value filled(ProgramBuilder& b, const Value& v, Shape shape);
+
+// Matrices (language_matrix.cpp). The matrix of `shape` whose rows are `rows`.
+Value make_matrix(Shape shape, std::vector<Value> rows);
+// A matrix's column j, a vector of its rows' j-th components.
+Value matrix_column(const Value& m, int j);
+// m[i]: a GLSL matrix's column i, an HLSL matrix's row i.
+Value matrix_subscript(const Value& m, int i);
+// The matrix product a b of matrices and vectors (a vector on the left is a row, on the right a
+// column; of two vectors, their dot product), as HLSL's mul() and GLSL's `*` compute it;
+// nullopt where the sizes do not fit.
+std::optional<Value> matrix_product(ProgramBuilder& b, const Value& x, const Value& y);
+// A matrix's transpose.
+Value transpose(const Value& m);
+// Whether `name` is a shader built-in of matrices (mul, transpose; language_expression.cpp).
+bool is_matrix_function(std::string_view name);
+// A matrix constructor's value, from its arguments: GLSL's mat3(s) is s on the diagonal, mat3(m)
+// the top left of m (or m within the identity); otherwise the arguments' components fill the
+// matrix, a GLSL matrix's by columns, an HLSL one's by rows. nullopt for the wrong number.
+std::optional<Value> construct_matrix(ProgramBuilder& b, Shape to, std::span<const Value> args);
 // A value's scalar components in order, a struct's members' in turn.
 void scalar_components(const Value& v, std::vector<Value>& out);
 // The value of `shape` made of the scalars `parts[at]`, `parts[at + 1]`, ... (converted), `at`
@@ -240,6 +277,10 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   // expression := binary ('?' expression ':' expression)?
   Value expression() override;
 
+  // `{ a, b, ... }` for `what`, a value of `shape`, from its '{' (HLSL's braces): the values'
+  // scalar components fill the shape's in order (inner braces group nothing).
+  Value initializer_list(Shape shape, const std::string& what);
+
   ProgramBuilder& builder() { return b_; }
   [[nodiscard]] Dialect dialect() const { return dialect_; }
 
@@ -264,7 +305,8 @@ class ExpressionParser : public ExpressionGrammar<Value> {
                          std::string_view why = {});
   // The index of the member of `type` that `member` names; an error naming its members else.
   int member_of(const StructType& type, const Token& member);
-  // "<what> of a S: a struct is not a number ...", for a struct value `v` where a number belongs.
+  // "<what> of a S: a struct is not a number ...", for a struct or matrix `v` where a number
+  // belongs.
   static std::string not_a_number(const std::string& what, const Value& v);
 
   // The grammar's hooks.
@@ -282,6 +324,11 @@ class ExpressionParser : public ExpressionGrammar<Value> {
 
  private:
   Value exponent();
+  void initializer_parts(std::vector<Value>& parts);
+  // a op b where either is a matrix: + - / component by component (a scalar with each), * too
+  // for HLSL's, the product for GLSL's.
+  Value matrix_binary(const Token& at, std::string_view op, const Value& a, const Value& b);
+  Value matrix_function(const Token& name, std::span<const Value> args);
   Value scalar_binary(std::string_view op, Value a, Value b);
   Value construct(const Token& name, Shape to, std::span<const Value> args);
   Value apply_library(const LibraryFunction& fn, std::span<const Value> args,

@@ -132,9 +132,35 @@ std::optional<Type> scalar_type(std::string_view name) {
   return std::nullopt;
 }
 
+namespace {
+
+// A matrix's shape: rows x columns floats.
+Shape matrix_shape(int rows, int columns, bool glsl) {
+  return Shape{Type::Float, 0, nullptr, rows, columns, glsl};
+}
+
+bool is_size(char c) { return c >= '2' && c <= '4'; }
+
+}  // namespace
+
 std::optional<Shape> shader_type(std::string_view name) {
   if (const auto s = scalar_type(name)) return Shape{*s, 1};
   if (name.empty()) return std::nullopt;
+  // GLSL: matN, matCxR (C columns of R rows), dmat likewise.
+  for (const std::string_view stem : {"mat", "dmat"}) {
+    if (name.substr(0, stem.size()) != stem) continue;
+    const std::string_view n = name.substr(stem.size());
+    if (n.size() == 1 && is_size(n[0])) return matrix_shape(n[0] - '0', n[0] - '0', true);
+    if (n.size() == 3 && n[1] == 'x' && is_size(n[0]) && is_size(n[2]))
+      return matrix_shape(n[2] - '0', n[0] - '0', true);
+  }
+  // HLSL: a float type's name and RxC.
+  if (name.size() > 3 && name[name.size() - 2] == 'x' && is_size(name.back()) &&
+      is_size(name[name.size() - 3])) {
+    if (scalar_type(name.substr(0, name.size() - 3)) == Type::Float)
+      return matrix_shape(name[name.size() - 3] - '0', name.back() - '0', false);
+    return std::nullopt;
+  }
   const char last = name.back();
   if (last < '2' || last > '4') return std::nullopt;
   const int width = last - '0';
@@ -156,6 +182,11 @@ int StructType::member(std::string_view n) const {
 
 std::string shape_name(Shape s) {
   if (s.record != nullptr) return s.record->name;
+  if (s.is_matrix()) {
+    const std::string r = std::to_string(s.rows), c = std::to_string(s.columns);
+    if (!s.glsl) return "float" + r + "x" + c;
+    return s.rows == s.columns ? "mat" + r : "mat" + c + "x" + r;
+  }
   const std::string base = s.type == Type::Float ? "float" : s.type == Type::Int ? "int" : "bool";
   return s.width == 1 ? base : base + std::to_string(s.width);
 }
@@ -171,7 +202,7 @@ Value make_value(std::span<const Reg> regs, Type type) {
 // --- conversions ---------------------------------------------------------------------------
 
 Value convert(ProgramBuilder& b, Value v, Type to) {
-  if (v.type == to || v.record != nullptr) return v;
+  if (v.type == to || !v.is_number()) return v;
   for (int i = 0; i < v.width; ++i) {
     const Reg r = v.component(i);
     switch (to) {
@@ -189,6 +220,10 @@ Value convert(ProgramBuilder& b, Value v, Type to) {
 std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to) {
   if (v.record != nullptr || to.record != nullptr)
     return v.record == to.record ? std::optional<Value>(std::move(v)) : std::nullopt;
+  if (v.is_matrix() || to.is_matrix()) {
+    const bool same = v.rows == to.rows && v.columns == to.columns;
+    return same ? std::optional<Value>(std::move(v)) : std::nullopt;
+  }
   if (v.width < to.width && v.width != 1) return std::nullopt;
   v = convert(b, v, to.type);
   Value out;
@@ -199,7 +234,7 @@ std::optional<Value> convert(ProgramBuilder& b, Value v, Shape to) {
 }
 
 Value select(ProgramBuilder& b, Reg c, const Value& x, const Value& y) {
-  if (x.record != nullptr) {
+  if (!x.is_number()) {
     Value out = x;
     for (std::size_t k = 0; k < out.members.size(); ++k)
       out.members[k] = select(b, c, x.members[k], y.members[k]);
@@ -216,6 +251,11 @@ Value select(ProgramBuilder& b, Reg c, const Value& x, const Value& y) {
 }
 
 Value filled(ProgramBuilder& b, const Value& v, Shape shape) {
+  if (shape.is_matrix()) {
+    std::vector<Value> rows(static_cast<std::size_t>(shape.rows),
+                            *convert(b, v, Shape{Type::Float, shape.columns}));
+    return make_matrix(shape, std::move(rows));
+  }
   if (shape.record == nullptr) return *convert(b, v, shape);
   Value out;
   out.width = 0;
@@ -231,6 +271,15 @@ void scalar_components(const Value& v, std::vector<Value>& out) {
 
 std::optional<Value> from_components(ProgramBuilder& b, Shape shape, std::span<const Value> parts,
                                      std::size_t& at) {
+  if (shape.is_matrix()) {
+    std::vector<Value> rows;
+    for (int i = 0; i < shape.rows; ++i) {
+      std::optional<Value> row = from_components(b, Shape{Type::Float, shape.columns}, parts, at);
+      if (!row) return std::nullopt;
+      rows.push_back(std::move(*row));
+    }
+    return make_matrix(shape, std::move(rows));
+  }
   if (shape.record != nullptr) {
     Value out;
     out.width = 0;

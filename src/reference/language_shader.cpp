@@ -290,7 +290,8 @@ class FunctionCompiler : public ExpressionParser {
       unsupported("matrix types", file_.path(), t);
     if (is_texture_function(t.text) && file_.find(t.text).empty())
       unsupported("textures", file_.path(), t);
-    if (!shader_type(t.text) && find_library_function(t.text, kShaderLibrary).empty())
+    if (!shader_type(t.text) && !is_matrix_function(t.text) &&
+        find_library_function(t.text, kShaderLibrary).empty())
       fail(unknown_function(t), t);
   }
 
@@ -641,44 +642,6 @@ class FunctionCompiler : public ExpressionParser {
     }
   }
 
-  // HLSL's `{ a, b, ... }` for `what`, a value of `shape`, from its '{': the values' scalar
-  // components fill the shape's in order (inner braces group nothing).
-  Value initializer_list(Shape shape, const std::string& what) {
-    const Token& open = peek();
-    std::vector<Value> parts;
-    initializer_parts(parts);
-    std::size_t at = 0;
-    std::optional<Value> v = from_components(builder(), shape, parts, at);
-    if (!v || at != parts.size()) {
-      std::vector<Value> want;
-      scalar_components(unassigned(shape), want);
-      fail("the values in braces for " + what + " have " + count(parts.size(), "component") +
-               ", and a " + shape_name(shape) + " has " + std::to_string(want.size()),
-           open);
-    }
-    return *v;
-  }
-
-  // `{ value (, value)* [,] }`, each value an expression or braces again: their scalars in order.
-  void initializer_parts(std::vector<Value>& parts) {
-    const Token& open = next();
-    while (!peek().is("}")) {
-      if (peek().kind == Token::End) fail("'{' is not closed", open);
-      if (peek().is("{")) {
-        initializer_parts(parts);
-      } else {
-        scalar_components(expression(), parts);
-      }
-      if (!accept(",")) break;
-    }
-    expect("}", "after the values in braces");
-  }
-
-  // "1 value", "2 values".
-  static std::string count(std::size_t n, const std::string& noun) {
-    return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
-  }
-
   // GLSL's struct constructor, S(a, b, ...): one value per member, in order.
   Value construct_struct(const Token& t) {
     const StructType& type = *file_.struct_type(t.text);
@@ -686,8 +649,8 @@ class FunctionCompiler : public ExpressionParser {
     arguments(t, [&](int) { args.push_back(expression()); });
     next();
     if (args.size() != type.members.size()) {
-      fail(type.name + "(...) is given " + count(args.size(), "value") + ", and has " +
-               count(type.members.size(), "member"),
+      fail(type.name + "(...) is given " + counted(args.size(), "value") + ", and has " +
+               counted(type.members.size(), "member"),
            t);
     }
     Value out = unassigned(Shape{Type::Float, 0, &type});
@@ -802,6 +765,11 @@ class FunctionCompiler : public ExpressionParser {
     }
     if (target.record != nullptr && peek().is("[")) {
       fail("a subscript of a " + target.record->name + ": a struct has members, not components",
+           peek());
+    }
+    if (target.is_matrix() && (peek().is("[") || peek().is("."))) {
+      fail("writing part of a " + shape_name(target) +
+               " is not supported: a matrix is assigned whole",
            peek());
     }
     const std::vector<int> picked = written_components(target.width);

@@ -432,14 +432,18 @@ Value ShaderFile::global_value(Global& g, const Token& use) {
     fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);
   g.evaluating = true;
   ConstantParser parser(*this, g);
-  Value v = parser.expression();
+  Value v = g.value_tokens[0].is("{") && g.kind == Global::Constant
+                ? parser.initializer_list(g.type, "'" + std::string(g.at.text) + "'")
+                : parser.expression();
   if (parser.position() + 1 != g.value_tokens.size()) {
     parser.fail("unexpected " + describe(parser.peek(), Dialect::Shader) + " in the value of '" +
                     std::string(g.at.text) + "'",
                 parser.peek());
   }
-  for (int i = 0; i < v.width; ++i) {
-    if (!builder.constant_value(v.component(i))) {
+  std::vector<Value> parts;
+  scalar_components(v, parts);
+  for (const Value& part : parts) {
+    if (!builder.constant_value(part.reg)) {
       fail_at("the value of '" + std::string(g.at.text) + "' is not a constant expression", path_,
               g.at);
     }

@@ -195,10 +195,10 @@ float f(float x) {
 TEST(ShaderErrors, ConstructsOutsideTheSubsetAtTheirLineAndColumn) {
   const auto body = testing::function_with;
   const std::string& more = testing::kSubsetNote;
-  EXPECT_EQ(located(shader_error(body("mat3 m;"))),
-            "3:3: matrix types are not supported (mat3)" + more);
-  EXPECT_EQ(located(shader_error(body("y = float2x2(x, x, x, x)[0].x;"))),
-            "3:7: matrix types are not supported (float2x2)" + more);
+  EXPECT_EQ(located(shader_error(body("imat3 m;"))),
+            "3:3: unknown type 'imat3' (float, half, double, int or bool)");
+  EXPECT_EQ(located(shader_error(body("y = int2x2(1, 2, 3, 4)[0].x;"))),
+            "3:7: matrix types are not supported (int2x2)" + more);
   EXPECT_EQ(located(shader_error(body("float s, c; sinecos(x, s, c);"))),
             "3:15: unknown function 'sinecos' (did you mean sincos?)");
   EXPECT_EQ(located(shader_error(body("y = y.foo;"))),
@@ -240,7 +240,9 @@ TEST(ShaderErrors, SignaturesFilesAndCalls) {
             "1:18: parameter 'y' of f is out: the reference's parameters are its inputs and its "
             "one result is the float it returns (call f from a function that returns the value)");
   EXPECT_EQ(located(shader_error("float f(mat2 p) { return p[0].x; }")),
-            "1:9: matrix types are not supported (mat2)" + more);
+            "1:14: parameter 'p' is a mat2: the function's parameters are the reference's "
+            "variables, each a float (give the components as floats, or call f from a function "
+            "that takes them)");
   EXPECT_EQ(located(shader_error("float f(sampler2D s) { return 0.0; }")),
             "1:9: textures are not supported (sampler2D)" + more);
   EXPECT_EQ(located(shader_error("float f(int n) { return 1.0; }")),

@@ -164,8 +164,8 @@ TEST(ShaderStructs, BadInputIsOneClearError) {
             "1:18: arrays inside structs are not supported (a[])" + kSubsetNote);
   EXPECT_EQ(located(shader_error("struct S { float a; S b; };\nfloat f(float x) { S s; return x; }")),
             "1:8: struct 'S' contains itself");
-  EXPECT_EQ(located(shader_error("struct S { float3x3 m; };\nfloat f(float x) { S s; return x; }")),
-            "1:12: matrix types are not supported (float3x3)" + kSubsetNote);
+  EXPECT_EQ(located(shader_error("struct S { Texture2D t; };\nfloat f(float x) { S s; return x; }")),
+            "1:12: textures are not supported (Texture2D)" + kSubsetNote);
   EXPECT_EQ(located(shader_error(
                 "struct S { float a; float g() { return a; } };\nfloat f(float x) { S s; return x; }")),
             "1:27: functions inside structs are not supported (g)" + kSubsetNote);
