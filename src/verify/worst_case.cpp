@@ -32,12 +32,14 @@ SampleColumns dense_design(const std::vector<reference::DomainAxis>& domain,
   const bool counted = std::all_of(domain.begin(), domain.end(),
                                    [](const reference::DomainAxis& a) { return a.count > 0; });
   if (!counted) return sample_domain(domain, o.samples, std::max<std::size_t>(o.density, 1));
-  const double per_axis =
-      std::ceil(std::pow(static_cast<double>(std::max<std::size_t>(o.density, 1)),
-                         1.0 / static_cast<double>(domain.size())));
+  // Each axis's count times density^(1 / axes), rounded (rounding up would make a grid of many
+  // axes 2^axes times denser: 256 times for 8).
+  const double per_axis = std::pow(static_cast<double>(std::max<std::size_t>(o.density, 1)),
+                                   1.0 / static_cast<double>(domain.size()));
   std::vector<reference::DomainAxis> axes = domain;
   for (reference::DomainAxis& a : axes) {
-    a.count = static_cast<std::size_t>(static_cast<double>(a.count) * per_axis);
+    a.count = std::max(a.count, static_cast<std::size_t>(
+                                    std::lround(static_cast<double>(a.count) * per_axis)));
     a.spacing = reference::Spacing::Endpoints;  // the ends are where errors often peak
   }
   return sample_domain(axes, 0, 1);

@@ -103,6 +103,22 @@ TEST(WorstCase, RefineClimbsToAPoleNearAPoint) {
   EXPECT_NEAR(near.point[0] + near.point[1], 1.2345678, 1e-6);
 }
 
+// A grid given by counts is refined about `density` times in all, however many its axes: 8
+// axes of 4 points (65,536) get 5 each (390,625), not 8 each (16.8 million).
+TEST(WorstCase, AGridOfManyAxesIsRefinedAboutDensityTimes) {
+  std::vector<std::string> axes;
+  std::string sum = "0";
+  for (const char* v : {"a", "b", "c", "d", "e", "f", "g", "h"}) {
+    axes.push_back(std::string(v) + "=0:1:4");
+    sum += std::string(" + ") + v;
+  }
+  const reference::ReferenceFunction f = make_reference(sum, axes);
+  const WorstCaseSearch w(f, {"a"}, {.samples = 0, .density = 10, .threads = 1});
+  EXPECT_EQ(w.dense_points(), 390625u);
+  const reference::ReferenceFunction g = make_reference("x * y", {"x=0:1:50", "y=0:1:40"});
+  EXPECT_EQ(WorstCaseSearch(g, {"x", "y"}, {.density = 10}).dense_points(), 158u * 126u);
+}
+
 TEST(WorstCase, ChecksItsInputs) {
   const reference::ReferenceFunction f = make_reference("x", {"x=0:1"});
   EXPECT_THROW(WorstCaseSearch(f, {"nope"}), Error);
