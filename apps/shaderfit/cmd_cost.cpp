@@ -52,6 +52,7 @@ Expression formula_to_cost(const CostArgs& a) {
   t.shader_source = reference::read_shader_file(a.reference_file);
   t.shader_path = a.reference_file;
   t.function = a.function;
+  t.variables = a.inputs;  // the parameters' order, and which of an overloaded name
   const reference::Program p = reference::compile_reference(t);
   const reference::ProgramFormula f = reference::program_formula(p, p.inputs);
   if (!f.formula)

@@ -101,6 +101,20 @@ float phase(float mu, float g) {
   EXPECT_EQ(a[1].str(), b[1].str());
 }
 
+// --inputs orders a shader function's parameters and picks one of an overloaded name (HDRP's
+// V_SmithJointGGXAniso with and without its precomputed part).
+TEST(CmdCost, InputsPickAnOverloadOfTheShaderFunction) {
+  const std::string path = scratch_file("overloads.hlsl", R"(
+float V(float a, float b, float part) { return 0.5 / (a * part + b); }
+float V(float a, float b) { return V(a, b, sqrt(a)); }
+)");
+  const CliResult r = run({"cost", "--reference-file", path, "--function", "V", "--inputs", "b,a"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("inputs: b, a"), std::string::npos) << r.out;
+  expect_bad_input({"cost", "--reference-file", path, "--function", "V"},
+                   "function 'V' is defined 2 times");
+}
+
 TEST(CmdCost, AShaderFunctionThatCannotBeCostedIsOneLineAndStatus2) {
   const std::string path = scratch_file("floor.glsl", "float f(float x) { return floor(x) * x; }");
   expect_bad_input({"cost", "--reference-file", path, "--function", "f"},
