@@ -124,7 +124,8 @@ void register_cost_command(CLI::App& app, Context& ctx) {
       "the formula; every identifier is an input unless --inputs/--params say otherwise");
   cmd->add_option("--reference-file", args->reference_file,
                   "instead of a formula, a GLSL or HLSL file whose function (--function) is "
-                  "costed as written: helpers inlined, constants folded, branches as selects");
+                  "costed as written: helpers inlined, constants folded, branches as selects "
+                  "(--inputs: its parameters in order, which picks one of an overloaded name)");
   cmd->add_option("--function", args->function, "the function of --reference-file to cost");
   cmd->add_option("--target", args->target,
                   "listing to print: sass (default), ptx, generic, sass-half2 (the __half2 "
