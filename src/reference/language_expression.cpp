@@ -454,6 +454,29 @@ Value ExpressionParser::construct(const Token& name, Shape to, std::span<const V
   return make_value(regs, to.type);
 }
 
+Value ExpressionParser::construct_struct(const Token& name, const StructType& type) {
+  std::vector<Value> args;
+  arguments(name, [&](int) { args.push_back(expression()); });
+  next();
+  if (args.size() != type.members.size()) {
+    fail(type.name + "(...) is given " + counted(args.size(), "value") + ", and has " +
+             counted(type.members.size(), "member"),
+         name);
+  }
+  Value out = filled(b_, Value{b_.constant(0.0)}, Shape{Type::Float, 0, &type});
+  for (std::size_t k = 0; k < args.size(); ++k) {
+    const StructMember& m = type.members[k];
+    std::optional<Value> v = convert(b_, args[k], m.shape);
+    if (!v) {
+      fail("cannot give a " + shape_name(args[k].shape()) + " to the member '" + m.name +
+               "' of " + type.name + ", a " + shape_name(m.shape),
+           name);
+    }
+    out.members[k] = std::move(*v);
+  }
+  return out;
+}
+
 bool is_matrix_function(std::string_view name) { return name == "mul" || name == "transpose"; }
 
 // HLSL's mul(a, b), the product of matrices, vectors and scalars; transpose(m).

@@ -280,6 +280,8 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   // `{ a, b, ... }` for `what`, a value of `shape`, from its '{' (HLSL's braces): the values'
   // scalar components fill the shape's in order (inner braces group nothing).
   Value initializer_list(Shape shape, const std::string& what);
+  // GLSL's struct constructor S(a, b, ...), after the name: one value per member, in order.
+  Value construct_struct(const Token& name, const StructType& type);
 
   ProgramBuilder& builder() { return b_; }
   [[nodiscard]] Dialect dialect() const { return dialect_; }

@@ -299,7 +299,7 @@ class FunctionCompiler : public ExpressionParser {
   Value call(const Token& t) override {
     if (!file_.find(t.text).empty() && !shader_type(t.text)) return inline_call(t);
     if (t.is_word("sincos")) return sincos(t);
-    if (file_.is_struct(t.text)) return construct_struct(t);
+    if (file_.is_struct(t.text)) return construct_struct(t, *file_.struct_type(t.text));
     return ExpressionParser::call(t);
   }
 
@@ -642,24 +642,6 @@ class FunctionCompiler : public ExpressionParser {
     }
   }
 
-  // GLSL's struct constructor, S(a, b, ...): one value per member, in order.
-  Value construct_struct(const Token& t) {
-    const StructType& type = *file_.struct_type(t.text);
-    std::vector<Value> args;
-    arguments(t, [&](int) { args.push_back(expression()); });
-    next();
-    if (args.size() != type.members.size()) {
-      fail(type.name + "(...) is given " + counted(args.size(), "value") + ", and has " +
-               counted(type.members.size(), "member"),
-           t);
-    }
-    Value out = unassigned(Shape{Type::Float, 0, &type});
-    for (std::size_t k = 0; k < args.size(); ++k) {
-      out.members[k] = to_shape(args[k], type.members[k].shape, t,
-                                "the member '" + type.members[k].name + "' of " + type.name);
-    }
-    return out;
-  }
 
   // Whether an assignment or an increment starts here.
   bool at_assignment() const {

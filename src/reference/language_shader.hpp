@@ -49,6 +49,7 @@ struct Global {
   std::span<const Token> value_tokens;
   int order = 0;  // declaration order: a value may use the names declared before it
   int array_size = 0;  // Array: its elements
+  std::string_view struct_name;  // Constant: its struct type, read when first used
   std::optional<Value> value;
   bool evaluating = false;
 };

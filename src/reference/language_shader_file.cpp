@@ -254,6 +254,16 @@ void ShaderFile::declaration(std::size_t begin, std::size_t end) {
       i = value_end + 1;
       continue;
     }
+    // A struct constant (Unity's `static const ParamsLogC LogC = { ... };`).
+    if (is_const && is_struct(type.text) && !array && value != 0 &&
+        construct(qualifiers, "float", false) == "global variables") {
+      Global g{Global::Constant, "", name, Shape{Type::Float, 0}};
+      g.struct_name = type.text;
+      g.value_tokens = std::span<const Token>(tokens_).subspan(value, value_end + 1 - value);
+      add(std::string(name.text), std::move(g));
+      i = value_end + 1;
+      continue;
+    }
     if (is_const && shape && !array && what == "global variables" && value != 0) {
       Global g{Global::Constant, "", name, *shape};
       g.value_tokens = std::span<const Token>(tokens_).subspan(value, value_end + 1 - value);
@@ -413,6 +423,12 @@ class ConstantParser : public ExpressionParser {
     return file_.global_value(*g, t);
   }
 
+  // A struct's constructor (GLSL's `const Params P = Params(...)`).
+  Value call(const Token& t) override {
+    if (file_.is_struct(t.text)) return construct_struct(t, *file_.struct_type(t.text));
+    return ExpressionParser::call(t);
+  }
+
  private:
   ShaderFile& file_;
   const Global& global_;
@@ -431,6 +447,7 @@ Value ShaderFile::global_value(Global& g, const Token& use) {
   if (g.evaluating)
     fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);
   g.evaluating = true;
+  if (!g.struct_name.empty()) g.type = Shape{Type::Float, 0, struct_type(g.struct_name)};
   ConstantParser parser(*this, g);
   Value v = g.value_tokens[0].is("{") && g.kind == Global::Constant
                 ? parser.initializer_list(g.type, "'" + std::string(g.at.text) + "'")

@@ -5,6 +5,7 @@
 // values at points against the C++ it means, and each bad input by its message and location.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "reference/shader_test_util.hpp"
@@ -120,6 +121,29 @@ float f(float x, float y) {
   };
   for (const double x : {0.25, 0.75})
     for (const double y : {0.25, 0.75}) EXPECT_DOUBLE_EQ(at(p, {x, y}), want(x, y)) << x << y;
+}
+
+// Unity's Color.hlsl: the LogC parameters as a file-scope struct constant in braces; GLSL's as a
+// constructor.
+TEST(ShaderStructs, FileScopeStructConstants) {
+  const Program hlsl = shader(R"(
+struct ParamsLogC { float cut; float a, b, c, d, e, f; };
+static const ParamsLogC LogC = {
+  0.011361, // cut
+  5.555556, 0.047996, 0.244161, 0.386036, 5.301883, 0.092819
+};
+float f(float x) {
+  if (x > LogC.cut) return LogC.c * log10(max(LogC.a * x + LogC.b, 0.0)) + LogC.d;
+  return LogC.e * x + LogC.f;
+})",
+                              "f", {}, "color.hlsl");
+  EXPECT_NEAR(at(hlsl, {0.5}), 0.244161 * std::log10(5.555556 * 0.5 + 0.047996) + 0.386036, 1e-12);
+  EXPECT_NEAR(at(hlsl, {0.01}), 5.301883 * 0.01 + 0.092819, 1e-15);
+  const Program glsl = shader(R"(
+struct Falloff { float radius; vec2 scale; };
+const Falloff kFalloff = Falloff(2.0, vec2(0.5, 3.0));
+float f(float d) { return kFalloff.scale.y * d / kFalloff.radius + kFalloff.scale.x; })");
+  EXPECT_DOUBLE_EQ(at(glsl, {0.5}), 3 * 0.5 / 2 + 0.5);
 }
 
 TEST(ShaderStructs, AStructNeverUsedIsNeverRead) {
