@@ -97,7 +97,10 @@ class FormulaWriter {
     if (const Op same = same_operator(in.op); same != Op::Count_) return op(same, arity(same));
     const std::string name(program_op_name(in.op));
     // Shader code truncates by conversion too: int(x), (int)x, an int variable given a float.
-    const std::string also = in.op == ProgramOp::Trunc ? " (or converts a float to int)" : "";
+    // And the built-ins written with floor: fract, mod and fmod.
+    const std::string also = in.op == ProgramOp::Trunc   ? " (or converts a float to int)"
+                             : in.op == ProgramOp::Floor ? " (or fract, frac or mod)"
+                                                         : "";
     why = std::isalpha(static_cast<unsigned char>(name[0]))
               ? "it calls " + name + also + ", which the search's operators cannot write"
               : "it reads '" + name + "' as a number, which the search's operators cannot write";

@@ -125,7 +125,9 @@ TEST(ProgramFormula, WhatTheOperatorsCannotWriteIsSaid) {
     EXPECT_FALSE(f.formula) << text;
     return f.why;
   };
-  EXPECT_EQ(why("floor(x) + 1", {"x"}), "it calls floor, which the search's operators cannot write");
+  EXPECT_EQ(why("floor(x) + 1", {"x"}),
+            "it calls floor (or fract, frac or mod), which the search's operators cannot "
+            "write");
   EXPECT_EQ(why("(x < y) * 2", {"x", "y"}),
             "it reads '<' as a number, which the search's operators cannot write");
   EXPECT_EQ(why("fresnel_exact(x, 1.5, 0)", {"x"}), "it calls a built-in reference");
