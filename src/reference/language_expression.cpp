@@ -408,6 +408,45 @@ Value ExpressionParser::initializer_list(Shape shape, const std::string& what) {
   return *v;
 }
 
+std::vector<Value> ExpressionParser::array_values(Shape element, int size, const Token& name) {
+  const std::string of = "'" + std::string(name.text) + "'";
+  const Token& at = peek();
+  std::vector<Value> parts;
+  if (at.is("{")) {
+    initializer_parts(parts);
+  } else if (at.kind == Token::Ident && shader_type(at.text) && peek(1).is("[")) {
+    next();
+    next();
+    while (!peek().is("]") && peek().kind != Token::End) next();
+    expect("]", "in the array's type");
+    const Token& open = peek();
+    if (!open.is("(")) fail("expected '(' after the array's type, found " + describe(open), open);
+    arguments(open, [&](int) { scalar_components(expression(), parts); });
+    next();
+  } else {
+    fail("expected '{' or an array constructor for the values of " + of + ", found " +
+             describe(at),
+         at);
+  }
+  std::vector<Value> per_element;
+  scalar_components(filled(b_, Value{b_.constant(0.0)}, element), per_element);
+  const std::size_t n = per_element.size();
+  if (size < 0 && parts.size() % n == 0 && !parts.empty())
+    size = static_cast<int>(parts.size() / n);
+  if (size < 0 || parts.size() != static_cast<std::size_t>(size) * n) {
+    const std::string elements =
+        size < 0 ? "whole elements" : counted(static_cast<std::size_t>(size), "element");
+    fail("the values of " + of + " have " + counted(parts.size(), "component") + ", and " +
+             elements + " of " + shape_name(element) + " take " +
+             (size < 0 ? "a multiple of " + std::to_string(n) : std::to_string(size * n)),
+         at);
+  }
+  std::vector<Value> out;
+  std::size_t k = 0;
+  for (int i = 0; i < size; ++i) out.push_back(*from_components(b_, element, parts, k));
+  return out;
+}
+
 // `{ value (, value)* [,] }`, each value an expression or braces again: their scalars in order.
 void ExpressionParser::initializer_parts(std::vector<Value>& parts) {
   const Token& open = next();

@@ -280,6 +280,11 @@ class ExpressionParser : public ExpressionGrammar<Value> {
   // `{ a, b, ... }` for `what`, a value of `shape`, from its '{' (HLSL's braces): the values'
   // scalar components fill the shape's in order (inner braces group nothing).
   Value initializer_list(Shape shape, const std::string& what);
+  // An array's values, from the current token: `{ ... }` (the values' scalar components fill
+  // the elements in order, as HLSL reads them: `float3 k[2] = {1, 2, 3, 4, 5, 6}`) or GLSL's
+  // `type[N](a, b, ...)`. `size`: the declared size, or -1 where the values give it. An error
+  // at `name` where they do not fill the elements exactly.
+  std::vector<Value> array_values(Shape element, int size, const Token& name);
   // GLSL's struct constructor S(a, b, ...), after the name: one value per member, in order.
   Value construct_struct(const Token& name, const StructType& type);
 

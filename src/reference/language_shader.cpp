@@ -265,8 +265,8 @@ class FunctionCompiler : public ExpressionParser {
     }
     if (Global* g = file_.global(t.text)) {
       if (g->kind == Global::Array) {
-        const int k = subscript(g->array_size, t);
-        return file_.global_value(*file_.global(element_name(t.text, k)), t);
+        const std::vector<Value>& elements = file_.array_elements(*g);
+        return elements[static_cast<std::size_t>(subscript(static_cast<int>(elements.size()), t))];
       }
       return file_.global_value(*g, t);
     }
@@ -594,35 +594,9 @@ class FunctionCompiler : public ExpressionParser {
     if (peek().is("[")) unsupported("arrays of arrays", file_.path(), peek());
     std::vector<Value> values;
     if (peek().is("=")) {
-      const Token& eq = next();
-      std::string close = "}";
-      if (accept("{")) {
-      } else if (peek().kind == Token::Ident && shader_type(peek().text) && peek(1).is("[")) {
-        next();
-        next();
-        while (!peek().is("]") && peek().kind != Token::End) next();
-        expect("]", "in the array's type");
-        expect("(", "after the array's type");
-        close = ")";
-      } else {
-        fail("expected '{' or an array constructor for the values of '" + std::string(n.text) +
-                 "', found " + describe(peek()),
-             peek());
-      }
-      while (!peek().is(close)) {
-        const Token& at = peek();
-        const std::string what = "an element of '" + std::string(n.text) + "'";
-        values.push_back(peek().is("{") ? initializer_list(type, what)
-                                        : to_shape(expression(), type, at, what));
-        if (!accept(",")) break;
-      }
-      expect(close, "after the values of '" + std::string(n.text) + "'");
-      if (size < 0) size = static_cast<int>(values.size());
-      if (values.size() != static_cast<std::size_t>(size)) {
-        fail("'" + std::string(n.text) + "' has " + std::to_string(size) + " elements and " +
-                 std::to_string(values.size()) + " values",
-             eq);
-      }
+      next();
+      values = array_values(type, size, n);
+      size = static_cast<int>(values.size());
     } else if (size < 0) {
       fail("the array '" + std::string(n.text) + "' needs a size or values", open);
     } else if (is_const) {

@@ -38,19 +38,20 @@ struct FunctionDef {
   std::size_t parameters = 0;  // how many
 };
 
-// A file-scope name. A constant array is a Global of kind Array and its elements, constants
-// named "name[k]".
+// A file-scope name: a constant, a constant array, or another declaration (kept for its message).
 struct Global {
   enum Kind { Constant, Array, Other } kind = Other;
   std::string what;  // Other: the construct, as errors name it ("uniforms")
   Token at;          // where it is declared
   Shape type;
-  // Constant: the tokens of its value, ending with the token after it (',', ';').
+  // Constant and Array: the tokens of its value, ending with the token after it (',', ';').
   std::span<const Token> value_tokens;
+  // Array: the tokens of its size between the brackets and the ']' (only ']': none given).
+  std::span<const Token> size_tokens;
   int order = 0;  // declaration order: a value may use the names declared before it
-  int array_size = 0;  // Array: its elements
-  std::string_view struct_name;  // Constant: its struct type, read when first used
-  std::optional<Value> value;
+  std::string_view struct_name;  // its (element) type when a struct, read when first used
+  std::optional<Value> value;                 // Constant: once evaluated
+  std::optional<std::vector<Value>> elements;  // Array: once evaluated
   bool evaluating = false;
 };
 
@@ -73,6 +74,8 @@ class ShaderFile {
   Global* global(std::string_view name);
   // A constant's value, evaluated on first use (at `use`); an error for the rest.
   Value global_value(Global& g, const Token& use);
+  // A constant array's elements, evaluated on first use.
+  const std::vector<Value>& array_elements(Global& g);
   // The names a message may suggest: the file-scope ones.
   [[nodiscard]] std::vector<std::string> global_names() const;
   // Whether the file declares a struct called `name`.
@@ -88,7 +91,10 @@ class ShaderFile {
  private:
   void scan();
   void declaration(std::size_t begin, std::size_t end);
-  bool constant_array(const Token& name, Shape type, std::size_t value, std::size_t end);
+  // Where a constant is evaluated: its struct type read, and a loop in its definition an error.
+  void begin_evaluating(Global& g);
+  // An error unless every component of the value of `g` is a constant.
+  void require_constant(const Value& v, const Global& g);
   std::size_t matching(std::size_t open) const;  // the '}' or ')' closing tokens_[open]
   void add(const std::string& name, Global g);
   StructType read_struct(std::size_t open, std::size_t close, const std::string& name);

@@ -2,6 +2,7 @@
 // constants, and the declarations the subset leaves out.
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 
 #include "language_shader.hpp"
 
@@ -247,29 +248,30 @@ void ShaderFile::declaration(std::size_t begin, std::size_t end) {
       if (depth == 0 && u.is(",")) break;
     }
     const std::optional<Shape> shape = shader_type(type.text);
-    const std::string what = construct(qualifiers, type.text, array);
-    if (is_const && shape && array && value != 0 &&
-        construct(qualifiers, type.text, false) == "global variables" &&
-        constant_array(name, *shape, value, value_end)) {
-      i = value_end + 1;
-      continue;
+    const bool record = is_struct(type.text);
+    const std::string what = construct(qualifiers, record ? "float" : type.text, array);
+    const bool constant = is_const && value != 0 && (shape || record) &&
+                          construct(qualifiers, "float", false) == "global variables";
+    std::size_t size_end = i;  // an array's ']'
+    if (array) {
+      size_end = i;
+      for (int d = 0; !(d == 1 && tokens_[size_end].is("]")); ++size_end) {
+        if (tokens_[size_end].is("[")) ++d;
+        if (tokens_[size_end].is("]")) --d;
+      }
     }
-    // A struct constant (Unity's `static const ParamsLogC LogC = { ... };`).
-    if (is_const && is_struct(type.text) && !array && value != 0 &&
-        construct(qualifiers, "float", false) == "global variables") {
-      Global g{Global::Constant, "", name, Shape{Type::Float, 0}};
-      g.struct_name = type.text;
+    if (constant && !(array && tokens_[size_end + 1].is("["))) {
+      // A constant, or a constant array (Unity's `static const ParamsLogC LogC = { ... };`,
+      // `static const float3 k[2] = { ... };`).
+      Global g{array ? Global::Array : Global::Constant, "", name,
+               record ? Shape{Type::Float, 0} : *shape};
+      if (record) g.struct_name = type.text;
       g.value_tokens = std::span<const Token>(tokens_).subspan(value, value_end + 1 - value);
-      add(std::string(name.text), std::move(g));
-      i = value_end + 1;
-      continue;
-    }
-    if (is_const && shape && !array && what == "global variables" && value != 0) {
-      Global g{Global::Constant, "", name, *shape};
-      g.value_tokens = std::span<const Token>(tokens_).subspan(value, value_end + 1 - value);
+      if (array) g.size_tokens = std::span<const Token>(tokens_).subspan(i + 1, size_end - i);
       add(std::string(name.text), std::move(g));
     } else {
-      add(std::string(name.text), Global{Global::Other, what, name});
+      add(std::string(name.text),
+          Global{Global::Other, array && constant ? "arrays of arrays" : what, name});
     }
     i = value_end + 1;
   }
@@ -358,47 +360,6 @@ StructType ShaderFile::read_struct(std::size_t open, std::size_t close, const st
   return out;
 }
 
-// A constant array's elements from its values, tokens [value, end): `{a, b, ...}` or
-// `type[N](a, b, ...)`; false where they are not one of these.
-bool ShaderFile::constant_array(const Token& name, Shape type, std::size_t value, std::size_t end) {
-  std::size_t i = value;
-  std::string_view close = "}";
-  if (tokens_[i].is("{")) {
-    ++i;
-  } else if (tokens_[i].kind == Token::Ident && shader_type(tokens_[i].text) &&
-             tokens_[i + 1].is("[")) {
-    i += 2;
-    while (i < end && !tokens_[i].is("]")) ++i;
-    if (i + 1 >= end || !tokens_[i + 1].is("(")) return false;
-    i += 2;
-    close = ")";
-  } else {
-    return false;
-  }
-  int count = 0;
-  for (std::size_t begin = i, depth = 0; i < end; ++i) {
-    const Token& u = tokens_[i];
-    const bool last = depth == 0 && u.is(close);
-    if ((depth == 0 && u.is(",")) || last) {
-      if (i > begin) {
-        Global g{Global::Constant, "", name, type};
-        g.value_tokens = std::span<const Token>(tokens_).subspan(begin, i + 1 - begin);
-        add(std::string(name.text) + "[" + std::to_string(count++) + "]", std::move(g));
-      }
-      begin = i + 1;
-      if (last) break;
-      continue;
-    }
-    if (u.is("(") || u.is("[") || u.is("{")) ++depth;
-    if (u.is(")") || u.is("]") || u.is("}")) --depth;
-  }
-  if (count == 0) return false;
-  Global whole{Global::Array, "", name, type};
-  whole.array_size = count;
-  add(std::string(name.text), std::move(whole));
-  return true;
-}
-
 namespace {
 
 // A constant's value: names resolve to the constants declared before it.
@@ -436,27 +397,14 @@ class ConstantParser : public ExpressionParser {
 
 }  // namespace
 
-Value ShaderFile::global_value(Global& g, const Token& use) {
-  if (g.kind == Global::Other) unsupported(g.what, path_, use);
-  if (g.kind == Global::Array) {
-    fail_at("the array '" + std::string(g.at.text) + "' is used whole: only its elements (" +
-                std::string(g.at.text) + "[k]) are values",
-            path_, use);
-  }
-  if (g.value) return *g.value;
+void ShaderFile::begin_evaluating(Global& g) {
   if (g.evaluating)
     fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);
   g.evaluating = true;
   if (!g.struct_name.empty()) g.type = Shape{Type::Float, 0, struct_type(g.struct_name)};
-  ConstantParser parser(*this, g);
-  Value v = g.value_tokens[0].is("{") && g.kind == Global::Constant
-                ? parser.initializer_list(g.type, "'" + std::string(g.at.text) + "'")
-                : parser.expression();
-  if (parser.position() + 1 != g.value_tokens.size()) {
-    parser.fail("unexpected " + describe(parser.peek(), Dialect::Shader) + " in the value of '" +
-                    std::string(g.at.text) + "'",
-                parser.peek());
-  }
+}
+
+void ShaderFile::require_constant(const Value& v, const Global& g) {
   std::vector<Value> parts;
   scalar_components(v, parts);
   for (const Value& part : parts) {
@@ -465,18 +413,68 @@ Value ShaderFile::global_value(Global& g, const Token& use) {
               g.at);
     }
   }
-  if (g.kind == Global::Constant) {
-    const std::optional<Value> c = convert(builder, v, g.type);
-    if (!c) {
-      fail_at("the value of '" + std::string(g.at.text) + "' is a " + shape_name(v.shape()) +
-                  ", not a " + shape_name(g.type),
-              path_, g.at);
-    }
-    v = *c;
+}
+
+Value ShaderFile::global_value(Global& g, const Token& use) {
+  if (g.kind == Global::Other) unsupported(g.what, path_, use);
+  if (g.kind == Global::Array) {
+    fail_at("the array '" + std::string(g.at.text) + "' is used whole: only its elements (" +
+                std::string(g.at.text) + "[k]) are values",
+            path_, use);
+  }
+  if (g.value) return *g.value;
+  begin_evaluating(g);
+  ConstantParser parser(*this, g);
+  Value v = g.value_tokens[0].is("{")
+                ? parser.initializer_list(g.type, "'" + std::string(g.at.text) + "'")
+                : parser.expression();
+  if (parser.position() + 1 != g.value_tokens.size()) {
+    parser.fail("unexpected " + describe(parser.peek(), Dialect::Shader) + " in the value of '" +
+                    std::string(g.at.text) + "'",
+                parser.peek());
+  }
+  require_constant(v, g);
+  const std::optional<Value> c = convert(builder, v, g.type);
+  if (!c) {
+    fail_at("the value of '" + std::string(g.at.text) + "' is a " + shape_name(v.shape()) +
+                ", not a " + shape_name(g.type),
+            path_, g.at);
   }
   g.evaluating = false;
-  g.value = v;
-  return v;
+  g.value = *c;
+  return *g.value;
+}
+
+const std::vector<Value>& ShaderFile::array_elements(Global& g) {
+  if (g.elements) return *g.elements;
+  begin_evaluating(g);
+  int size = -1;
+  if (g.size_tokens.size() > 1) {
+    Global count = g;
+    count.value_tokens = g.size_tokens;
+    ConstantParser parser(*this, count);
+    const Token& at = parser.peek();
+    const Value k = parser.expression();
+    const auto c = k.width == 1 ? builder.constant_value(k.reg) : std::nullopt;
+    if (!c || *c != std::trunc(*c) || *c < 1 || *c > 4096 ||
+        parser.position() + 1 != g.size_tokens.size()) {
+      fail_at("the size of the array '" + std::string(g.at.text) +
+                  "' must be a constant from 1 to 4096",
+              path_, at);
+    }
+    size = static_cast<int>(*c);
+  }
+  ConstantParser parser(*this, g);
+  std::vector<Value> elements = parser.array_values(g.type, size, g.at);
+  if (parser.position() + 1 != g.value_tokens.size()) {
+    parser.fail("unexpected " + describe(parser.peek(), Dialect::Shader) + " in the values of '" +
+                    std::string(g.at.text) + "'",
+                parser.peek());
+  }
+  for (const Value& v : elements) require_constant(v, g);
+  g.evaluating = false;
+  g.elements = std::move(elements);
+  return *g.elements;
 }
 
 }  // namespace shaderfit::reference_detail

@@ -562,10 +562,46 @@ float f(float x) {
   EXPECT_EQ(located(shader_error(body("float a[2] = {1.0, 2.0}; y = a;"))),
             "3:32: the array 'a' is used whole: only its elements (a[k]) are values");
   EXPECT_EQ(located(shader_error(body("float a[3] = {1.0, 2.0};"))),
-            "3:14: 'a' has 3 elements and 2 values");
+            "3:16: the values of 'a' have 2 components, and 3 elements of float take 3");
   EXPECT_EQ(located(shader_error(body("float a[2] = {1.0, 2.0}; y = a[int(x)];"))),
             "3:33: a subscript of 'a' must be a constant from 0 to 1 (arrays are read at constant "
             "places: loops are unrolled, so their counter is one)");
+}
+
+// HLSL reads an array's values as one list of components (fuzz4's r3): a flat table of vectors,
+// nested braces and vector values are the same table; a size given must be met exactly.
+TEST(ShaderArrays, ValuesFillTheElementsComponentByComponent) {
+  for (const char* values : {"{ 1, 2, 3, 4, 5, 6 }", "{ {1, 2, 3}, {4, 5, 6} }",
+                             "{ float3(1, 2, 3), float3(4, 5, 6) }"}) {
+    const std::string table = std::string("static const float3 k[2] = ") + values + ";\n";
+    const Program p = shader(table + "float f(float r) { return r * k[0].z + k[1].x; }", "f", {},
+                             "test.hlsl");
+    EXPECT_EQ(formula_of(p), "3 * r + 4") << values;
+    const Program q = shader("float f(float r) { float3 k[2] = " + std::string(values) +
+                                 "; return r * k[1].y; }",
+                             "f", {}, "test.hlsl");
+    EXPECT_EQ(formula_of(q), "5 * r") << values;
+  }
+  const Program sized = shader(
+      "#define N 3\nstatic const int M = 2;\nstatic const float a[N] = { 1, 2, 4 };\n"
+      "static const float b[M + 1] = { 1, 2, 8 };\n"
+      "float f(float r) { return r * a[2] + b[2]; }",
+      "f", {}, "test.hlsl");
+  EXPECT_EQ(formula_of(sized), "4 * r + 8");
+  EXPECT_EQ(located(shader_error("static const float k[2] = { 1, 2, 3 };\n"
+                                 "float f(float r) { return r * k[1]; }")),
+            "1:27: the values of 'k' have 3 components, and 2 elements of float take 2");
+  EXPECT_EQ(located(shader_error("static const float3 k[] = { 1, 2, 3, 4 };\n"
+                                 "float f(float r) { return r * k[1].x; }")),
+            "1:27: the values of 'k' have 4 components, and whole elements of float3 take a "
+            "multiple of 3");
+  EXPECT_EQ(located(shader_error("static const float k[2][2] = { 1, 2, 3, 4 };\n"
+                                 "float f(float r) { return r * k[1][1]; }")),
+            "2:31: arrays of arrays are not supported (k)" + testing::kSubsetNote);
+  EXPECT_EQ(located(shader_error("static const float k[2] = { 1, r };\n"
+                                 "float f(float r) { return r * k[1]; }")),
+            "1:32: unknown identifier 'r' in the value of 'k' (it may use the constants declared "
+            "before it)");
 }
 
 // --- early returns -------------------------------------------------------------------------------
