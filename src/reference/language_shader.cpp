@@ -1134,13 +1134,16 @@ class FunctionCompiler : public ExpressionParser {
     const std::size_t count = argument_count();
     // The definition taking `count` arguments, its last parameters' default values (HLSL) for
     // the ones not given.
-    const FunctionDef* def = nullptr;
+    std::vector<const FunctionDef*> fitting;
     std::size_t fewest = defs[0]->parameters;
     for (const FunctionDef* d : defs) {
       const std::size_t least = required(*d);
-      if (def == nullptr && count <= d->parameters && count >= least) def = d;
+      if (count <= d->parameters && count >= least) fitting.push_back(d);
       fewest = std::min(fewest, least);
     }
+    const FunctionDef* def = fitting.empty()      ? nullptr
+                             : fitting.size() == 1 ? fitting[0]
+                                                   : by_argument_types(t, fitting);
     if (def == nullptr) {
       const std::size_t most = defs[0]->parameters;
       const std::string takes = fewest == most ? std::to_string(most)
@@ -1199,6 +1202,68 @@ class FunctionCompiler : public ExpressionParser {
     for (std::size_t k = 0; k < params.size(); ++k)
       if (params[k].mode != Mode::In) assign(slots[k], r.outs[k], t);
     return r.result;
+  }
+
+  // Of overloads that take as many arguments, the one whose parameters' types the arguments
+  // (read ahead, with no effect on the variables) fit best: the same type, then another
+  // scalar type of the same shape, then a scalar that fills a vector; an error where none
+  // fits or two fit alike (HLSL's rule, in short). The current token is the call's '('.
+  const FunctionDef* by_argument_types(const Token& t, std::span<const FunctionDef* const> defs) {
+    const State kept = state_;
+    const std::size_t open = position();
+    std::vector<Shape> given;
+    arguments(t, [&](int) {
+      const Token& a = peek();
+      std::optional<Slot> slot;
+      if (a.kind == Token::Ident && (peek(1).is(",") || peek(1).is(")"))) slot = locate(a.text);
+      if (slot && variable(*slot).array_size == 0) {
+        given.push_back(variable(*slot).value.shape());  // not read: it may be an out argument
+        next();
+      } else {
+        given.push_back(expression().shape());
+      }
+    });
+    seek(open);
+    state_ = kept;
+    // The cost of passing a value of shape `a` for a parameter of shape `p` (-1: it cannot).
+    auto cost = [](const Shape& a, const Shape& p) {
+      if (a.record != p.record || a.rows != p.rows || a.columns != p.columns) return -1;
+      if (a.width == p.width) return a.type == p.type ? 0 : 1;
+      return a.width == 1 ? 2 : -1;
+    };
+    const FunctionDef* best = nullptr;
+    int best_cost = -1;
+    bool tie = false;
+    std::string each;
+    for (const FunctionDef* d : defs) {
+      const std::vector<Parameter> params = FunctionCompiler(file_, *d).parameters();
+      std::string shapes;
+      for (const Parameter& p : params) shapes += (shapes.empty() ? "" : ", ") + shape_name(p.type);
+      each += (each.empty() ? "" : ", ") + std::string(t.text) + "(" + shapes + ") at line " +
+              std::to_string(tokens_[d->name].line);
+      int total = 0;
+      for (std::size_t k = 0; k < given.size() && total >= 0; ++k) {
+        const int c = cost(given[k], params[k].type);
+        total = c < 0 ? -1 : total + c;
+      }
+      if (total < 0) continue;
+      if (best == nullptr || total < best_cost) {
+        best = d;
+        best_cost = total;
+        tie = false;
+      } else if (total == best_cost) {
+        tie = true;
+      }
+    }
+    std::string args;
+    for (const Shape& g : given) args += (args.empty() ? "" : ", ") + shape_name(g);
+    if (best == nullptr || tie) {
+      fail("the call " + std::string(t.text) + "(" + args + ") " +
+               (tie ? "fits two of its overloads alike" : "fits none of its overloads") + " (" +
+               each + ")",
+           t);
+    }
+    return best;
   }
 
   // The arguments of the call whose '(' is the current token, counted by their commas.

@@ -230,5 +230,37 @@ TEST(ShaderVectors, BadInputsAtTheirLineAndColumn) {
             "2:27: cannot give a float2 to the parameter 'v' of g, a float3");
 }
 
+// Overloads taking as many arguments are told apart by the arguments' types (fuzz4's r7):
+// Unreal's Square and Pow5 for float and float3 side by side, in either order.
+TEST(ShaderVectors, OverloadsOfOneArityPickedByTheArgumentsTypes) {
+  const Program p = shader(R"(
+float SumXY(float2 v) { return v.x + v.y; }
+float SumXY(float x) { return 10.0 * x; }
+float3 Square(float3 x) { return x * x; }
+float Square(float x) { return x * x; }
+void Set(out float2 v) { v = float2(1.0, 2.0); }
+void Set(out float w) { w = 3.0; }
+float f(float a) {
+  float2 v;
+  float w;
+  Set(v);
+  Set(w);
+  return SumXY(a) + SumXY(float2(a, 1.0)) + Square(a) + Square(float3(a, 2.0, 3.0)).z + v.y + w;
+})",
+                           "f", {}, "test.hlsl");
+  const double a = 0.5;
+  EXPECT_DOUBLE_EQ(at(p, {a}), 10 * a + a + 1 + a * a + 9 + 2 + 3);
+  EXPECT_EQ(located(shader_error("float G(float2 x) { return x.x; }\n"
+                                 "float G(float3 x) { return x.z; }\n"
+                                 "float f(float a) { return G(a); }")),
+            "3:27: the call G(float) fits two of its overloads alike (G(float2) at line 1, "
+            "G(float3) at line 2)");
+  EXPECT_EQ(located(shader_error("float G(float2 x) { return x.x; }\n"
+                                 "float G(float3 x) { return x.z; }\n"
+                                 "float f(float a) { return G(float4(a, a, a, a)); }")),
+            "3:27: the call G(float4) fits none of its overloads (G(float2) at line 1, G(float3) "
+            "at line 2)");
+}
+
 }  // namespace
 }  // namespace shaderfit::reference
