@@ -704,75 +704,97 @@ class FunctionCompiler : public ExpressionParser {
         fail("cannot assign to the file-scope constant '" + std::string(n.text) + "'", n);
       fail("unknown variable '" + std::string(n.text) + "'", n);
     }
-    if (variable(*slot).array_size > 0) slot = element(*slot, n);
-    if (variable(*slot).is_const)
+    const Place place = place_of(*slot, n);
+    if (!prefix) op = &next();
+    Value value;
+    if (op->is("++") || op->is("--")) {
+      value = apply_binary(*op, op->is("++") ? "+" : "-", read_place(place, n),
+                           {builder().constant(1.0), Type::Int});
+    } else {
+      const Value rhs = peek().is("{") && place.whole()
+                            ? initializer_list(place.shape, "'" + place.written + "'")
+                            : expression();
+      value = op->is("=") ? rhs
+                          : apply_binary(*op, op->text.substr(0, 1), read_place(place, n), rhs);
+    }
+    write_place(place, {value, kAssigned}, *op);
+  }
+
+  // A variable's part that is written: its slot (an array's element), the members on the way
+  // (outermost first), then the components of the vector there (each at most once; none: all
+  // of it).
+  struct Place {
+    Slot slot;
+    std::vector<int> members;
+    std::vector<int> components;
+    std::string written;  // "c.inner.ab", for messages
+    Shape shape;          // of the member written
+    [[nodiscard]] bool whole() const { return members.empty() && components.empty(); }
+  };
+
+  // The place that the selectors after a variable's name `n` (read; its slot `slot`) name: an
+  // array's subscript, members, swizzles and subscripts of a vector. An error for a constant.
+  Place place_of(Slot slot, const Token& n) {
+    if (variable(slot).array_size > 0) slot = element(slot, n);
+    if (variable(slot).is_const)
       fail("cannot assign to the constant '" + std::string(n.text) + "'", n);
-    // The members written (outermost first), then the components of the vector there.
-    std::vector<int> path;
-    std::string written(n.text);
-    Shape target = variable(*slot).value.shape();
-    while (target.record != nullptr && peek().is(".")) {
+    Place p{slot, {}, {}, std::string(n.text), variable(slot).value.shape()};
+    while (p.shape.record != nullptr && peek().is(".")) {
       next();
       const Token& m = next();
-      const int k = member_of(*target.record, m);
-      path.push_back(k);
-      written += "." + std::string(m.text);
-      target = target.record->members[static_cast<std::size_t>(k)].shape;
+      const int k = member_of(*p.shape.record, m);
+      p.members.push_back(k);
+      p.written += "." + std::string(m.text);
+      p.shape = p.shape.record->members[static_cast<std::size_t>(k)].shape;
     }
-    if (target.record != nullptr && peek().is("[")) {
-      fail("a subscript of a " + target.record->name + ": a struct has members, not components",
+    if (p.shape.record != nullptr && peek().is("[")) {
+      fail("a subscript of a " + p.shape.record->name + ": a struct has members, not components",
            peek());
     }
-    if (target.is_matrix() && (peek().is("[") || peek().is("."))) {
-      fail("writing part of a " + shape_name(target) +
+    if (p.shape.is_matrix() && (peek().is("[") || peek().is("."))) {
+      fail("writing part of a " + shape_name(p.shape) +
                " is not supported: a matrix is assigned whole",
            peek());
     }
-    const std::vector<int> picked = written_components(target.width);
-    if (!prefix) op = &next();
-    auto at_path = [&](Value& whole) -> Value& {
-      Value* v = &whole;
-      for (const int k : path) v = &v->members[static_cast<std::size_t>(k)];
-      return *v;
-    };
-    // The part written, as it is now (read only by compound assignments and increments).
-    auto current = [&] {
-      Value whole = read(variable(*slot), n);
-      const Value part = at_path(whole);
-      if (picked.empty()) return part;
-      std::vector<Reg> regs;
-      for (const int c : picked) regs.push_back(part.component(c));
-      return make_value(regs, part.type);
-    };
-    Value value;
-    if (op->is("++") || op->is("--")) {
-      value = apply_binary(*op, op->is("++") ? "+" : "-", current(),
-                           {builder().constant(1.0), Type::Int});
+    p.components = written_components(p.shape.width);
+    return p;
+  }
+
+  // The member of `whole` on the way to a place.
+  static Value& member_at(const Place& p, Value& whole) {
+    Value* v = &whole;
+    for (const int k : p.members) v = &v->members[static_cast<std::size_t>(k)];
+    return *v;
+  }
+
+  // The value at a place now (read at `at`: an error where the variable holds none).
+  Value read_place(const Place& p, const Token& at) {
+    Value whole = read(variable(p.slot), at);
+    const Value part = member_at(p, whole);
+    if (p.components.empty()) return part;
+    std::vector<Reg> regs;
+    for (const int c : p.components) regs.push_back(part.component(c));
+    return make_value(regs, part.type);
+  }
+
+  // Writes `h` at a place (at `at`); the rest of the variable keeps its value, or 0 where it
+  // holds none yet (any value is allowed there, see Defined).
+  void write_place(const Place& p, Held h, const Token& at) {
+    if (p.whole()) return assign(p.slot, h, at);
+    const Variable& v = variable(p.slot);
+    Value whole = v.value;
+    if ((v.defined & kAssigned) == 0)
+      whole = filled(builder(), Value{builder().constant(0.0)}, v.value.shape());
+    Value& part = member_at(p, whole);
+    if (p.components.empty()) {
+      part = to_shape(h.value, part.shape(), at, "'" + p.written + "'");
     } else {
-      const Value rhs = peek().is("{") && path.empty() && picked.empty()
-                            ? initializer_list(target, "'" + written + "'")
-                            : expression();
-      value = op->is("=") ? rhs : apply_binary(*op, op->text.substr(0, 1), current(), rhs);
+      const Value given = to_shape(h.value, Shape{part.type, static_cast<int>(p.components.size())},
+                                   at, "components of '" + p.written + "'");
+      for (std::size_t k = 0; k < p.components.size(); ++k)
+        part.set_component(p.components[k], given.component(static_cast<int>(k)));
     }
-    if (!picked.empty() || !path.empty()) {
-      // The other components and members keep their values; those of a variable that holds
-      // none yet are 0 (any value is allowed there, see Defined).
-      const Variable& v = variable(*slot);
-      Value whole = v.value;
-      if ((v.defined & kAssigned) == 0)
-        whole = filled(builder(), Value{builder().constant(0.0)}, v.value.shape());
-      Value& part = at_path(whole);
-      if (picked.empty()) {
-        part = to_shape(value, part.shape(), *op, "'" + written + "'");
-      } else {
-        const Value given = to_shape(value, Shape{part.type, static_cast<int>(picked.size())},
-                                     *op, "components of '" + written + "'");
-        for (std::size_t k = 0; k < picked.size(); ++k)
-          part.set_component(picked[k], given.component(static_cast<int>(k)));
-      }
-      value = whole;
-    }
-    assign(*slot, {value, kAssigned}, *op);
+    assign(p.slot, {whole, kAssigned}, at);
   }
 
   // if ( condition ) statement [else statement]: both branches run, their variables merge by
@@ -1105,9 +1127,9 @@ class FunctionCompiler : public ExpressionParser {
     const Token& open = next();
     const Value x = expression();
     expect(",", "after the angle of sincos");
-    const Slot s = out_argument("the sine, sincos's second argument,");
+    const Place s = out_argument("the sine, sincos's second argument,");
     expect(",", "after the second argument of sincos");
-    const Slot c = out_argument("the cosine, sincos's third argument,");
+    const Place c = out_argument("the cosine, sincos's third argument,");
     if (!peek().is(")")) {
       fail("expected ')' to close the '(' at column " + std::to_string(open.column) +
                " (sincos takes 3 arguments), found " + describe(peek()),
@@ -1122,8 +1144,8 @@ class FunctionCompiler : public ExpressionParser {
       sin_x.set_component(i, builder().emit(op_from_name("sin"), x.component(i)));
       cos_x.set_component(i, builder().emit(op_from_name("cos"), x.component(i)));
     }
-    assign(s, {sin_x, kAssigned}, t);
-    assign(c, {cos_x, kAssigned}, t);
+    write_place(s, {sin_x, kAssigned}, t);
+    write_place(c, {cos_x, kAssigned}, t);
     return Value{builder().constant(0.0)};
   }
 
@@ -1155,20 +1177,25 @@ class FunctionCompiler : public ExpressionParser {
     FunctionCompiler callee(file_, *def);
     const std::vector<Parameter> params = callee.parameters();
     std::vector<Held> args;
-    std::vector<Slot> slots(params.size());
+    std::vector<Place> places(params.size());
     arguments(t, [&](int i) {
       const auto k = static_cast<std::size_t>(i);
       if (k < params.size() && params[k].mode != Mode::In) {
         const Token& a = peek();
-        slots[k] = out_argument("the " + mode_name(params[k].mode) + " parameter '" +
+        places[k] = out_argument("the " + mode_name(params[k].mode) + " parameter '" +
                                 std::string(params[k].name->text) + "' of " +
                                 std::string(t.text));
-        const Variable& v = variable(slots[k]);
+        const Place& place = places[k];
+        const Variable& v = variable(place.slot);
         // An inout argument is read: one that holds no value is an error here, but for a
         // struct, which the callee may fill (Unreal's Init(Context, ...)): its members hold
         // none until written.
         if (params[k].mode == Mode::InOut && v.value.record == nullptr) (void)read(v, a);
-        args.push_back({v.value, v.defined});
+        Value whole = v.value;
+        const Value part = member_at(place, whole);
+        std::vector<Reg> regs;
+        for (const int c : place.components) regs.push_back(part.component(c));
+        args.push_back({place.components.empty() ? part : make_value(regs, part.type), v.defined});
       } else {
         args.push_back({expression(), kAssigned});
       }
@@ -1200,7 +1227,7 @@ class FunctionCompiler : public ExpressionParser {
     const CallResult r = callee.run(args, params, t);
     calls.pop_back();
     for (std::size_t k = 0; k < params.size(); ++k)
-      if (params[k].mode != Mode::In) assign(slots[k], r.outs[k], t);
+      if (params[k].mode != Mode::In) write_place(places[k], r.outs[k], t);
     return r.result;
   }
 
@@ -1290,15 +1317,16 @@ class FunctionCompiler : public ExpressionParser {
   }
 
   // An out or inout argument, for `what` (the parameter, in messages): a variable of the caller,
-  // one name alone.
-  Slot out_argument(const std::string& what) {
+  // or a member, an array's element or a vector's components of one (`s.c`, `w[1]`, `v.xy`).
+  Place out_argument(const std::string& what) {
     const Token& a = peek();
-    if (a.kind == Token::Ident && (peek(1).is(",") || peek(1).is(")"))) {
+    const std::size_t after = selectors_end(1);
+    if (a.kind == Token::Ident && (peek(after).is(",") || peek(after).is(")"))) {
       if (const auto slot = locate(a.text)) {
         if (variable(*slot).is_const)
           fail("cannot pass the constant '" + std::string(a.text) + "' to " + what, a);
         next();
-        return *slot;
+        return place_of(*slot, a);
       }
       if (const Global* g = file_.global(a.text)) {
         if (g->kind == Global::Other) unsupported(g->what, file_.path(), a);
@@ -1306,7 +1334,8 @@ class FunctionCompiler : public ExpressionParser {
       }
       if (!a.is_word("true") && !a.is_word("false")) (void)name(a);  // unknown: its message
     }
-    fail(what + " writes its argument: it must be a variable (a local or a parameter), found " +
+    fail(what + " writes its argument: it must be a variable (a local or a parameter, or a "
+                "member, element or component of one), found " +
              describe(a),
          a);
   }

@@ -141,11 +141,11 @@ TEST(ShaderOutParameters, Errors) {
   EXPECT_EQ(located(shader_error(std::string(helper) +
                                  "float f(float x) { float y; g(x, y * 2.0); return y; }")),
             "2:34: the out parameter 'y' of g writes its argument: it must be a variable (a local "
-            "or a parameter), found 'y'");
+            "or a parameter, or a member, element or component of one), found 'y'");
   EXPECT_EQ(located(shader_error(std::string(helper) +
                                  "float f(float x) { float y; g(x, (y)); return y; }")),
             "2:34: the out parameter 'y' of g writes its argument: it must be a variable (a local "
-            "or a parameter), found '('");
+            "or a parameter, or a member, element or component of one), found '('");
   EXPECT_EQ(located(shader_error(std::string(helper) +
                                  "float f(float x) { const float k = 1.0; g(x, k); return k; }")),
             "2:46: cannot pass the constant 'k' to the out parameter 'y' of g");
@@ -161,7 +161,7 @@ TEST(ShaderOutParameters, Errors) {
   EXPECT_EQ(located(shader_error(std::string(helper) +
                                  "float f(float x) { float y; g(x, true); return y; }")),
             "2:34: the out parameter 'y' of g writes its argument: it must be a variable (a local "
-            "or a parameter), found 'true'");
+            "or a parameter, or a member, element or component of one), found 'true'");
   // An out parameter holds no value until written; an inout argument is read.
   EXPECT_EQ(located(shader_error("void g(float x, out float y) { y += x; }\n"
                                  "float f(float x) { float y = 1.0; g(x, y); return y; }")),
@@ -687,7 +687,8 @@ float f(float theta) {
             "3:16: sincos returns void: its call is a statement of its own, not a value");
   EXPECT_EQ(located(shader_error(body("float s; sincos(x, s, 2.0);"))),
             "3:25: the cosine, sincos's third argument, writes its argument: it must be a "
-            "variable (a local or a parameter), found '2.0'");
+            "variable (a local or a parameter, or a member, element or component of one), found "
+            "'2.0'");
 }
 
 }  // namespace

@@ -230,6 +230,31 @@ TEST(ShaderVectors, BadInputsAtTheirLineAndColumn) {
             "2:27: cannot give a float2 to the parameter 'v' of g, a float3");
 }
 
+// An out or inout argument may be a member, an array's element or a vector's components
+// (`sincos(phi, dir.y, dir.x)`); the rest of the variable keeps its value.
+TEST(ShaderVectors, OutArgumentsIntoComponentsMembersAndElements) {
+  const Program p = shader(R"(
+struct R { float s; float c; };
+void Scale(inout float2 v, float k) { v *= k; }
+void Five(out float v) { v = 5.0; }
+float f(float x) {
+  R r;
+  sincos(x, r.s, r.c);
+  float2 d;
+  sincos(x, d.y, d.x);
+  float3 a = float3(x, 1.0, 2.0);
+  Scale(a.yz, 3.0);
+  float w[2] = { 1.0, 2.0 };
+  Five(w[1]);
+  return r.s + 10.0 * r.c + 100.0 * d.x + 1000.0 * d.y + a.x + a.y + a.z + w[0] + w[1] * x;
+})",
+                           "f", {}, "test.hlsl");
+  const double x = 0.3;
+  EXPECT_NEAR(at(p, {x}), std::sin(x) + 10 * std::cos(x) + 100 * std::cos(x) + 1000 * std::sin(x) +
+                              x + 3 + 6 + 1 + 5 * x,
+              1e-12);
+}
+
 // Overloads taking as many arguments are told apart by the arguments' types (fuzz4's r7):
 // Unreal's Square and Pow5 for float and float3 side by side, in either order.
 TEST(ShaderVectors, OverloadsOfOneArityPickedByTheArgumentsTypes) {
