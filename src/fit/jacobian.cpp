@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -207,7 +208,9 @@ SF_JACOBIAN_KERNEL void evaluate_with_jacobian(const Expression& e,
     throw Error("evaluate_with_jacobian: one column per variable expected");
   if (e.parameter_values.size() != np)
     throw Error("evaluate_with_jacobian: one value per parameter expected");
-  if (np > 64) throw Error("evaluate_with_jacobian: at most 64 parameters");
+  if (np > kMaxFitParameters)
+    throw Error("evaluate_with_jacobian: at most " + std::to_string(kMaxFitParameters) +
+                " parameters");
   if (values.size() < rows || jacobian.size() < rows * np)
     throw Error("evaluate_with_jacobian: output too small");
   thread_local std::vector<double> storage;

@@ -75,6 +75,10 @@ void fit_parameters(const FitOptions& options, const FitProblem& problem, FitSum
 // parameters.
 bool is_linear_in_parameters(const Expression& e);
 
+// The most parameters a formula fitted here may have (the forward derivatives track which
+// parameters each node reads in one 64-bit mask); more is an Error.
+inline constexpr std::size_t kMaxFitParameters = 64;
+
 // Values of e and its Jacobian with respect to e's parameters, by forward-mode differentiation:
 // jacobian[j * rows + i] = d e(row i) / d parameter j.
 void evaluate_with_jacobian(const Expression& e, std::span<const double* const> columns,

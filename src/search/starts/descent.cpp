@@ -7,6 +7,7 @@
 
 #include "search/evolution/constant_fit.hpp"
 #include "search/evolution/rewrites.hpp"
+#include "shaderfit/core/error.hpp"
 #include "shaderfit/fit/fit.hpp"
 
 namespace shaderfit::search_detail {
@@ -25,7 +26,11 @@ Expression refit_on_rows(Expression e, const SearchOptions& options, const Searc
   FitOptions fo;
   fo.max_iterations = kDescentFitSteps;
   FitSummary fs;
-  fit_parameters(fo, {&e, cols, rows.target, w}, &fs);
+  try {
+    fit_parameters(fo, {&e, cols, rows.target, w}, &fs);
+  } catch (const Error&) {
+    return e;  // more parameters than a fit takes (kMaxFitParameters): the values stay
+  }
   if (std::all_of(fs.parameters.begin(), fs.parameters.end(),
                   [](double v) { return std::isfinite(v); }))
     e.parameter_values = fs.parameters;

@@ -12,6 +12,7 @@
 #include "search/starts/descent.hpp"
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
+#include "shaderfit/fit/fit.hpp"
 #include "shaderfit/fit/linear.hpp"
 
 namespace shaderfit::search_detail {
@@ -222,7 +223,8 @@ Expression per_material(const Expression& e, const std::vector<int>& uniform) {
   };
   for (const Node& n : e.nodes) {
     r.nodes.push_back(n);
-    if (n.op != Op::Param) continue;
+    // Each parameter gains two per uniform input while the fit can take them.
+    if (n.op != Op::Param || r.parameters.size() + 2 * uniform.size() > kMaxFitParameters) continue;
     for (int u : uniform)
       for (int power : {1, 2}) {
         r.nodes.push_back(fresh());

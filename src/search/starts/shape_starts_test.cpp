@@ -10,6 +10,7 @@
 #include "shaderfit/eval/evaluate.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"
+#include "shaderfit/fit/fit.hpp"
 
 namespace shaderfit::search_detail {
 namespace {
@@ -61,6 +62,23 @@ TEST(ShapeStarts, APowerOfALinearFormWithPerMaterialCoefficients) {
   SearchContext ctx(o, p);
   const std::vector<StartFormula> shapes = shape_starts(ctx, 1e9);
   EXPECT_LT(best_at(shapes, o, p, 4), 1e-3);
+}
+
+// Eight inputs, two per material (fuzz4's HDRP V_SmithJointGGXAniso): a product of six
+// one-input factors has more parameters than a fit takes once each gains a coefficient per
+// material; the shapes stay within kMaxFitParameters instead of failing the search.
+TEST(ShapeStarts, PerMaterialCoefficientsStayWithinWhatAFitTakes) {
+  const std::vector<std::string> names = {"a", "b", "c", "d", "e", "f", "u", "v"};
+  std::vector<std::pair<double, double>> ranges(names.size(), {0.05, 1.0});
+  const SearchProblem p = problem_of(
+      "0.5 / (c * sqrt((u * a)^2 + (v * b)^2 + c^2) + f * sqrt((u * d)^2 + (v * e)^2 + f^2))",
+      names, ranges);
+  SearchOptions o;
+  o.uniform = {"u", "v"};
+  SearchContext ctx(o, p);
+  std::vector<StartFormula> shapes;
+  ASSERT_NO_THROW(shapes = shape_starts(ctx, 1e9));
+  for (const StartFormula& s : shapes) EXPECT_LE(s.free.parameters.size(), kMaxFitParameters);
 }
 
 TEST(ShapeStarts, NoneForATargetThatIsNotPositive) {
