@@ -180,7 +180,7 @@ class Tidier {
   }
 
   // A min, max, saturate, abs or select whose result on the rows is one of its operands (or
-  // saturate's bound 1, or abs's operand negated) is replaced by it: a clamp that never acts on the
+  // saturate's bound 1, or abs's operand negated; idle()) is replaced by it: a clamp that never acts on the
   // data is no part of the function it shows, and outside the rows (a wider domain) it would cut
   // it. Repeated while one is dropped; each replacement passes keep().
   void drop_idle_branches() {
@@ -214,6 +214,7 @@ class Tidier {
           }
         }
         for (const std::vector<Node>& with : options) {
+          if (!idle(base, end, i, with)) continue;
           Expression t = base;
           t.nodes.erase(t.nodes.begin() + static_cast<std::ptrdiff_t>(end),
                         t.nodes.begin() + static_cast<std::ptrdiff_t>(i) + 1);
@@ -228,6 +229,29 @@ class Tidier {
       }
       if (!dropped) return;
     }
+  }
+
+  // Whether the subexpression nodes [begin, last] of `e` equals `with` on every row: the clamp
+  // there never acts, as such (not only where the rest of the formula hides what it does: a
+  // max(a, 0) whose 0 a zero numerator masks is no idle clamp, and without it the quotient is
+  // 0 / 0 on a plane between the rows).
+  bool idle(const Expression& e, std::size_t begin, std::size_t last,
+            const std::vector<Node>& with) {
+    auto values = [&](std::vector<Node> nodes) {
+      Expression part = e;
+      part.nodes = std::move(nodes);
+      part.update_lengths();
+      std::vector<double> v(ctx_.rows);
+      ctx_.predict_shown(part, v);
+      return v;
+    };
+    const std::vector<double> a = values(std::vector<Node>(
+        e.nodes.begin() + static_cast<std::ptrdiff_t>(begin),
+        e.nodes.begin() + static_cast<std::ptrdiff_t>(last) + 1));
+    const std::vector<double> b = values(with);
+    for (std::size_t r = 0; r < a.size(); ++r)
+      if (!(a[r] == b[r] || (std::isnan(a[r]) && std::isnan(b[r])))) return false;
+    return true;
   }
 
   void snap_constants() {

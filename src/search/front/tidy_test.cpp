@@ -460,6 +460,18 @@ TEST(Tidy, ClampsThatNeverActAreDropped) {
   const std::vector<FrontMember> kept = tidied(clamped, {member(o, clamped, "min(x, 0.5)")});
   ASSERT_EQ(kept.size(), 1u);
   EXPECT_EQ(kept[0].formula, "min(x, 0.5)");
+  // A clamp that acts where a zero factor hides it from the result is no idle clamp (fuzz4's
+  // height blend): max(x - 0.5, 0) / (max(x - 0.5, 0) + y) without its second max is 0 / 0 on
+  // the line x + y = 0.5.
+  const SearchProblem masked = feynman_problem({"x", "y"}, {{0, 1}, {0.25, 1}},
+                                               [](const std::vector<double>& v) {
+                                                 const double a = std::max(v[0] - 0.5, 0.0);
+                                                 return a / (a + v[1]);
+                                               });
+  const std::vector<FrontMember> blend =
+      tidied(masked, {member(o, masked, "max(x - 0.5, 0) / (max(x - 0.5, 0) + y)")});
+  ASSERT_EQ(blend.size(), 1u);
+  EXPECT_EQ(blend[0].formula, "max(x - 0.5, 0) / (max(x - 0.5, 0) + y)");
 }
 
 // Issue 42: no two members shown differ by less than the minimum step; small steps show once
