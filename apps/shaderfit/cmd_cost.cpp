@@ -54,7 +54,8 @@ Expression formula_to_cost(const CostArgs& a) {
   t.function = a.function;
   t.variables = a.inputs;  // the parameters' order, and which of an overloaded name
   const reference::Program p = reference::compile_reference(t);
-  const reference::ProgramFormula f = reference::program_formula(p, p.inputs);
+  const reference::ProgramFormula f =
+      reference::program_formula(p, p.inputs, reference::kMaxCostedFormulaNodes);
   if (!f.formula)
     throw Error(a.function + " cannot be costed as written: " + f.why,
                 SourceLocation{"--reference-file"});
@@ -74,7 +75,13 @@ void run_cost(const CostArgs& a, Context& ctx) {
   }
   PrintOptions print = PrintOptions::for_people();  // parameters by name, as the listing
   print.substitute_parameters = false;
-  ctx.out << "formula: " << to_infix(e, print) << '\n';
+  // A tree the search would not take (an unrolled Newton iteration) is too long to read.
+  if (e.size() <= reference::kMaxProgramFormulaNodes) {
+    ctx.out << "formula: " << to_infix(e, print) << '\n';
+  } else {
+    ctx.out << "formula: not shown: " << e.size()
+            << " nodes written out (the listing computes each value once)\n";
+  }
   ctx.out << "inputs: " << fmt::format("{}", fmt::join(e.variables, ", "));
   if (!e.parameters.empty())
     ctx.out << "; parameters: " << fmt::format("{}", fmt::join(e.parameters, ", "));

@@ -115,6 +115,24 @@ float V(float a, float b) { return V(a, b, sqrt(a)); }
                    "function 'V' is defined 2 times");
 }
 
+// Six unrolled Newton steps are a tree of thousands of nodes (each step reads the last twice)
+// but a few instructions each: costed, the formula not printed (fuzz5's cbrt and CIELAB).
+TEST(CmdCost, AnUnrolledNewtonIterationIsCostedThoughItsTreeIsLarge) {
+  const std::string path = scratch_file("newton.hlsl", R"(
+float CbrtNewton(float v) {
+  float y = 0.5 + 0.5 * v;
+  [unroll] for (int it = 0; it < 6; ++it) { float y2 = y * y; y = (2.0 * y + v / y2) / 3.0; }
+  return y;
+})");
+  const CliResult r = run({"cost", "--reference-file", path, "--function", "CbrtNewton"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("formula: not shown: 6557 nodes written out"), std::string::npos) << r.out;
+  const std::regex sass("\\nsass +([0-9]+) ");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, sass)) << r.out;
+  EXPECT_LE(std::stoi(m[1].str()), 36);
+}
+
 TEST(CmdCost, AShaderFunctionThatCannotBeCostedIsOneLineAndStatus2) {
   const std::string path = scratch_file("floor.glsl", "float f(float x) { return floor(x) * x; }");
   expect_bad_input({"cost", "--reference-file", path, "--function", "f"},

@@ -107,6 +107,24 @@ TEST(CmdReference, AShaderFunctionRunsThroughSearchCodegenAndReportWithNoCsv) {
   EXPECT_NE(page.find("Against the baselines"), std::string::npos);
 }
 
+// A reference whose tree is too large for the search says so in one line, with its cost as
+// written, and the search goes on from the samples.
+TEST(CmdReference, AReferenceTooLargeAsATreeSaysItsCost) {
+  const std::string hlsl = scratch_file("newton6.hlsl", R"(
+float CbrtNewton(float v) {
+  float y = 0.5 + 0.5 * v;
+  [unroll] for (int it = 0; it < 6; ++it) { float y2 = y * y; y = (2.0 * y + v / y2) / 3.0; }
+  return y;
+})");
+  const auto s = run({"search", "--reference-file", hlsl, "--function", "CbrtNewton", "--domain",
+                      "v=0.1:8", "--threads", "1", "--evals", "20000", "--quiet"});
+  ASSERT_EQ(s.status, 0) << s.err;
+  EXPECT_NE(s.out.find("reference: not on the front as written: written out as a formula it has "
+                       "more than 4096 nodes (it costs 31 instructions)"),
+            std::string::npos)
+      << s.out;
+}
+
 TEST(CmdReference, ACsvWithColumnsXAndYNeedsNoInputsOrTarget) {
   std::string csv = "x,y\n";
   for (int i = 0; i <= 64; ++i) {

@@ -154,7 +154,11 @@ void run(const SearchArgs& a, const CLI::App& cmd, Context& ctx) {
                          options.uniform.empty() ? "" : " per pixel",
                          off.empty() ? "the front's first member" : "not on the front: " + off);
   } else if (!own.why.empty()) {
-    human << "reference: not on the front as written: " << own.why << "\n";
+    human << "reference: not on the front as written: " << own.why;
+    if (const std::optional<double> cost = reference_cost(options, problem))
+      human << fmt::format(" (it costs {} {}{})", *cost, cost_target_name(options.cost),
+                           options.uniform.empty() ? "" : " per pixel");
+    human << "\n";
   }
   ProgressBar bar(ctx, "search");
   if (!a.quiet) {

@@ -48,13 +48,12 @@ constexpr std::pair<ProgramOp, std::string_view> kIdentities[] = {
 // operators cannot write it.
 class FormulaWriter {
  public:
-  FormulaWriter(const Program& p, std::vector<int> var_of_input)
-      : p_(p), var_of_input_(std::move(var_of_input)) {}
+  FormulaWriter(const Program& p, std::vector<int> var_of_input, std::size_t max_nodes)
+      : p_(p), var_of_input_(std::move(var_of_input)), max_nodes_(max_nodes) {}
 
   bool write(std::uint32_t r) {
-    if (nodes.size() > kMaxProgramFormulaNodes) {
-      why = "written out as a formula it has more than " + std::to_string(kMaxProgramFormulaNodes) +
-            " nodes";
+    if (nodes.size() > max_nodes_) {
+      why = "written out as a formula it has more than " + std::to_string(max_nodes_) + " nodes";
       return false;
     }
     const Instruction& in = p_.code[r];
@@ -237,6 +236,7 @@ class FormulaWriter {
 
   const Program& p_;
   std::vector<int> var_of_input_;
+  std::size_t max_nodes_;
 };
 
 // e's nodes with each select whose branch is a select on the same condition (as nodes) replaced
@@ -271,13 +271,14 @@ std::vector<Node> without_repeated_conditions(const Expression& e) {
 
 }  // namespace
 
-ProgramFormula program_formula(const Program& program, std::span<const std::string> variables) {
+ProgramFormula program_formula(const Program& program, std::span<const std::string> variables,
+                               std::size_t max_nodes) {
   if (program.outputs.empty()) throw Error("the reference has no outputs", {program.description});
   std::vector<int> var_of_input(program.inputs.size(), -1);
   for (std::size_t i = 0; i < program.inputs.size(); ++i)
     for (std::size_t v = 0; v < variables.size(); ++v)
       if (variables[v] == program.inputs[i]) var_of_input[i] = static_cast<int>(v);
-  FormulaWriter w(program, std::move(var_of_input));
+  FormulaWriter w(program, std::move(var_of_input), max_nodes);
   ProgramFormula out;
   if (!w.write(program.outputs.back())) {
     out.why = std::move(w.why);

@@ -12,6 +12,7 @@
 //   else std::cout << f.why;   // "it calls floor, which the search's operators cannot write"
 #pragma once
 
+#include <cstddef>
 #include <optional>
 #include <span>
 #include <string>
@@ -30,9 +31,14 @@ struct ProgramFormula {
 // program's inputs, in any order; an input not among them is a why). An integer power beyond
 // +-16 is written with pow; a comparison read as a number, a logical operator, a built-in
 // reference (fresnel_exact, ...) and the functions the operators cannot write (floor, ceil,
-// trunc, round, fmod) have no formula. A formula of more than kMaxProgramFormulaNodes nodes (a program that reads
-// its registers many times over) is not written either.
+// trunc, round, fmod) have no formula. A formula of more than `max_nodes` nodes (a program that
+// reads its registers many times over: an unrolled Newton iteration grows the tree about
+// threefold a step, where the program and its cost grow by a few instructions) is not written
+// either. The search works on formulas of kMaxProgramFormulaNodes at most; the cost model, which
+// counts a value computed once once, takes kMaxCostedFormulaNodes.
 inline constexpr std::size_t kMaxProgramFormulaNodes = 4096;
-ProgramFormula program_formula(const Program& program, std::span<const std::string> variables);
+inline constexpr std::size_t kMaxCostedFormulaNodes = std::size_t{1} << 20;
+ProgramFormula program_formula(const Program& program, std::span<const std::string> variables,
+                               std::size_t max_nodes = kMaxProgramFormulaNodes);
 
 }  // namespace shaderfit::reference

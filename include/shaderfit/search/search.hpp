@@ -128,6 +128,11 @@ reference::ProgramFormula reference_formula(const SearchProblem& problem);
 // or where there is no reference. The search descends from a formula that lowers either way.
 std::string reference_off_front(const SearchOptions& options, const SearchProblem& problem);
 
+// The reference's cost as written in options.cost (per pixel under options.uniform), where the
+// cost model can count it: also where its formula is too large a tree for the search
+// (reference::kMaxCostedFormulaNodes); nothing where it does not lower.
+std::optional<double> reference_cost(const SearchOptions& options, const SearchProblem& problem);
+
 // Runs the search. Throws shaderfit::Error when the problem is invalid (SearchProblem::validate)
 // or the options are (SearchOptions::validate); for the log or rel loss, also when a target is
 // <= 0 or 0; when the checkpoint cannot be written; and when the checkpoint to resume from cannot

@@ -375,6 +375,14 @@ reference::ProgramFormula reference_formula(const SearchProblem& problem) {
   return reference::program_formula(problem.reference->program, problem.input_names);
 }
 
+std::optional<double> reference_cost(const SearchOptions& options, const SearchProblem& problem) {
+  if (!problem.reference) return std::nullopt;
+  const reference::ProgramFormula f = reference::program_formula(
+      problem.reference->program, problem.input_names, reference::kMaxCostedFormulaNodes);
+  if (!f.formula) return std::nullopt;
+  return expression_cost(*f.formula, options.cost, options.uniform);
+}
+
 std::string reference_off_front(const SearchOptions& options, const SearchProblem& problem) {
   const reference::ProgramFormula own = reference_formula(problem);
   if (!own.formula) return own.why;
