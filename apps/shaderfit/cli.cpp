@@ -41,6 +41,7 @@ constexpr FieldFlag kFlags[] = {
     {"CsvOptions::drop_missing_rows", "--drop-missing"},
     {"ProblemSource::dataset_seed", "--data-seed"},
     {"ProblemSource::reference", "--reference"},
+    {"ReferenceText::shader_path", "--reference-file"},
     {"ProblemSource::csv_path", "--data"},
     {"ProblemSource::dataset", "--dataset"},
     {"ProblemSource::samples", "--samples"},

@@ -20,6 +20,7 @@ namespace {
 const SourceLocation kCsvField{"ProblemSource::csv_path"};
 const SourceLocation kDatasetField{"ProblemSource::dataset"};
 const SourceLocation kReferenceField{"ProblemSource::reference"};
+const SourceLocation kShaderField{"ReferenceText::shader_path"};
 const SourceLocation kDomainField{"ProblemSource::domain"};
 const SourceLocation kSamplesField{"ProblemSource::samples"};
 const SourceLocation kInputsField{"ProblemSource::inputs"};
@@ -57,7 +58,11 @@ void check_source(const ProblemSource& s) {
   if (!s.dataset.empty()) {
     given.push_back({&kDatasetField, "a built-in data set (" + s.dataset + ")"});
   }
-  if (has_reference(s.reference)) given.push_back({&kReferenceField, "a reference"});
+  if (has_reference(s.reference)) {
+    const bool shader = s.reference.formula.empty();
+    given.push_back({shader ? &kShaderField : &kReferenceField,
+                     shader ? "a shader function" : "a reference"});
+  }
   if (!s.materials.empty()) given.push_back({&kMaterialsField, "a material sweep"});
   if (given.empty()) {
     throw Error("no data: give a CSV file, a built-in data set, or a reference and its domain",
@@ -70,7 +75,8 @@ void check_source(const ProblemSource& s) {
   if (s.drop_missing_rows && given[0].field != &kCsvField)
     throw Error("dropping rows with gaps is for a CSV file, not for " + given[0].what,
                 SourceLocation{"ProblemSource::drop_missing_rows"});
-  if (s.scene && given[0].field != &kReferenceField)
+  const bool reference = given[0].field == &kReferenceField || given[0].field == &kShaderField;
+  if (s.scene && !reference)
     throw Error("a scene feeds a reference: " + given[0].what + " has its samples already",
                 kSceneField);
   if (s.scene && !s.domain.empty())
@@ -78,7 +84,7 @@ void check_source(const ProblemSource& s) {
   if (s.scene && s.samples != 0)
     throw Error("a scene's samples are its pixels: give no number of samples with it",
                 kSamplesField);
-  if (given[0].field == &kReferenceField) {
+  if (reference) {
     if (!s.reference.formula.empty() &&
         (!s.reference.shader_source.empty() || !s.reference.shader_path.empty())) {
       throw Error("give a reference formula or a shader function, not both", kReferenceField);

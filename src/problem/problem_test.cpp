@@ -90,6 +90,14 @@ TEST(ProblemSourceChoice, ExactlyOneSource) {
                        "give one source of data, not both a built-in data set (fresnel-seed) and "
                        "a reference",
                        "ProblemSource::reference");
+  ProblemSource shader;
+  shader.csv_path = "xy.csv";
+  shader.reference.shader_path = "f.glsl";
+  shader.reference.function = "f";
+  expect_problem_error(shader,
+                       "give one source of data, not both a CSV file (xy.csv) and a shader "
+                       "function",
+                       "ReferenceText::shader_path");
   ProblemSource both = reference_source("x", {"x=0:1"});
   both.reference.shader_source = "float f(float x) { return x; }";
   both.reference.function = "f";
