@@ -1383,6 +1383,19 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
     }
     if (matching.size() == 1) defs = matching;
   }
+  // Of overloads still alike, those that can be a reference: float parameters (in), a scalar
+  // result (Unity's SRGBToLinear(float c) beside SRGBToLinear(float3 c)).
+  if (defs.size() > 1) {
+    std::vector<const FunctionDef*> scalar;
+    for (const FunctionDef* d : defs) {
+      const std::optional<Shape> result = shader_type(file.tokens()[d->type].text);
+      bool ok = result && result->width == 1;
+      for (const Parameter& p : FunctionCompiler(file, *d).parameters())
+        ok = ok && p.mode == Mode::In && p.type.width == 1 && p.type.type == Type::Float;
+      if (ok) scalar.push_back(d);
+    }
+    if (!scalar.empty()) defs = scalar;
+  }
   if (defs.empty()) {
     throw Error("function '" + wanted + "' is not in " + file.path() + " (its functions: " +
                     (names.empty() ? std::string("none") : join_names(names)) + ")",
@@ -1395,7 +1408,7 @@ ShaderFunction compile_shader_function(const ReferenceText& text, ProgramBuilder
     for (const FunctionDef* d : defs) {
       std::vector<std::string> parameters;
       for (const Parameter& p : FunctionCompiler(file, *d).parameters())
-        parameters.emplace_back(p.name->text);
+        parameters.push_back(shape_name(p.type) + " " + std::string(p.name->text));
       each += std::string(each.empty() ? "" : ", ") + wanted + "(" + join_names(parameters) +
               ") at line " + std::to_string(file.tokens()[d->name].line);
     }

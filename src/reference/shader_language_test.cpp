@@ -270,8 +270,13 @@ TEST(ShaderErrors, SignaturesFilesAndCalls) {
             "2:31: uniforms are not supported (t)" + more);
   EXPECT_EQ(located(shader_error("float f(float x) { return x; }\nfloat f(float x, float y) "
                                  "{ return y; }")),
-            "2:7: function 'f' is defined 2 times (f(x) at line 1, f(x, y) at line 2): the "
-            "variables pick one, by its parameters' names");
+            "2:7: function 'f' is defined 2 times (f(float x) at line 1, f(float x, float y) at "
+            "line 2): the variables pick one, by its parameters' names");
+  // Of overloads named alike, the one whose parameters are floats (Unity's SRGBToLinear).
+  const std::string srgb =
+      "float s(float c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }\n"
+      "float3 s(float3 c) { return float3(s(c.r), s(c.g), s(c.b)); }";
+  EXPECT_NEAR(at(shader(srgb, "s", {}, "color.hlsl"), {0.5}), std::pow(0.555 / 1.055, 2.4), 1e-15);
   // The variables pick an overload.
   const std::string overloads =
       "float f(float x, float k) { return x / (x + k); }\nfloat f(float x) { return f(x, 1.0); }";
