@@ -415,7 +415,9 @@ bool Evolution::generation(Island& island, const Snapshot& front) {
 }
 
 void Evolution::polish_front() {
-  // A polished member keeps the strategy that found it.
+  // A polished member keeps the strategy that found it. In one process members are polished
+  // while the time limit allows (a fit on all rows of a large formula, a shader reference of
+  // dozens of constants, takes long): those left keep their constants.
   std::vector<Expression> todo;
   std::vector<SearchPhase> origins;
   for (const FrontMember& m : ctx_.front.members())
@@ -428,6 +430,9 @@ void Evolution::polish_front() {
       todo.size(), 1,
       [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) {
+          // (Across ranks every rank polishes the whole front, which they share.)
+          if (!ctx_.ranks.distributed() && ctx_.elapsed() >= ctx_.options.time_limit_s)
+            continue;  // not polished
           Expression x = fit_on_all_rows(todo[i], ctx_,
                                          {.least_squares_steps = kPolishIterations,
                                           .minimax_passes = kPolishPasses,
@@ -438,7 +443,9 @@ void Evolution::polish_front() {
       },
       ctx_.threads);
   for (std::size_t i = 0; i < done.size(); ++i)
-    ctx_.offer(std::move(done[i].expr), loss_value(ctx_.options.loss, done[i].metrics), origins[i]);
+    if (!done[i].expr.empty())
+      ctx_.offer(std::move(done[i].expr), loss_value(ctx_.options.loss, done[i].metrics),
+                 origins[i]);
 }
 
 void Evolution::restart_island() {
