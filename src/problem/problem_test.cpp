@@ -642,8 +642,9 @@ TEST(ProblemReference, TheDomainPicksAnOverloadedShaderFunction) {
   EXPECT_NEAR(p.reference->target_at(std::vector<double>{2.0, 3.0}), 0.6, 1e-15);
   s.domain = {"y=0:4"};
   expect_problem_error(s,
-                       "function 'tonemap' is defined 2 times (tonemap(x, k) at line 1, tonemap(x) "
-                       "at line 2): the variables pick one, by its parameters' names",
+                       "function 'tonemap' is defined 2 times (tonemap(float x, float k) at line "
+                       "1, tonemap(float x) at line 2): the variables pick one, by its "
+                       "parameters' names",
                        "tonemap.glsl", 2);
 }
 
