@@ -138,8 +138,7 @@ class FunctionCompiler : public ExpressionParser {
   // A helper's return type: a scalar, a vector or a struct, or nullopt for void.
   std::optional<Shape> result_type() const {
     const Token& t = tokens_[f_.type];
-    if (const auto s = shader_type(t.text)) return *s;
-    if (file_.is_struct(t.text)) return declared_type(t);
+    if (const auto s = file_.type_named(t.text)) return *s;
     if (t.is_word("void")) return std::nullopt;
     if (is_vector_type(t.text)) unsupported("matrix types", file_.path(), t);
     fail("unknown return type '" + std::string(t.text) +
@@ -304,9 +303,7 @@ class FunctionCompiler : public ExpressionParser {
   }
 
   std::optional<Shape> named_type(std::string_view name) override {
-    if (const auto s = shader_type(name)) return s;
-    if (file_.is_struct(name)) return Shape{Type::Float, 0, file_.struct_type(name)};
-    return std::nullopt;
+    return file_.type_named(name);
   }
 
   // Swizzles, members and subscripts are postfix()'s; a texture's methods are an error here.
@@ -389,8 +386,7 @@ class FunctionCompiler : public ExpressionParser {
 
   // A declared type: scalar or vector, or an error naming the construct.
   Shape declared_type(const Token& t) const {
-    if (const auto s = shader_type(t.text)) return *s;
-    if (file_.is_struct(t.text)) return Shape{Type::Float, 0, file_.struct_type(t.text)};
+    if (const auto s = file_.type_named(t.text)) return *s;
     if (is_vector_type(t.text)) unsupported("matrix types", file_.path(), t);
     if (is_texture_type(t.text)) unsupported("textures", file_.path(), t);
     if (t.is_word("struct")) unsupported("structs", file_.path(), t);
@@ -616,7 +612,6 @@ class FunctionCompiler : public ExpressionParser {
     }
   }
 
-
   // Whether an assignment or an increment starts here.
   bool at_assignment() const {
     if (peek().is("++") || peek().is("--")) return peek(1).kind == Token::Ident;
@@ -767,14 +762,18 @@ class FunctionCompiler : public ExpressionParser {
     return *v;
   }
 
-  // The value at a place now (read at `at`: an error where the variable holds none).
-  Value read_place(const Place& p, const Token& at) {
-    Value whole = read(variable(p.slot), at);
+  // The part of the variable's value `whole` at a place.
+  static Value value_at(const Place& p, Value whole) {
     const Value part = member_at(p, whole);
     if (p.components.empty()) return part;
     std::vector<Reg> regs;
     for (const int c : p.components) regs.push_back(part.component(c));
     return make_value(regs, part.type);
+  }
+
+  // The value at a place now (read at `at`: an error where the variable holds none).
+  Value read_place(const Place& p, const Token& at) {
+    return value_at(p, read(variable(p.slot), at));
   }
 
   // Writes `h` at a place (at `at`); the rest of the variable keeps its value, or 0 where it
@@ -1191,11 +1190,7 @@ class FunctionCompiler : public ExpressionParser {
         // struct, which the callee may fill (Unreal's Init(Context, ...)): its members hold
         // none until written.
         if (params[k].mode == Mode::InOut && v.value.record == nullptr) (void)read(v, a);
-        Value whole = v.value;
-        const Value part = member_at(place, whole);
-        std::vector<Reg> regs;
-        for (const int c : place.components) regs.push_back(part.component(c));
-        args.push_back({place.components.empty() ? part : make_value(regs, part.type), v.defined});
+        args.push_back({value_at(place, v.value), v.defined});
       } else {
         args.push_back({expression(), kAssigned});
       }

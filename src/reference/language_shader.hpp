@@ -83,6 +83,9 @@ class ShaderFile {
   // The struct called `name`, its members read on first use; nullptr where there is none, an
   // error at the member for one outside the subset (arrays, matrices, textures, functions).
   const StructType* struct_type(std::string_view name);
+  // The type a name stands for: shader_type's scalars, vectors and matrices, and the file's
+  // structs (read as struct_type reads them); nullopt for any other name.
+  std::optional<Shape> type_named(std::string_view name);
 
   ProgramBuilder& builder;
   int nesting = 0;                      // shared by every parser of this file

@@ -281,6 +281,12 @@ bool ShaderFile::is_struct(std::string_view name) const {
   return structs_.find(name) != structs_.end();
 }
 
+std::optional<Shape> ShaderFile::type_named(std::string_view name) {
+  if (const std::optional<Shape> s = shader_type(name)) return s;
+  if (const StructType* t = struct_type(name)) return Shape{Type::Float, 0, t};
+  return std::nullopt;
+}
+
 const StructType* ShaderFile::struct_type(std::string_view name) {
   const auto it = structs_.find(name);
   if (it == structs_.end()) return nullptr;
@@ -313,10 +319,8 @@ StructType ShaderFile::read_struct(std::size_t open, std::size_t close, const st
       ++i;
     const Token& type = tokens_[i];
     Shape shape;
-    if (const auto s = shader_type(type.text)) {
+    if (const std::optional<Shape> s = type_named(type.text)) {
       shape = *s;
-    } else if (is_struct(type.text)) {
-      shape = Shape{Type::Float, 0, struct_type(type.text)};
     } else if (type.is_word("struct")) {
       unsupported("structs declared inside structs", path_, type);
     } else {
@@ -401,7 +405,7 @@ void ShaderFile::begin_evaluating(Global& g) {
   if (g.evaluating)
     fail_at("'" + std::string(g.at.text) + "' is defined in terms of itself", path_, g.at);
   g.evaluating = true;
-  if (!g.struct_name.empty()) g.type = Shape{Type::Float, 0, struct_type(g.struct_name)};
+  if (!g.struct_name.empty()) g.type = *type_named(g.struct_name);
 }
 
 void ShaderFile::require_constant(const Value& v, const Global& g) {
