@@ -399,10 +399,8 @@ Value ExpressionParser::initializer_list(Shape shape, const std::string& what) {
   std::size_t at = 0;
   std::optional<Value> v = from_components(b_, shape, parts, at);
   if (!v || at != parts.size()) {
-    std::vector<Value> want;
-    scalar_components(filled(b_, Value{b_.constant(0.0)}, shape), want);
     fail("the values in braces for " + what + " have " + counted(parts.size(), "component") +
-             ", and a " + shape_name(shape) + " has " + std::to_string(want.size()),
+             ", and a " + shape_name(shape) + " has " + std::to_string(scalar_count(shape)),
          open);
   }
   return *v;
@@ -428,9 +426,7 @@ std::vector<Value> ExpressionParser::array_values(Shape element, int size, const
              describe(at),
          at);
   }
-  std::vector<Value> per_element;
-  scalar_components(filled(b_, Value{b_.constant(0.0)}, element), per_element);
-  const std::size_t n = per_element.size();
+  const std::size_t n = scalar_count(element);
   if (size < 0 && parts.size() % n == 0 && !parts.empty())
     size = static_cast<int>(parts.size() / n);
   if (size < 0 || parts.size() != static_cast<std::size_t>(size) * n) {

@@ -247,6 +247,8 @@ bool is_matrix_function(std::string_view name);
 // the top left of m (or m within the identity); otherwise the arguments' components fill the
 // matrix, a GLSL matrix's by columns, an HLSL one's by rows. nullopt for the wrong number.
 std::optional<Value> construct_matrix(ProgramBuilder& b, Shape to, std::span<const Value> args);
+// How many scalar components a value of `shape` has (a struct's members' in all).
+std::size_t scalar_count(Shape shape);
 // A value's scalar components in order, a struct's members' in turn.
 void scalar_components(const Value& v, std::vector<Value>& out);
 // The value of `shape` made of the scalars `parts[at]`, `parts[at + 1]`, ... (converted), `at`

@@ -264,6 +264,14 @@ Value filled(ProgramBuilder& b, const Value& v, Shape shape) {
   return out;
 }
 
+std::size_t scalar_count(Shape shape) {
+  if (shape.is_matrix()) return static_cast<std::size_t>(shape.rows * shape.columns);
+  if (shape.record == nullptr) return static_cast<std::size_t>(shape.width);
+  std::size_t n = 0;
+  for (const StructMember& m : shape.record->members) n += scalar_count(m.shape);
+  return n;
+}
+
 void scalar_components(const Value& v, std::vector<Value>& out) {
   for (const Value& m : v.members) scalar_components(m, out);
   for (int i = 0; i < v.width; ++i) out.push_back({v.component(i), v.type});
