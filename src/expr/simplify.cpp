@@ -383,8 +383,12 @@ std::optional<Frag> Rules::merged(Op op, const std::vector<Frag>& kids) const {
 // also where x (y) is a sum whose one term is like y (x): (u + a x) + b x = u + (a + b) x;
 // nullopt where no two terms are alike (or both are x itself: x + x stays). Never adds a node.
 std::optional<Frag> Rules::like_terms(Op op, const Frag& x, const Frag& y) const {
-  const auto mx = as_multiple(x), my = as_multiple(y);
-  if (mx && my && same(mx->second, my->second) && (mx->first != 1 || my->first != 1)) {
+  const auto my = as_multiple(y);
+  // a is like y: the same term, and not both written bare.
+  auto alike = [&](const std::optional<std::pair<double, Frag>>& ma) {
+    return ma && my && same(ma->second, my->second) && (ma->first != 1 || my->first != 1);
+  };
+  if (const auto mx = as_multiple(x); alike(mx)) {
     const double k = op == Op::Add ? mx->first + my->first : mx->first - my->first;
     if (!std::isfinite(k)) return std::nullopt;
     return make(Op::Mul, {constant(k), mx->second}, false);
@@ -393,12 +397,8 @@ std::optional<Frag> Rules::like_terms(Op op, const Frag& x, const Frag& y) const
   const Op inner = root(x).op;
   if (inner != Op::Add && inner != Op::Sub) return std::nullopt;
   const std::vector<Frag> uv = children(x);
-  auto alike = [&](const Frag& a) {
-    const auto ma = as_multiple(a);
-    return ma && my && same(ma->second, my->second) && (ma->first != 1 || my->first != 1);
-  };
-  if (alike(uv[0])) return make(inner, {make(op, {uv[0], y}, false), uv[1]}, false);
-  if (alike(uv[1])) {
+  if (alike(as_multiple(uv[0]))) return make(inner, {make(op, {uv[0], y}, false), uv[1]}, false);
+  if (alike(as_multiple(uv[1]))) {
     // u + v op y = u + (v op y); u - v op y = u - (v -op y).
     const Op back = inner == Op::Add ? op : (op == Op::Add ? Op::Sub : Op::Add);
     return make(inner, {uv[0], make(back, {uv[1], y}, false)}, false);

@@ -179,10 +179,10 @@ class Tidier {
     return true;
   }
 
-  // A min, max, saturate, abs or select whose result on the rows is one of its operands (or
-  // saturate's bound 1, or abs's operand negated; idle()) is replaced by it: a clamp that never acts on the
-  // data is no part of the function it shows, and outside the rows (a wider domain) it would cut
-  // it. Repeated while one is dropped; each replacement passes keep().
+  // A min, max, saturate, abs or select whose own result on the rows is one of its operands (or
+  // saturate's bound 1, or abs's operand negated; idle()) is replaced by it: a clamp that never
+  // acts on the data is no part of the function it shows, and outside the rows (a wider
+  // domain) it would cut it. Repeated while one is dropped; each replacement passes keep().
   void drop_idle_branches() {
     for (int step = 0; step < kMaxSteps; ++step) {
       const Expression base = current_;
