@@ -561,8 +561,9 @@ class FunctionCompiler : public ExpressionParser {
       Variable v{n.text, unassigned(type), is_const, n.line, kUnassigned};
       if (peek().is("=")) {
         const Token& eq = next();
-        v.value = peek().is("{") ? initializer_list(type, "'" + std::string(n.text) + "'")
-                                 : to_shape(expression(), type, eq, "'" + std::string(n.text) + "'");
+        const std::string what = "'" + std::string(n.text) + "'";
+        v.value = peek().is("{") ? initializer_list(type, what)
+                                 : to_shape(expression(), type, eq, what);
         v.defined = kAssigned;
       } else if (is_const) {
         fail("the constant '" + std::string(n.text) + "' needs a value", n);
@@ -652,7 +653,9 @@ class FunctionCompiler : public ExpressionParser {
       if (at.is(".")) {
         const Token& m = next();
         if (!is_swizzle(m.text)) {
-          fail("'." + std::string(m.text) + "' is neither a swizzle nor a member: only structs have members", at);
+          fail("'." + std::string(m.text) +
+                   "' is neither a swizzle nor a member: only structs have members",
+               at);
         }
         local = swizzle_components(m.text);
         for (std::size_t k = 0; k < local.size(); ++k) {
