@@ -153,7 +153,7 @@ __global__ void screen_kernel(const ColumnCandidate* candidates, std::size_t cou
   }
   if (l != 0) return;
   ScreenResult r;
-  screen_key(out, &r);
+  screen_key(out, t.n, &r);
   screen_loss_fold(lanes, t, &r);
   results[g] = r;
 }

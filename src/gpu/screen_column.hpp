@@ -24,7 +24,10 @@
 namespace shaderfit::gpu_detail {
 
 inline constexpr int kScreenLanes = 8;      // the CPU kernels' vector width
-inline constexpr int kScreenHashRows = 16;  // rows the key hashes (search_detail::kHashRows)
+// The key's rotation from one pair of 8-row blocks to the next and the mantissa bits it keeps
+// of the rows after the first 16 (search_detail::kKeyRotation, kKeyTailBits).
+inline constexpr int kScreenKeyRotation = 5;
+inline constexpr int kScreenKeyTailBits = 6;
 // The rel loss's cap on a row's relative error (search_detail::kMaxRelativeError).
 inline constexpr float kMaxRelativeError = 1e15f;
 
@@ -89,8 +92,9 @@ SF_CPU_GPU inline float screen_row(const ColumnCandidate& c, float a, float b) {
   return screen_detail::nan_value();
 }
 
-// The dedup key of a column from its first 16 values (the CPU's column_key).
-SF_CPU_GPU inline void screen_key(const float* v, ScreenResult* out) {
+// The dedup key of a column of n rows (the CPU's column_key): lane l's sums take rows l, l + 8,
+// ... in pairs of 8-row blocks, folded over the lanes in order.
+SF_CPU_GPU inline void screen_key(const float* v, std::size_t n, ScreenResult* out) {
   using screen_detail::abs_bits;
   float maxabs = 0;
   for (int l = 0; l < kScreenLanes; ++l) {
@@ -100,7 +104,7 @@ SF_CPU_GPU inline void screen_key(const float* v, ScreenResult* out) {
   }
   const float tiny = 1e-6f * maxabs;
   bool neg = false;
-  for (int i = 0; i < kScreenHashRows; ++i) {
+  for (int i = 0; i < 2 * kScreenLanes; ++i) {
     if (abs_bits(v[i]) > tiny) {
       neg = v[i] < 0;
       break;
@@ -115,16 +119,28 @@ SF_CPU_GPU inline void screen_key(const float* v, ScreenResult* out) {
                                               0x2545f491u, 0x4f6cdd1du, 0xff51afd7u, 0xed558ccdu};
   constexpr std::uint32_t m3[kScreenLanes] = {0xc4ceb9feu, 0x1a85ec53u, 0x62a9d9edu, 0x799f3cd3u,
                                               0x8bc2e4f1u, 0xa24baed4u, 0x963fdb2bu, 0x5bd1e995u};
+  // Row i's value rounded to `bits` mantissa bits.
+  const auto rounded = [&](std::size_t i, int bits) -> std::uint32_t {
+    if (i >= n) return 0;  // an odd n / 8 pairs the last block with zeros
+    const float c = abs_bits(v[i]) > tiny ? v[i] * sign : 0.0f;
+    const int drop = 23 - bits;
+    return (float_bits(c) + (1u << (drop - 1))) >> drop;
+  };
+  // Multiply-sum hashes (mod 2^32): two over the first 16 rows, the first summed on over each
+  // further pair of 8-row blocks, rotated at each.
   std::uint32_t s1 = 0, s2 = 0;
   for (int l = 0; l < kScreenLanes; ++l) {
-    const float x0 = v[l], x1 = v[l + kScreenLanes];
-    const float c0 = abs_bits(x0) > tiny ? x0 * sign : 0.0f;
-    const float c1 = abs_bits(x1) > tiny ? x1 * sign : 0.0f;
-    // Rounded to 10 mantissa bits, then two multiply-sum hashes (sums are mod 2^32).
-    const std::uint32_t q0 = (float_bits(c0) + 0x1000u) >> 13;
-    const std::uint32_t q1 = (float_bits(c1) + 0x1000u) >> 13;
-    s1 += q0 * (m0[l] | 1u) + q1 * (m1[l] | 1u);
+    const std::size_t r = static_cast<std::size_t>(l);
+    std::uint32_t q0 = rounded(r, 10), q1 = rounded(r + kScreenLanes, 10);
+    std::uint32_t h1 = q0 * (m0[l] | 1u) + q1 * (m1[l] | 1u);
     s2 += (q0 ^ (q0 >> 11)) * (m2[l] | 1u) + (q1 ^ (q1 >> 11)) * (m3[l] | 1u);
+    for (std::size_t i = r + 2 * kScreenLanes; i < n; i += 2 * kScreenLanes) {
+      q0 = rounded(i, kScreenKeyTailBits);
+      q1 = rounded(i + kScreenLanes, kScreenKeyTailBits);
+      h1 = ((h1 << kScreenKeyRotation) | (h1 >> (32 - kScreenKeyRotation))) +
+           q0 * (m0[l] | 1u) + q1 * (m1[l] | 1u);
+    }
+    s1 += h1;
   }
   std::uint64_t h = (std::uint64_t{s1} << 32) | s2;
   h ^= h >> 33;
@@ -247,7 +263,7 @@ SF_CPU_GPU inline ScreenResult screen_candidate(const ColumnCandidate& c, const 
     }
   }
   ScreenResult r;
-  screen_key(out, &r);
+  screen_key(out, t.n, &r);
   screen_loss_fold(lanes, t, &r);
   return r;
 }

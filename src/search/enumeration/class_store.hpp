@@ -46,8 +46,8 @@ ClassRecord make_record(EKind kind, std::uint16_t cost);
 
 class ClassStore {
  public:
-  // Equivalence is checked on the first `verify_rows` screen rows (the hash covers the first
-  // kHashRows of them).
+  // Equivalence is checked on the first `verify_rows` screen rows (the key, column_key, covers
+  // every screen row).
   ClassStore(std::size_t screen_rows, std::size_t capacity, std::size_t verify_rows);
   ~ClassStore();
   ClassStore(const ClassStore&) = delete;

@@ -27,7 +27,7 @@ void Enumerator::setup_full_rows() {
   const SearchProblem& p = ctx_.problem;
   const std::size_t rows = ctx_.rows;
   FullRows& f = full_;
-  f.n = std::max<std::size_t>(kHashRows, (rows + 7) / 8 * 8);
+  f.n = std::max<std::size_t>(kMinScreenRows, (rows + 7) / 8 * 8);
   auto padded = [&](const std::vector<double>& v) {
     std::vector<float> out(f.n);
     for (std::size_t i = 0; i < f.n; ++i) out[i] = static_cast<float>(v[i < rows ? i : 0]);

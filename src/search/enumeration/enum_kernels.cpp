@@ -115,17 +115,18 @@ SF_KERNEL void compute_column(EKind kind, Op unary, int k, const float* a, const
   }
 }
 
-SF_KERNEL void column_key(const float* v, ColumnStats* s) {
+SF_KERNEL void column_key(const float* v, std::size_t n, ColumnStats* s) {
   const v8f x0 = load(v), x1 = load(v + 8);
   const v8f a0 = std::bit_cast<v8f>(std::bit_cast<v8i>(x0) & 0x7fffffff);
   const v8f a1 = std::bit_cast<v8f>(std::bit_cast<v8i>(x1) & 0x7fffffff);
   const v8f am = select(a0 > a1, a0, a1);
   float maxabs = 0;
   for (int l = 0; l < 8; ++l) maxabs = am[l] > maxabs ? am[l] : maxabs;
-  // Values below the noise floor count as zero; the first value above it is made positive.
+  // Values below the noise floor of the first 16 rows count as zero; the first of those rows
+  // above it is made positive.
   const float tiny = 1e-6f * maxabs;
   bool neg = false;
-  for (std::size_t i = 0; i < kHashRows; ++i) {
+  for (std::size_t i = 0; i < kMinScreenRows; ++i) {
     if (std::abs(v[i]) > tiny) {
       neg = v[i] < 0;
       break;
@@ -133,12 +134,12 @@ SF_KERNEL void column_key(const float* v, ColumnStats* s) {
   }
   const float sign = neg ? -1.0f : 1.0f;
   const v8f zero = {};
-  const v8f c0 = select(a0 > tiny, x0 * sign, zero), c1 = select(a1 > tiny, x1 * sign, zero);
-  // Each value rounded to 10 mantissa bits (relative 1e-3), so float noise rarely changes it,
-  // then two independent multiply-sum hashes over the rows.
+  // The first 16 values rounded to 10 mantissa bits (relative 1e-3), so float noise rarely
+  // changes them, and two independent multiply-sum hashes over them; the further rows rounded
+  // to kKeyTailBits (coarser: there a rounding boundary would more often split two equivalent
+  // columns) and summed on into the first hash, rotated at each pair of 8-row blocks so that
+  // the same values in other rows hash differently.
   using v8u = std::uint32_t __attribute__((vector_size(32)));
-  const v8u q0 = (std::bit_cast<v8u>(c0) + 0x1000u) >> 13,
-            q1 = (std::bit_cast<v8u>(c1) + 0x1000u) >> 13;
   const v8u m0 = {0x9e3779b1u, 0x85ebca77u, 0xc2b2ae3du, 0x27d4eb2fu,
                   0x165667b1u, 0xd3a2646cu, 0xfd7046c5u, 0xb55a4f09u};
   const v8u m1 = {0x7feb352du, 0x846ca68bu, 0x68e31da4u, 0xb5297a4du,
@@ -147,8 +148,24 @@ SF_KERNEL void column_key(const float* v, ColumnStats* s) {
                   0x2545f491u, 0x4f6cdd1du, 0xff51afd7u, 0xed558ccdu};
   const v8u m3 = {0xc4ceb9feu, 0x1a85ec53u, 0x62a9d9edu, 0x799f3cd3u,
                   0x8bc2e4f1u, 0xa24baed4u, 0x963fdb2bu, 0x5bd1e995u};
-  const v8u h1 = q0 * (m0 | 1u) + q1 * (m1 | 1u);
+  const auto rounded = [&](v8f x, v8f a, int bits) {
+    const int drop = 23 - bits;
+    const v8u c = std::bit_cast<v8u>(select(a > tiny, x * sign, zero));
+    return (c + (1u << (drop - 1))) >> drop;
+  };
+  const auto tail = [&](const float* p) {
+    const v8f x = load(p);
+    return rounded(x, std::bit_cast<v8f>(std::bit_cast<v8i>(x) & 0x7fffffff), kKeyTailBits);
+  };
+  v8u q0 = rounded(x0, a0, 10), q1 = rounded(x1, a1, 10);
+  v8u h1 = q0 * (m0 | 1u) + q1 * (m1 | 1u);
   const v8u h2 = (q0 ^ (q0 >> 11)) * (m2 | 1u) + (q1 ^ (q1 >> 11)) * (m3 | 1u);
+  for (std::size_t i = 16; i < n; i += 16) {
+    // An odd n / 8 leaves a last block alone: it pairs with zeros.
+    q0 = tail(v + i);
+    q1 = i + 8 < n ? tail(v + i + 8) : v8u{};
+    h1 = ((h1 << kKeyRotation) | (h1 >> (32 - kKeyRotation))) + q0 * (m0 | 1u) + q1 * (m1 | 1u);
+  }
   std::uint32_t s1 = 0, s2 = 0;
   for (int l = 0; l < 8; ++l) {
     s1 += h1[l];

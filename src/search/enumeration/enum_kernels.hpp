@@ -36,7 +36,12 @@ enum class EKind : std::uint8_t {
   Atan2,     // atan2(a, +-b)
 };
 
-inline constexpr std::size_t kHashRows = 16;
+// The fewest screen rows: the dedup key (column_key) hashes rows in pairs of 8-row blocks.
+inline constexpr std::size_t kMinScreenRows = 16;
+// The bits by which the key's sum is rotated from one pair of 8-row blocks to the next, and the
+// mantissa bits it keeps of the rows after the first 16.
+inline constexpr int kKeyRotation = 5;
+inline constexpr int kKeyTailBits = 6;
 
 // out[i] = kind(a[i], b[i]) over n rows (n a multiple of 8). `neg_a` negates a (Unary only),
 // `neg_b` negates b; `unary` names the op of Unary; `k` the exponent of IPow.
@@ -69,18 +74,24 @@ struct ColumnStats {
   // Key (column_key).
   std::uint64_t hash = 0;
   bool canonical_neg = false;  // the hash was taken of the negated column
-  float scale = 0;             // max |value| over the hashed rows
+  float scale = 0;             // max |value| over the first 16 rows
   // Measure (column_loss).
   bool valid = false;  // finite everywhere and not (nearly) constant
   float loss_pos = 0;  // loss of the column
   float loss_neg = 0;  // loss of its negation
 };
 
-void column_key(const float* v, ColumnStats* stats);
+// The dedup key of a column of n rows (a multiple of 8, at least 16): a hash of every row,
+// rounded to a relative 1e-3 (the first 16 rows) or 3% (the others), values below 1e-6 of the
+// largest of the first 16 taken as zero, the column negated first where its first of those
+// above that is negative. Columns that columns_equivalent finds the same have one key unless
+// a value lies on a rounding boundary, and columns that differ by more than the rounding on any
+// row have two, so that a probe rarely compares columns that differ.
+void column_key(const float* v, std::size_t n, ColumnStats* stats);
 void column_loss(const float* v, const ScreenTarget& target, ColumnStats* stats);
 inline ColumnStats analyze_column(const float* v, const ScreenTarget& target) {
   ColumnStats s;
-  column_key(v, &s);
+  column_key(v, target.n, &s);
   column_loss(v, target, &s);
   return s;
 }

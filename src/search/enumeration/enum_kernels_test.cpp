@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <set>
 #include <vector>
 
 #include "shaderfit/core/random.hpp"
@@ -84,9 +85,9 @@ TEST(EnumKernels, KeysIgnoreSignAndFloatNoise) {
     noisy[i] = std::nextafter(a[i], 10.0f);
   }
   ColumnStats ka, kn, kz;
-  column_key(a.data(), &ka);
-  column_key(neg.data(), &kn);
-  column_key(noisy.data(), &kz);
+  column_key(a.data(), kRows, &ka);
+  column_key(neg.data(), kRows, &kn);
+  column_key(noisy.data(), kRows, &kz);
   EXPECT_EQ(ka.hash, kn.hash);
   EXPECT_NE(ka.canonical_neg, kn.canonical_neg);
   EXPECT_TRUE(columns_equivalent(a.data(), neg.data(), true, ka.scale, kRows));
@@ -98,6 +99,39 @@ TEST(EnumKernels, KeysIgnoreSignAndFloatNoise) {
   other[5] = std::nanf("");
   EXPECT_FALSE(columns_equivalent(a.data(), other.data(), false, ka.scale, kRows));
   EXPECT_FALSE(columns_equivalent(other.data(), other.data(), false, ka.scale, kRows));
+}
+
+// Columns that agree on their first rows and differ further down (min(x, 2) of inputs mostly
+// above 2) have different keys: a probe compares a candidate with the columns of its key only.
+TEST(EnumKernels, KeysTellColumnsApartOnEveryRow) {
+  static_assert(kRows > 16);
+  std::vector<float> a(kRows, 2.0f);
+  std::set<std::uint64_t> keys;
+  for (std::size_t i = 16; i < kRows; ++i) {
+    std::vector<float> b = a;
+    b[i] = 1.5f;
+    ColumnStats k;
+    column_key(b.data(), kRows, &k);
+    EXPECT_TRUE(keys.insert(k.hash).second) << i;
+  }
+  // The same values in other rows are another column.
+  std::vector<float> b = a, c = a;
+  b[20] = 1.5f;
+  c[36] = 1.5f;
+  ColumnStats kb, kc;
+  column_key(b.data(), kRows, &kb);
+  column_key(c.data(), kRows, &kc);
+  EXPECT_NE(kb.hash, kc.hash);
+  // A column and its negation have one key, also where they differ from zero late.
+  std::vector<float> late(kRows, 0.0f), late_neg(kRows, 0.0f);
+  late[5] = 3.0f;
+  late[50] = -1.0f;
+  for (std::size_t i = 0; i < kRows; ++i) late_neg[i] = -late[i];
+  column_key(late.data(), kRows, &kb);
+  column_key(late_neg.data(), kRows, &kc);
+  EXPECT_EQ(kb.hash, kc.hash);
+  EXPECT_FALSE(kb.canonical_neg);
+  EXPECT_TRUE(kc.canonical_neg);
 }
 
 TEST(EnumKernels, LossOfBothSignsAndValidity) {

@@ -296,7 +296,7 @@ void Enumerator::share_level(int level) {
                      has_operand_b(r) ? store_->column(r.b) : nullptr, r.has(ClassRecord::kNegA),
                      r.has(ClassRecord::kNegB), column.data(), rows);
       ColumnStats st;
-      column_key(column.data(), &st);
+      column_key(column.data(), rows, &st);
       id = store_->insert_copy(column.data(), st, r);
       shared_index_.resize(store_->size(), kNotShared);
     }

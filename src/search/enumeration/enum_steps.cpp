@@ -325,7 +325,7 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
   compute_column(rec_in.kind, rec_in.op, rec_in.k, a, b, neg_a, neg_b, dst, n);
   ++out.evaluated;
   ColumnStats st;
-  column_key(dst, &st);
+  column_key(dst, n, &st);
   std::int64_t improves = -1;
   if (const std::int64_t hit = store_->find_committed(dst, st); hit >= 0) {
     // A committed class of a higher cost (made by the previous batch's steps of the next level,

@@ -61,7 +61,7 @@ void Enumerator::setup_screen(Rng& rng) {
   std::vector<std::size_t> picked =
       stratified_rows(ctx_.problem.target, std::move(all), wanted, rng);
   const std::size_t real = picked.size();
-  screen_rows_ = std::max<std::size_t>(kHashRows, (real + 7) / 8 * 8);
+  screen_rows_ = std::max<std::size_t>(kMinScreenRows, (real + 7) / 8 * 8);
   while (picked.size() < screen_rows_) picked.push_back(picked.front());  // padding, weight 0
   screen_rows_picked_ = picked;
 

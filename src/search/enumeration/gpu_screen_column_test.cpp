@@ -20,7 +20,8 @@ namespace {
 using search_detail::EKind;
 
 // The twin's constants are the enumerator's (gpu/ cannot include search/).
-static_assert(kScreenHashRows == search_detail::kHashRows);
+static_assert(kScreenKeyRotation == search_detail::kKeyRotation &&
+              kScreenKeyTailBits == search_detail::kKeyTailBits);
 static_assert(kMaxRelativeError == search_detail::kMaxRelativeError);
 
 bool same_bits(float a, float b) {
@@ -101,12 +102,15 @@ void expect_same(const search_detail::ColumnStats& want, const ScreenResult& got
 
 TEST(GpuKernelLogic, ColumnKeyTwinMatchesTheEnumerator) {
   Rng rng(71);
+  // Row counts of one, an odd and an even number of pairs of 8-row blocks.
+  const std::size_t rows[] = {16, 24, 64, 136};
   for (int trial = 0; trial < 5000; ++trial) {
-    const std::vector<float> v = random_column(rng, 16);
+    const std::size_t n = rows[trial % 4];
+    const std::vector<float> v = random_column(rng, n);
     search_detail::ColumnStats want;
-    search_detail::column_key(v.data(), &want);
+    search_detail::column_key(v.data(), n, &want);
     ScreenResult got;
-    screen_key(v.data(), &got);
+    screen_key(v.data(), n, &got);
     ASSERT_EQ(got.hash, want.hash) << trial;
     ASSERT_EQ(got.canonical_neg, want.canonical_neg) << trial;
     ASSERT_TRUE(same_bits(got.scale, want.scale)) << trial;
@@ -115,8 +119,8 @@ TEST(GpuKernelLogic, ColumnKeyTwinMatchesTheEnumerator) {
   std::vector<float> a = random_column(rng, 16), b = a;
   for (float& x : b) x = -x;
   ScreenResult ka, kb;
-  screen_key(a.data(), &ka);
-  screen_key(b.data(), &kb);
+  screen_key(a.data(), 16, &ka);
+  screen_key(b.data(), 16, &kb);
   EXPECT_EQ(ka.hash, kb.hash);
 }
 
