@@ -2,7 +2,7 @@
 //
 // A candidate's "screen column" holds its float32 values on the screen rows (a multiple of 8 of
 // them, at least 16). These kernels compute a column from its operands' columns, key it for
-// deduplication (a hash of its first rows that ignores the overall sign and float noise), and
+// deduplication (a hash of its rows that ignores the overall sign and float noise), and
 // measure it (finiteness, and the loss of the column and of its negation against the target).
 // Keying comes first and is cheap, so duplicates -- most candidates -- are dropped before the
 // loss pass. Compiled for AVX2 and for the baseline ISA, picked at load time; both give the
@@ -82,7 +82,7 @@ struct ColumnStats {
 };
 
 // The dedup key of a column of n rows (a multiple of 8, at least 16): a hash of every row,
-// rounded to a relative 1e-3 (the first 16 rows) or 3% (the others), values below 1e-6 of the
+// rounded to a relative 1e-3 (the first 16 rows) or 1.5% (the others), values below 1e-6 of the
 // largest of the first 16 taken as zero, the column negated first where its first of those
 // above that is negative. Columns that columns_equivalent finds the same have one key unless
 // a value lies on a rounding boundary, and columns that differ by more than the rounding on any
