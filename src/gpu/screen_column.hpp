@@ -24,10 +24,12 @@
 namespace shaderfit::gpu_detail {
 
 inline constexpr int kScreenLanes = 8;      // the CPU kernels' vector width
-// The key's rotation from one pair of 8-row blocks to the next and the mantissa bits it keeps
-// of the rows after the first 16 (search_detail::kKeyRotation, kKeyTailBits).
-inline constexpr int kScreenKeyRotation = 5;
+// The key's head rows and the mantissa bits it keeps of them and of the rows after them, and
+// its rotation from one pair of 8-row blocks to the next (search_detail::kKeyHeadRows, ...).
+inline constexpr int kScreenKeyHeadRows = 2 * kScreenLanes;
+inline constexpr int kScreenKeyHeadBits = 10;
 inline constexpr int kScreenKeyTailBits = 6;
+inline constexpr int kScreenKeyRotation = 5;
 // The rel loss's cap on a row's relative error (search_detail::kMaxRelativeError).
 inline constexpr float kMaxRelativeError = 1e15f;
 
@@ -104,7 +106,7 @@ SF_CPU_GPU inline void screen_key(const float* v, std::size_t n, ScreenResult* o
   }
   const float tiny = 1e-6f * maxabs;
   bool neg = false;
-  for (int i = 0; i < 2 * kScreenLanes; ++i) {
+  for (int i = 0; i < kScreenKeyHeadRows; ++i) {
     if (abs_bits(v[i]) > tiny) {
       neg = v[i] < 0;
       break;
@@ -131,10 +133,11 @@ SF_CPU_GPU inline void screen_key(const float* v, std::size_t n, ScreenResult* o
   std::uint32_t s1 = 0, s2 = 0;
   for (int l = 0; l < kScreenLanes; ++l) {
     const std::size_t r = static_cast<std::size_t>(l);
-    std::uint32_t q0 = rounded(r, 10), q1 = rounded(r + kScreenLanes, 10);
+    std::uint32_t q0 = rounded(r, kScreenKeyHeadBits);
+    std::uint32_t q1 = rounded(r + kScreenLanes, kScreenKeyHeadBits);
     std::uint32_t h1 = q0 * (m0[l] | 1u) + q1 * (m1[l] | 1u);
     s2 += (q0 ^ (q0 >> 11)) * (m2[l] | 1u) + (q1 ^ (q1 >> 11)) * (m3[l] | 1u);
-    for (std::size_t i = r + 2 * kScreenLanes; i < n; i += 2 * kScreenLanes) {
+    for (std::size_t i = r + kScreenKeyHeadRows; i < n; i += 2 * kScreenLanes) {
       q0 = rounded(i, kScreenKeyTailBits);
       q1 = rounded(i + kScreenLanes, kScreenKeyTailBits);
       h1 = ((h1 << kScreenKeyRotation) | (h1 >> (32 - kScreenKeyRotation))) +

@@ -126,7 +126,7 @@ SF_KERNEL void column_key(const float* v, std::size_t n, ColumnStats* s) {
   // above it is made positive.
   const float tiny = 1e-6f * maxabs;
   bool neg = false;
-  for (std::size_t i = 0; i < kMinScreenRows; ++i) {
+  for (std::size_t i = 0; i < kKeyHeadRows; ++i) {
     if (std::abs(v[i]) > tiny) {
       neg = v[i] < 0;
       break;
@@ -157,10 +157,11 @@ SF_KERNEL void column_key(const float* v, std::size_t n, ColumnStats* s) {
     const v8f x = load(p);
     return rounded(x, std::bit_cast<v8f>(std::bit_cast<v8i>(x) & 0x7fffffff), kKeyTailBits);
   };
-  v8u q0 = rounded(x0, a0, 10), q1 = rounded(x1, a1, 10);
+  static_assert(kKeyHeadRows == 16);  // x0 and x1
+  v8u q0 = rounded(x0, a0, kKeyHeadBits), q1 = rounded(x1, a1, kKeyHeadBits);
   v8u h1 = q0 * (m0 | 1u) + q1 * (m1 | 1u);
   const v8u h2 = (q0 ^ (q0 >> 11)) * (m2 | 1u) + (q1 ^ (q1 >> 11)) * (m3 | 1u);
-  for (std::size_t i = 16; i < n; i += 16) {
+  for (std::size_t i = kKeyHeadRows; i < n; i += 16) {
     // An odd n / 8 leaves a last block alone: it pairs with zeros.
     q0 = tail(v + i);
     q1 = i + 8 < n ? tail(v + i + 8) : v8u{};

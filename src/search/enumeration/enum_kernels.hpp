@@ -36,12 +36,15 @@ enum class EKind : std::uint8_t {
   Atan2,     // atan2(a, +-b)
 };
 
-// The fewest screen rows: the dedup key (column_key) hashes rows in pairs of 8-row blocks.
-inline constexpr std::size_t kMinScreenRows = 16;
-// The bits by which the key's sum is rotated from one pair of 8-row blocks to the next, and the
-// mantissa bits it keeps of the rows after the first 16.
-inline constexpr int kKeyRotation = 5;
+// The dedup key (column_key): its head, the first rows, sets the sign and the noise floor and is
+// rounded to kKeyHeadBits mantissa bits; the rows after it to kKeyTailBits, its sum rotated by
+// kKeyRotation bits from one pair of 8-row blocks to the next.
+inline constexpr std::size_t kKeyHeadRows = 16;
+inline constexpr int kKeyHeadBits = 10;
 inline constexpr int kKeyTailBits = 6;
+inline constexpr int kKeyRotation = 5;
+// The fewest screen rows: the key's head.
+inline constexpr std::size_t kMinScreenRows = kKeyHeadRows;
 
 // out[i] = kind(a[i], b[i]) over n rows (n a multiple of 8). `neg_a` negates a (Unary only),
 // `neg_b` negates b; `unary` names the op of Unary; `k` the exponent of IPow.

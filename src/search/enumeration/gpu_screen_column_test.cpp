@@ -20,8 +20,10 @@ namespace {
 using search_detail::EKind;
 
 // The twin's constants are the enumerator's (gpu/ cannot include search/).
-static_assert(kScreenKeyRotation == search_detail::kKeyRotation &&
-              kScreenKeyTailBits == search_detail::kKeyTailBits);
+static_assert(kScreenKeyHeadRows == search_detail::kKeyHeadRows &&
+              kScreenKeyHeadBits == search_detail::kKeyHeadBits &&
+              kScreenKeyTailBits == search_detail::kKeyTailBits &&
+              kScreenKeyRotation == search_detail::kKeyRotation);
 static_assert(kMaxRelativeError == search_detail::kMaxRelativeError);
 
 bool same_bits(float a, float b) {
