@@ -15,7 +15,7 @@
 #include "codegen/spelling.hpp"
 #include "cost/dag.hpp"
 #include "cost/erf_helper.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "cost/step_program.hpp"
 #include "shaderfit/cost/per_material.hpp"
 

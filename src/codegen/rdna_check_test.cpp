@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "codegen/compiler_harness_test_support.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "shaderfit/cost/instruction_model.hpp"
 #include "shaderfit/expr/parse.hpp"
 #include "shaderfit/expr/print.hpp"

@@ -11,7 +11,7 @@
 
 #include "cost/erf_helper.hpp"
 #include "cost/float_text.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "shaderfit/core/error.hpp"
 #include "shaderfit/expr/precision.hpp"
 

@@ -13,7 +13,7 @@
 
 #include "cost/dag.hpp"
 #include "cost/float_text.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "cost/select.hpp"
 #include "cost/step_program.hpp"
 #include "cost/step_text.hpp"
@@ -83,7 +83,7 @@ struct SelectorState {
   int next_reg_;
 };
 
-// The measured instructions `list` of a library function (cost/library_calls.hpp) called `name`,
+// The measured instructions `list` of a library function (cost/op_instructions.hpp) called `name`,
 // through `emit(unit, mnemonic, operands, comment)`: the first reads the call's operands (a, and
 // b for arity 2), each next one the value before it; the last carries `comment`, the others
 // "name k/n" (when `text`). Returns the last one's value.

@@ -32,7 +32,7 @@
 //    copysign is v_bfi_b32; sign(x) is v_bfi_b32 (copysign(1, x)), v_cmp_lg_f32 and
 //    v_cndmask_b32;
 //  - asin, acos, atan, atan2, tanh and erf are the instructions of ROCm's OCML functions as
-//    measured (cost/library_calls.hpp).
+//    measured (cost/op_instructions.hpp, with the transcendentals' instructions).
 // RDNA 2 and RDNA 3 count the same but for v_maxmin_f32 and v_minmax_f32; RDNA 3 may also issue
 // two independent operations as one VOPD instruction (v_dual_*), which the count does not model
 // (the check counts a pair as its two operations).
@@ -45,7 +45,7 @@
 #include <tuple>
 
 #include "cost/float_text.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "cost/register_value.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
@@ -75,7 +75,8 @@ bool reads_modifiers(Op op) {
   }
 }
 
-// Operators whose result's negation moves into their own operands.
+// Operators whose result's negation moves into their own operands: the arithmetic, and the odd
+// transcendentals (sine: -sin(x) = sin(-x)).
 bool absorbs_negation(Op op) {
   switch (op) {
     case Op::Add:
@@ -83,9 +84,12 @@ bool absorbs_negation(Op op) {
     case Op::Mul:
     case Op::Fma:
     case Op::Min:
-    case Op::Max:
-    case Op::Sin: return true;
-    default: return false;
+    case Op::Max: return true;
+    default: {
+      const OpInstructions* f = op_instructions(op);
+      return f != nullptr && !f->library() && !f->rdna.empty() &&
+             op_info(op).parity == OpParity::Odd;
+    }
   }
 }
 
@@ -199,7 +203,7 @@ class RdnaSelector : SelectorState {
     return emit(unit, op, args, sat && text_ ? names_text_.of(r) : comment, sat);
   }
 
-  Val library(const LibraryCall& call, Val a, Val b, int arity, const std::string& c) {
+  Val library(const OpInstructions& call, Val a, Val b, int arity, const std::string& c) {
     return emit_library_call(
         call.rdna, call.ocml, a, b, arity, c, text_,
         [&](InstructionUnit u, const std::string& op, std::initializer_list<Val> args,
@@ -223,7 +227,7 @@ class RdnaSelector : SelectorState {
   bool merged_product(int s) const {
     if (!literal_product(Operand{Operand::Kind::Step, s})) return false;
     const Op r = step(readers_.only_reader(s)).op;
-    return r == Op::Exp || r == Op::Sin || r == Op::Cos;
+    return r == Op::Exp || in_turns(r);
   }
 
   void select(int s) {
@@ -318,7 +322,7 @@ class RdnaSelector : SelectorState {
       case Op::Div: {
         const bool rcp = is_reciprocal(st);
         const Step* den = step_of(st.args[1]);
-        if (rcp && den && (den->op == Op::Exp2 || den->op == Op::Exp) && den->uses == 1) {
+        if (rcp && den && exponential(den->op) && den->uses == 1) {
           out = b;  // the exponential of -x
           break;
         }
@@ -335,11 +339,6 @@ class RdnaSelector : SelectorState {
         if (merged_root_[static_cast<std::size_t>(s)]) break;  // its product takes the radicand
         out = emit_step(s, U::Mufu, "v_sqrt_f32", {a}, c);
         break;
-      case Op::Rsqrt: out = emit_step(s, U::Mufu, "v_rsq_f32", {a}, c); break;
-      case Op::Exp2:
-        out = emit_step(s, U::Mufu, "v_exp_f32", {inverted(s) ? negated(a) : a}, c);
-        break;
-      case Op::Log2: out = emit_step(s, U::Mufu, "v_log_f32", {a}, c); break;
       case Op::Exp: {
         const float k = (st.neg_arg != inverted(s)) ? -kLog2E : kLog2E;
         const Val t = scaled(st.args[0], k, "log2(e) * ...");
@@ -368,15 +367,6 @@ class RdnaSelector : SelectorState {
           out = emit(U::MinMax, "v_max_f32", {a, a}, c, true);
         break;
       }
-      case Op::Sin:
-      case Op::Cos: {
-        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
-        auto it = scaled_.find(key);
-        if (it == scaled_.end())
-          it = scaled_.emplace(key, scaled(st.args[0], kInv2Pi, "argument / (2 pi)")).first;
-        out = emit_step(s, U::Mufu, st.op == Op::Sin ? "v_sin_f32" : "v_cos_f32", {it->second}, c);
-        break;
-      }
       case Op::Sign: {
         const Val one = emit(U::MinMax, "v_bfi_b32", {token("0x7fffffff"), literal(1.0f), a},
                              "copysign(1, ...)");
@@ -398,10 +388,25 @@ class RdnaSelector : SelectorState {
         break;
       }
       default: {
-        const LibraryCall* f = library_call(st.op);
-        if (f == nullptr)
+        const OpInstructions* f = op_instructions(st.op);
+        if (f == nullptr || f->rdna.empty())
           throw Error("internal: no RDNA form for '" + std::string(op_info(st.op).name) + "'");
-        out = library(*f, a, b, st.arity, c);
+        if (f->library()) {
+          out = library(*f, a, b, st.arity, c);
+          break;
+        }
+        // A transcendental: its argument in turns first where it takes one (once per distinct
+        // argument), negated where only a reciprocal reads an exponential.
+        Val x = a;
+        if (f->turns) {
+          const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
+          auto it = scaled_.find(key);
+          if (it == scaled_.end())
+            it = scaled_.emplace(key, scaled(st.args[0], kInv2Pi, "argument / (2 pi)")).first;
+          x = it->second;
+        }
+        if (f->exponential && inverted(s)) x = negated(x);
+        out = emit_step(s, mnemonic_unit(f->rdna), std::string(f->rdna), {x}, c);
         break;
       }
     }

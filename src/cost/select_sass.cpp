@@ -18,7 +18,7 @@
 //  - copysign(a, b) is one LOP3 (a & 0x7fffffff | b & 0x80000000); sign(x), written
 //    |x| > 0 ? copysign(1, x) : x, is FSETP on |x|, LOP3 and FSEL;
 //  - asin, acos, atan, atan2, tanh and erf are the instructions of CUDA's asinf ... erff as
-//    measured (cost/library_calls.hpp); their operands are read as they are (a negated operand
+//    measured (cost/op_instructions.hpp, with the other functions' MUFU ops); their operands are read as they are (a negated operand
 //    costs its FADD; acos of a negated product is the product, its negation and acosf).
 #include <fmt/format.h>
 
@@ -29,7 +29,7 @@
 #include <tuple>
 
 #include "cost/float_text.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "cost/register_value.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
@@ -121,10 +121,28 @@ class SassSelector : SelectorState {
 
   // The measured instructions of a library function, the first reading the operands and the
   // last giving the result.
-  Val library(const LibraryCall& call, Val a, Val b, int arity, const std::string& c) {
+  Val library(const OpInstructions& call, Val a, Val b, int arity, const std::string& c) {
     return emit_library_call(call.sass, call.cuda, a, b, arity, c, text_,
                              [&](InstructionUnit u, const std::string& op, std::initializer_list<Val> args,
                                  const std::string& what) { return emit(u, op, args, what); });
+  }
+
+  // A function of the hardware (MUFU): its argument in turns first where it takes one (FMUL.RZ,
+  // once per distinct argument), negated where only a reciprocal reads an exponential.
+  Val function(int s, const OpInstructions& f, Val a, const std::string& c) {
+    const Step& st = p_.steps[static_cast<std::size_t>(s)];
+    if (f.turns) {
+      const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
+      auto it = scaled_.find(key);
+      if (it == scaled_.end()) {
+        const Val k{-1, false, false, true, kInv2Pi};
+        it = scaled_.emplace(key, emit(InstructionUnit::Fp32, "FMUL.RZ", {a, k}, "argument / (2 pi)")).first;
+      }
+      a = it->second;
+    }
+    const int r = only_reader(s);
+    const bool inv = f.exponential && r >= 0 && is_rcp(p_.steps[static_cast<std::size_t>(r)]);
+    return emit(mnemonic_unit(f.sass), std::string(f.sass), {inv ? negated(a) : a}, inv ? "1 / " + c : c);
   }
 
   void select(int s) {
@@ -179,7 +197,7 @@ class SassSelector : SelectorState {
       case Op::Div: {
         const bool rcp = is_rcp(st);
         const Step* den = step_of(st.args[1]);
-        const bool folded = rcp && den && (den->op == Op::Exp2 || den->op == Op::Exp) && den->uses == 1;
+        const bool folded = rcp && den && exponential(den->op) && den->uses == 1;
         const Val r = folded ? b : emit(U::Mufu, "MUFU.RCP", {b}, rcp ? c : std::string("reciprocal of the divisor"));
         if (!rcp) out = emit(U::Fp32, "FMUL.FTZ", {a, r}, c);
         else if (a.value > 0) out = r;
@@ -187,15 +205,6 @@ class SassSelector : SelectorState {
         else out = emit(U::Fp32, "FADD.FTZ", {negated(r), rz}, c);
         break;
       }
-      case Op::Sqrt: out = emit(U::Mufu, "MUFU.SQRT", {a}, c); break;
-      case Op::Rsqrt: out = emit(U::Mufu, "MUFU.RSQ", {a}, c); break;
-      case Op::Exp2: {
-        const int r = only_reader(s);
-        const bool inv = r >= 0 && is_rcp(p_.steps[static_cast<std::size_t>(r)]);
-        out = emit(U::Mufu, "MUFU.EX2", {inv ? negated(a) : a}, inv ? "1 / " + c : c);
-        break;
-      }
-      case Op::Log2: out = emit(U::Mufu, "MUFU.LG2", {a}, c); break;
       case Op::Saturate: {
         const Step* x = step_of(st.args[0]);
         if (x && (x->op == Op::Mul || x->op == Op::Log) && only_reader(st.args[0].index) == s)
@@ -253,19 +262,14 @@ class SassSelector : SelectorState {
         out = emit(U::MinMax, "FSEL", {b, val(st.args[2]), it->second}, c);
         break;
       }
-      case Op::Sin:
-      case Op::Cos: {
-        const auto key = std::make_tuple(static_cast<int>(st.args[0].kind), st.args[0].index);
-        auto it = scaled_.find(key);
-        if (it == scaled_.end()) {
-          it = scaled_.emplace(key, emit(U::Fp32, "FMUL.RZ", {a, Val{-1, false, false, true, kInv2Pi}}, "argument / (2 pi)")).first;
-        }
-        out = emit(U::Mufu, st.op == Op::Sin ? "MUFU.SIN" : "MUFU.COS", {it->second}, c);
-        break;
-      }
       default: {
-        const LibraryCall* f = library_call(st.op);
-        if (f == nullptr) throw Error("internal: no SASS form for '" + std::string(op_info(st.op).name) + "'");
+        const OpInstructions* f = op_instructions(st.op);
+        if (f == nullptr || f->sass.empty())
+          throw Error("internal: no SASS form for '" + std::string(op_info(st.op).name) + "'");
+        if (!f->library()) {
+          out = function(s, *f, a, c);
+          break;
+        }
         // A function that ptxas gives a negated product (read only there) as the product and its
         // negation, where other readers take FMUL -a, b (acosf).
         const Step* x = step_of(st.args[0]);

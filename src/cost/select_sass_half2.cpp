@@ -21,7 +21,8 @@
 //    per divisor, shared with 1 / b, none for a literal) and then, per half, a product, a
 //    rounding, a test and a correction path: 16 instructions (and a PRMT that packs the halves:
 //    data movement, not counted, as the moves of constants are not).
-// The sequences after the conversions are in kFunctions below, as measured.
+// The sequences after the conversions are in cost/op_instructions.hpp (the functions) and below
+// (a / b, 1 / b), as measured.
 #include <fmt/format.h>
 
 #include <set>
@@ -31,7 +32,7 @@
 #include <vector>
 
 #include "cost/float_text.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
 #include "shaderfit/core/error.hpp"
@@ -49,34 +50,15 @@ struct Val {
   int lane = -1;  // a conversion's operand: .H0_H0 (0) or .H1_H1 (1)
 };
 
-struct Sequence {
-  Op op;
-  bool rcp;               // Div: the reciprocal form (1 / x, h2rcp)
-  std::string_view sass;  // after the conversions to float, in the order ptxas emitted them
-};
-
-// The measured instructions of each function of a __half2 call after its operands' conversions to
-// float (and, for a / b and 1 / b, after the MUFU.RCP of b; for sin and cos after the FMUL.RZ;
-// for log2 and log after the MUFU.LG2).
-constexpr Sequence kFunctions[] = {
-    {Op::Sqrt, false, "MUFU.SQRT MUFU.SQRT F2FP.F16.F32.PACK_AB"},
-    {Op::Rsqrt, false, "MUFU.RSQ MUFU.RSQ F2FP.F16.F32.PACK_AB"},
-    {Op::Div, true, "F2FP.F16.F32.PACK_AB"},
-    {Op::Div, false,
-     "FMUL.FTZ FMUL.FTZ F2FP.F16.F32.PACK_AB F2FP.F16.F32.PACK_AB HSETP2.GEU.AND HSETP2.GT.AND "
-     "PLOP3.LUT HSETP2.GEU.AND HSETP2.GT.AND PLOP3.LUT FFMA.FTZ FFMA.FTZ FFMA.FTZ FFMA.FTZ "
-     "F2FP.F16.F32.PACK_AB F2FP.F16.F32.PACK_AB"},
-    {Op::Exp2, false, "MUFU.EX2 MUFU.EX2 FFMA FFMA F2FP.F16.F32.PACK_AB"},
-    {Op::Log2, false, "F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND HFMA2 HSET2.BF.EQ.AND HFMA2"},
-    {Op::Sin, false, "MUFU.SIN MUFU.SIN F2FP.F16.F32.PACK_AB"},
-    {Op::Cos, false, "MUFU.COS MUFU.COS F2FP.F16.F32.PACK_AB"},
-    {Op::Exp, false,
-     "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FFMA FFMA MUFU.EX2 MUFU.EX2 F2FP.F16.F32.PACK_AB "
-     "HSET2.BF.EQ.AND HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2"},
-    {Op::Log, false,
-     "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FMUL FMUL F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND "
-     "HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2"},
-};
+// The measured instructions of a / b and 1 / b (__h2div, h2rcp) after their operands'
+// conversions to float and the MUFU.RCP of b; the functions' lists (after the conversion, and
+// after the FMUL.RZ of sin and cos or the MUFU.LG2 of log2 and log) are their rows'
+// OpInstructions::half2.
+constexpr std::string_view kReciprocal = "F2FP.F16.F32.PACK_AB";
+constexpr std::string_view kQuotient =
+    "FMUL.FTZ FMUL.FTZ F2FP.F16.F32.PACK_AB F2FP.F16.F32.PACK_AB HSETP2.GEU.AND HSETP2.GT.AND "
+    "PLOP3.LUT HSETP2.GEU.AND HSETP2.GT.AND PLOP3.LUT FFMA.FTZ FFMA.FTZ FFMA.FTZ FFMA.FTZ "
+    "F2FP.F16.F32.PACK_AB F2FP.F16.F32.PACK_AB";
 
 InstructionUnit unit_of(std::string_view mnemonic) {
   if (mnemonic.rfind("MUFU", 0) == 0) return InstructionUnit::Mufu;
@@ -134,10 +116,12 @@ class Half2Selector {
     return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
            (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
   }
-  [[nodiscard]] static const Sequence* function_of(const Step& st) {
-    for (const Sequence& f : kFunctions)
-      if (f.op == st.op && f.rcp == is_rcp(st)) return &f;
-    return nullptr;
+  // The instructions of a function's __half2 call after the conversions, or empty for a step
+  // that is no function.
+  [[nodiscard]] static std::string_view function_of(const Step& st) {
+    if (st.op == Op::Div) return is_rcp(st) ? kReciprocal : kQuotient;
+    const OpInstructions* f = op_instructions(st.op);
+    return f != nullptr ? f->half2 : std::string_view{};
   }
   // True when every reader of step s takes a negated or absolute operand for free: the packed
   // arithmetic, and the conversions to float that the functions start with.
@@ -148,7 +132,7 @@ class Half2Selector {
       if (takes_operand_modifiers(rd.op) || rd.op == Op::Saturate) continue;
       // A negation or |x| that is an instruction of its own takes the other one with it.
       if (rd.op == Op::Neg || rd.op == Op::Abs) continue;
-      if (function_of(rd) != nullptr) continue;  // the conversions to float take both
+      if (!function_of(rd).empty()) continue;  // the conversions to float take both
       return false;
     }
     return true;
@@ -204,11 +188,10 @@ class Half2Selector {
     }
   }
 
-  // Once per distinct operand and modifier: the two MUFU.RCP of a divisor's halves, or the two
-  // FMUL.RZ that scale sin's and cos's argument by 1/(2 pi).
-  void once_per_operand(std::set<std::tuple<int, bool, bool>>& done, std::string_view op,
-                        const Val& a, const Operand& o) {
-    if (a.imm || !done.insert({a.reg, a.neg, a.abs}).second) return;
+  // Once per distinct operand and modifier: the two MUFU.RCP of a divisor's halves, or the
+  // shared instruction of the functions of one operand (OpInstructions::half2_shared).
+  void once_per_operand(std::string_view op, const Val& a, const Operand& o) {
+    if (a.imm || !once_.insert({op, a.reg, a.neg, a.abs}).second) return;
     for (int lane : {0, 1})
       emit(op, {a}, text_ ? fmt::format("{} of half {} of {}", op, lane, operand_text(o)) : "");
   }
@@ -294,14 +277,12 @@ class Half2Selector {
       }
       default: break;
     }
-    if (const Sequence* f = function_of(st)) {
+    if (const std::string_view f = function_of(st); !f.empty()) {
       if (st.op != Op::Div) {
         convert(a, st.args[0]);
-        if (st.op == Op::Sin || st.op == Op::Cos)
-          once_per_operand(scaled_, "FMUL.RZ", a, st.args[0]);
-        if (st.op == Op::Log2 || st.op == Op::Log)
-          once_per_operand(logarithms_, "MUFU.LG2", a, st.args[0]);
-        out = sequence(f->sass, c, step_name(st));
+        const std::string_view shared = op_instructions(st.op)->half2_shared;
+        if (!shared.empty()) once_per_operand(shared, a, st.args[0]);
+        out = sequence(f, c, step_name(st));
         return;
       }
       // 1 / x reads x (-1 / x is 1 / -x, the sign free in the conversion); a / b reads both.
@@ -309,8 +290,8 @@ class Half2Selector {
       const Val x = rcp && st.args[0].value < 0 ? negated(b) : b;
       if (!rcp) convert(a, st.args[0]);
       convert(x, st.args[1]);
-      once_per_operand(reciprocals_, "MUFU.RCP", x, st.args[1]);
-      out = sequence(f->sass, c, step_name(st));
+      once_per_operand("MUFU.RCP", x, st.args[1]);
+      out = sequence(f, c, step_name(st));
       return;
     }
     throw Error(fmt::format("{} has no half form (docs/precision.md)", step_name(st)),
@@ -318,19 +299,11 @@ class Half2Selector {
   }
 
   static std::string step_name(const Step& st) {
-    switch (st.op) {
-      case Op::Div: return is_rcp(st) ? "h2rcp" : "__h2div";
-      case Op::Sqrt: return "h2sqrt";
-      case Op::Rsqrt: return "h2rsqrt";
-      case Op::Exp2: return "h2exp2";
-      case Op::Log2: return "h2log2";
-      case Op::Exp: return "h2exp";
-      case Op::Log: return "h2log";
-      case Op::Sin: return "sf_h2sin";
-      case Op::Cos: return "sf_h2cos";
-      case Op::Select: return "select";
-      default: return std::string(step_call_name(st.op));
-    }
+    if (st.op == Op::Div) return is_rcp(st) ? "h2rcp" : "__h2div";
+    if (st.op == Op::Select) return "select";
+    const OpInstructions* f = op_instructions(st.op);
+    return std::string(f != nullptr && !f->half2_call.empty() ? f->half2_call
+                                                               : step_call_name(st.op));
   }
 
   const Dag& dag_;
@@ -340,9 +313,10 @@ class Half2Selector {
   std::vector<std::vector<int>> consumers_;
   std::vector<Val> vals_;
   std::vector<bool> absorbed_;  // a min or max that is part of its reader's VHMNMX
-  // By register and modifiers: the values converted to float, and those with their MUFU.RCP or
-  // their FMUL.RZ (sin, cos) done.
-  std::set<std::tuple<int, bool, bool>> converted_, reciprocals_, scaled_, logarithms_;
+  // By register and modifiers: the values converted to float; by instruction too, those with
+  // their MUFU.RCP or their shared instruction (FMUL.RZ, MUFU.LG2) done.
+  std::set<std::tuple<int, bool, bool>> converted_;
+  std::set<std::tuple<std::string_view, int, bool, bool>> once_;
   std::vector<TargetInstruction> out_;
   int next_reg_ = 0;
 };

@@ -1,4 +1,5 @@
-// PTX and generic (SPIR-V-like) selection: one instruction per program step, except that PTX
+// PTX and generic (SPIR-V-like) selection: one instruction per program step (the arithmetic and
+// the hardware's functions: their rows in cost/op_instructions.hpp), except that PTX
 // spells exp as mul + ex2 and log as lg2 + mul, as __expf and __logf do under --use_fast_math,
 // and the steps of sign, copysign and select, as the generated code writes them:
 //  - select(a, b, c), `a >= 0 ? b : c`: a comparison and a select; nvcc compares each distinct
@@ -7,9 +8,10 @@
 //    0x80000000, two ANDs and an OR (one AND folds when a is a literal);
 //  - sign(x): PTX (|x| > 0 ? copysignf(1, x) : x) abs, setp, copysign, selp; GLSL/HLSL
 //    (x > 0 ? 1 : (x < 0 ? -1 : x)) two comparisons and two selects;
-//  - asin, acos, atan, atan2, tanh, erf: PTX the instructions of CUDA's asinf ... erff as
-//    measured (cost/library_calls.hpp); SPIR-V one OpExtInst, erf the instructions of the helper
-//    function GLSL and HLSL call (cost/erf_helper.hpp).
+//  - sqrt, rsqrt, exp2, log2, sin, cos: one instruction each; asin, acos, atan, atan2, tanh,
+//    erf: PTX the instructions of CUDA's asinf ... erff as measured, SPIR-V one OpExtInst, erf
+//    the instructions of the helper function GLSL and HLSL call (cost/erf_helper.hpp); both from
+//    cost/op_instructions.hpp.
 #include <fmt/format.h>
 
 #include <bit>
@@ -18,7 +20,7 @@
 
 #include "cost/erf_helper.hpp"
 #include "cost/float_text.hpp"
-#include "cost/library_calls.hpp"
+#include "cost/op_instructions.hpp"
 #include "cost/select.hpp"
 #include "cost/step_text.hpp"
 #include "shaderfit/core/error.hpp"
@@ -89,27 +91,13 @@ class TextSelector {
       out = emit(unit, ptx_ ? ptx_op : spirv_op, args, c);
     };
     switch (st.op) {
-      case Op::Add: simple(U::Fp32, "add.ftz.f32", "OpFAdd", {a, b}); break;
-      case Op::Sub: simple(U::Fp32, "sub.ftz.f32", "OpFSub", {a, b}); break;
-      case Op::Mul: simple(U::Fp32, "mul.ftz.f32", "OpFMul", {a, b}); break;
-      case Op::Fma: simple(U::Fp32, "fma.rn.ftz.f32", "OpExtInst Fma", {a, b, name(st.args[2])}); break;
-      case Op::Neg: simple(U::Fp32, "neg.ftz.f32", "OpFNegate", {a}); break;
-      case Op::Abs: simple(U::Fp32, "abs.ftz.f32", "OpExtInst FAbs", {a}); break;
       case Op::Div:
         if (ptx_ && st.args[0].kind == Operand::Kind::Const && st.args[0].value == 1.0f)
           simple(U::Mufu, "rcp.approx.ftz.f32", "", {b});
         else
           simple(U::Mufu, "div.approx.ftz.f32", "OpFDiv", {a, b});
         break;
-      case Op::Sqrt: simple(U::Mufu, "sqrt.approx.ftz.f32", "OpExtInst Sqrt", {a}); break;
-      case Op::Rsqrt: simple(U::Mufu, "rsqrt.approx.ftz.f32", "OpExtInst InverseSqrt", {a}); break;
-      case Op::Exp2: simple(U::Mufu, "ex2.approx.ftz.f32", "OpExtInst Exp2", {a}); break;
-      case Op::Log2: simple(U::Mufu, "lg2.approx.ftz.f32", "OpExtInst Log2", {a}); break;
-      case Op::Sin: simple(U::Mufu, "sin.approx.ftz.f32", "OpExtInst Sin", {a}); break;
-      case Op::Cos: simple(U::Mufu, "cos.approx.ftz.f32", "OpExtInst Cos", {a}); break;
       case Op::Saturate: simple(U::Fp32, "cvt.ftz.sat.f32.f32", "OpExtInst FClamp", ptx_ ? std::initializer_list<std::string>{a} : std::initializer_list<std::string>{a, "0", "1"}); break;
-      case Op::Min: simple(U::MinMax, "min.ftz.f32", "OpExtInst FMin", {a, b}); break;
-      case Op::Max: simple(U::MinMax, "max.ftz.f32", "OpExtInst FMax", {a, b}); break;
       case Op::Exp:
         if (ptx_) {
           const std::string t = emit(U::Fp32, "mul.ftz.f32", {a, ptx_const(kLog2E)}, "log2(e) * ...");
@@ -170,17 +158,18 @@ class TextSelector {
         }
         break;
       default: {
-        const LibraryCall* f = library_call(st.op);
-        if (f == nullptr) throw Error("internal: no text form for '" + std::string(op_info(st.op).name) + "'");
-        const LibraryCall& call = *f;
-        const std::vector<std::string_view> ops = mnemonics(ptx_ ? call.ptx : call.spirv);
-        const std::string_view name =
-            ptx_ ? call.cuda : call.helper;
+        const OpInstructions* f = op_instructions(st.op);
+        if (f == nullptr || (ptx_ ? f->ptx : f->spirv).empty())
+          throw Error("internal: no text form for '" + std::string(op_info(st.op).name) + "'");
+        const std::vector<std::string_view> ops = mnemonics(ptx_ ? f->ptx : f->spirv);
+        const std::string_view call = ptx_ ? f->cuda : f->helper;  // a library function's
         for (std::size_t k = 0; k < ops.size(); ++k) {
           const std::string what =
-              !text_ || k + 1 == ops.size() ? c : fmt::format("{} {}/{}", name, k + 1, ops.size());
+              !text_ || k + 1 == ops.size() ? c : fmt::format("{} {}/{}", call, k + 1, ops.size());
           const U unit = mnemonic_unit(ops[k]);
-          if (k == 0 && st.arity == 2)
+          if (k == 0 && st.arity == 3)
+            out = emit(unit, std::string(ops[k]), {a, b, name(st.args[2])}, what);
+          else if (k == 0 && st.arity == 2)
             out = emit(unit, std::string(ops[k]), {a, b}, what);
           else
             out = emit(unit, std::string(ops[k]), {k == 0 ? a : std::string(out)}, what);

@@ -1,5 +1,5 @@
 // The operator table of expr/op.hpp: every row complete, every number type agreeing with double,
-// and no function-like operator named in more non-test files than the ceilings below (the aim is
+// and no operator but the leaves named in more non-test files than the ceilings below (the aim is
 // 4 files each: the record, the vector form, the cost record and a spelling of its own; lower a
 // ceiling when a file stops naming the operator).
 #include <gtest/gtest.h>
@@ -185,13 +185,14 @@ TEST(OpRecords, FloatAndJetsAgreeWithDouble) {
   }
 }
 
-// The names of every function-like operator ("Op::Tanh", also as StepOp::Tanh, ProgramOp::Tanh)
+// The names of every operator but the leaves ("Op::Tanh", also as StepOp::Tanh, ProgramOp::Tanh)
 // in non-test files of include/, src/ and apps/, counted per operator.
 std::map<std::string, int> files_naming_operators() {
-  const std::set<std::string> function_like = {
+  const std::set<std::string> counted = {
       "Sqrt", "Rsqrt", "Rcp",  "Exp2",     "Log2",   "Exp",  "Log",  "Abs",   "Saturate",
       "Sin",  "Cos",   "Sign", "CopySign", "Asin",   "Acos", "Atan", "Atan2", "Tanh",
-      "Erf",  "Pow",   "Min",  "Max",      "Select", "Fma",  "IPow", "Neg"};
+      "Erf",  "Pow",   "Min",  "Max",      "Select", "Fma",  "IPow", "Neg",  "Add",   "Sub",
+      "Mul",  "Div"};
   const std::regex name(R"(Op::([A-Za-z0-9]+))");
   std::map<std::string, int> count;
   const fs::path root = SHADERFIT_SOURCE_DIR;
@@ -208,22 +209,23 @@ std::map<std::string, int> files_naming_operators() {
       const std::string s = text.str();
       std::set<std::string> named;
       for (std::sregex_iterator m(s.begin(), s.end(), name), end; m != end; ++m)
-        if (function_like.count((*m)[1].str())) named.insert((*m)[1].str());
+        if (counted.count((*m)[1].str())) named.insert((*m)[1].str());
       for (const std::string& op : named) ++count[op];
     }
   }
   return count;
 }
 
-TEST(OpRecords, FunctionLikeOperatorsAreNamedInFewFiles) {
+TEST(OpRecords, OperatorsAreNamedInFewFiles) {
   // Today's counts: lower an entry when a file stops naming the operator; the aim is 4. (Each
   // instruction target's selector names the operators it selects specially: select_rdna.cpp.)
   const std::map<std::string, int> ceiling = {
+      {"Add", 35},      {"Sub", 29},    {"Mul", 33},  {"Div", 28},
       {"Abs", 15},      {"Acos", 3},    {"Asin", 3},  {"Atan", 4},  {"Atan2", 11},
-      {"CopySign", 15}, {"Cos", 8},     {"Erf", 4},   {"Exp", 13},  {"Exp2", 15},
-      {"Fma", 16},      {"IPow", 28},   {"Log", 12},  {"Log2", 14}, {"Max", 19},
-      {"Min", 20},      {"Neg", 25},    {"Pow", 19},  {"Rcp", 10},  {"Rsqrt", 12},
-      {"Saturate", 14}, {"Select", 24}, {"Sign", 14}, {"Sin", 8},   {"Sqrt", 11},
+      {"CopySign", 15}, {"Cos", 4},     {"Erf", 4},   {"Exp", 13},  {"Exp2", 13},
+      {"Fma", 16},      {"IPow", 28},   {"Log", 12},  {"Log2", 11}, {"Max", 19},
+      {"Min", 20},      {"Neg", 25},    {"Pow", 19},  {"Rcp", 10},  {"Rsqrt", 9},
+      {"Saturate", 14}, {"Select", 23}, {"Sign", 14}, {"Sin", 4},   {"Sqrt", 9},
       {"Tanh", 3}};
   const std::map<std::string, int> count = files_naming_operators();
   for (const auto& [op, limit] : ceiling) {

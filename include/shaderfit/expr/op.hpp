@@ -332,6 +332,10 @@ constexpr bool is_piecewise(Op op) {
   }
 }
 
+// Whether the operator is periodic in its operand (sin, cos): the operator probe
+// (search/starts/operator_probe.cpp) offers these together where an input looks like an angle.
+constexpr bool is_periodic(Op op) { return op == Op::Sin || op == Op::Cos; }
+
 // Whether the operator's value can be finite while an operand is not (x / inf = 0, rcp(inf) = 0,
 // min(inf, x) = x, saturate(inf) = 1, exp2(-inf) = 0, x^-k = rcp(x^k), pow through exp2,
 // sign(inf) = 1, copysign(x, inf) = |x|, select's branch not taken, atan(inf) = pi/2,

@@ -258,9 +258,12 @@ bool uses_any(const Expression& e, const std::vector<Op>& ops) {
 }  // namespace
 
 std::span<const OperatorGroup> probed_operator_groups() {
-  static const std::vector<OperatorGroup> groups = {
-      {"trigonometric", {Op::Sin, Op::Cos}, some_angle_is_periodic},
-  };
+  static const std::vector<OperatorGroup> groups = [] {
+    std::vector<Op> periodic;
+    for (int i = 0; i < kOpCount; ++i)
+      if (is_periodic(static_cast<Op>(i))) periodic.push_back(static_cast<Op>(i));
+    return std::vector<OperatorGroup>{{"trigonometric", periodic, some_angle_is_periodic}};
+  }();
   return groups;
 }
 
