@@ -267,15 +267,13 @@ class FunctionPrinter {
   Text step(const Step& st) {
     if (form_ != Form::Float)
       if (std::optional<Text> t = half_step(st)) return *std::move(t);
-    auto bin = [&](const char* op, int level) {
-      return Text{operand(st.args[0], level) + " " + op + " " + operand(st.args[1], level + 1),
+    auto bin = [&](std::string_view op, int level) {
+      return Text{operand(st.args[0], level) + " " + std::string(op) + " " +
+                      operand(st.args[1], level + 1),
                   level};
     };
+    if (op_info(st.op).infix) return bin(op_info(st.op).name, precedence(st.op));
     switch (st.op) {
-      case Op::Add: return bin("+", 1);
-      case Op::Sub: return bin("-", 1);
-      case Op::Mul: return bin("*", 2);
-      case Op::Div: return bin("/", 2);
       case Op::Neg: return {"-" + operand(st.args[0], 4), 3};
       case Op::Fma:
         if (form_ != Form::Float) return fn(Op::Fma, st);        // the formula's own fma
@@ -491,11 +489,8 @@ std::string print(const Prepared& p, const CodegenOptions& options) {
 // need none.
 void add_cpp_headers(const Program& p, std::set<std::string_view>* headers) {
   for (const Step& st : p.steps) {
+    if (op_info(st.op).infix) continue;
     switch (st.op) {
-      case Op::Add:
-      case Op::Sub:
-      case Op::Mul:
-      case Op::Div:
       case Op::Neg:
       case Op::Select: break;
       case Op::Saturate: headers->insert("<algorithm>"); break;

@@ -435,8 +435,7 @@ void infix(const Dag& dag, DagRef r, std::string& out, std::size_t max_chars, in
     text(float_text(r.neg ? -n.value : n.value));
     return;
   }
-  const int level =
-      n.op == Op::Add ? 1 : ((n.op == Op::Mul && !n.log_scale) || n.op == Op::Div ? 2 : 3);
+  const int level = n.log_scale ? 4 : precedence(n.op);  // a log scale prints as log(x)
   const bool neg_wrap = r.neg;
   const bool paren = neg_wrap ? parent_level >= 2 && level < 3 : level < parent_level;
   if (neg_wrap) text("-");

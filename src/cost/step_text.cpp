@@ -13,18 +13,6 @@ bool same(const Operand& a, const Operand& b) {
          (a.kind != Operand::Kind::Const || a.value == b.value);
 }
 
-// Precedence: 1 sums, 2 products, 3 unary minus, 4 atoms and calls.
-int level(Op op) {
-  switch (op) {
-    case Op::Add:
-    case Op::Sub: return 1;
-    case Op::Mul:
-    case Op::Div: return 2;
-    case Op::Neg: return 3;
-    default: return 4;
-  }
-}
-
 }  // namespace
 
 std::string_view step_call_name(Op op) { return op_info(op).name; }
@@ -74,16 +62,15 @@ std::string StepText::step(int i, int min_level, std::size_t limit) const {
   const Step& st = p_.steps[static_cast<std::size_t>(i)];
   const Power& pw = powers_[static_cast<std::size_t>(i)];
   std::string t;
-  int lv = level(st.op);
+  int lv = precedence(st.op);
   if (pw.k > 1) {
     t = operand(pw.base, 4, limit) + "^" + std::to_string(pw.k);
     lv = 4;
+  } else if (op_info(st.op).infix) {
+    const std::string symbol = " " + std::string(op_info(st.op).name) + " ";
+    t = pair(st.args[0], lv, symbol, st.args[1], lv + 1, limit);
   } else {
     switch (st.op) {
-      case Op::Add: t = pair(st.args[0], 1, " + ", st.args[1], 2, limit); break;
-      case Op::Sub: t = pair(st.args[0], 1, " - ", st.args[1], 2, limit); break;
-      case Op::Mul: t = pair(st.args[0], 2, " * ", st.args[1], 3, limit); break;
-      case Op::Div: t = pair(st.args[0], 2, " / ", st.args[1], 3, limit); break;
       case Op::Neg: t = "-" + operand(st.args[0], 4, limit); break;
       case Op::Select:
         t = "select(" + std::string(st.neg_arg ? "-" : "") +

@@ -141,6 +141,20 @@ SF_CPU_GPU constexpr const OpInfo& op_info(Op op) { return kOpInfo[static_cast<i
 SF_CPU_GPU constexpr int arity(Op op) { return op_info(op).arity; }
 SF_CPU_GPU constexpr bool is_leaf(Op op) { return arity(op) == 0; }
 
+// How tightly the operator binds where it is written as an operator (formulas, generated code,
+// listings): 1 the sums (+ -), 2 the products (* /), 3 negation, 4 the rest (calls and leaves).
+// The infix operators are left associative: their right operand is written one level higher.
+SF_CPU_GPU constexpr int precedence(Op op) {
+  switch (op) {
+    case Op::Add:
+    case Op::Sub: return 1;
+    case Op::Mul:
+    case Op::Div: return 2;
+    case Op::Neg: return 3;
+    default: return 4;
+  }
+}
+
 // f.template operator()<O>() for the operator O that `op` names (O = Op::Count_ for a value outside
 // the table): code that treats operators differently dispatches through this, one instantiation
 // per operator, instead of a switch of its own that names them.
