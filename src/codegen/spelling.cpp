@@ -390,16 +390,18 @@ const std::vector<std::array<std::string, 5>>& float_spellings() {
 }
 
 // Half spellings in the columns glsl, hlsl, cuda __half, cuda __half2, metal; none in C++, and
-// no half form of the operators not listed (sign, select, asin ... erf).
+// no half form of the operators not listed (sign, select, asin ... erf). The functions' __half2
+// calls (h2sqrt ...) are their cost record's (cost/op_instructions.hpp: half2_call), which the
+// sass-half2 listing names; "" here.
 constexpr OpSpelling kHalfSpellings[] = {
-    {Op::Sqrt, {"sqrt", "sqrt", "sf_hsqrt", "h2sqrt", "sqrt"}},
-    {Op::Rsqrt, {"inversesqrt", "rsqrt", "sf_hrsqrt", "h2rsqrt", "rsqrt"}},
-    {Op::Exp2, {"exp2", "exp2", "sf_hexp2", "h2exp2", "exp2"}},
-    {Op::Log2, {"log2", "log2", "sf_hlog2", "h2log2", "log2"}},
-    {Op::Exp, {"exp", "exp", "sf_hexp", "h2exp", "exp"}},
-    {Op::Log, {"log", "log", "sf_hlog", "h2log", "log"}},
-    {Op::Sin, {"sin", "sin", "sf_hsin", "sf_h2sin", "sin"}},
-    {Op::Cos, {"cos", "cos", "sf_hcos", "sf_h2cos", "cos"}},
+    {Op::Sqrt, {"sqrt", "sqrt", "sf_hsqrt", "", "sqrt"}},
+    {Op::Rsqrt, {"inversesqrt", "rsqrt", "sf_hrsqrt", "", "rsqrt"}},
+    {Op::Exp2, {"exp2", "exp2", "sf_hexp2", "", "exp2"}},
+    {Op::Log2, {"log2", "log2", "sf_hlog2", "", "log2"}},
+    {Op::Exp, {"exp", "exp", "sf_hexp", "", "exp"}},
+    {Op::Log, {"log", "log", "sf_hlog", "", "log"}},
+    {Op::Sin, {"sin", "sin", "sf_hsin", "", "sin"}},
+    {Op::Cos, {"cos", "cos", "sf_hcos", "", "cos"}},
     {Op::Abs, {"abs", "abs", "__habs", "__habs2", "fabs"}},
     {Op::Min, {"min", "min", "__hmin", "__hmin2", "fmin"}},
     {Op::Max, {"max", "max", "__hmax", "__hmax2", "fmax"}},
@@ -447,7 +449,13 @@ std::string_view call(Language l, Op op, Form form) {
   switch (l) {
     case Language::Glsl: column = 0; break;
     case Language::Hlsl: column = 1; break;
-    case Language::Cuda: column = form == Form::Half2 ? 3 : 2; break;
+    case Language::Cuda:
+      if (form == Form::Half2)
+        if (const cost_detail::OpInstructions* f = cost_detail::op_instructions(op);
+            f != nullptr && !f->half2_call.empty())
+          return f->half2_call;
+      column = form == Form::Half2 ? 3 : 2;
+      break;
     case Language::Metal: column = 4; break;
     case Language::Cpp: return {};
   }

@@ -44,7 +44,8 @@ struct OpInstructions {
   // (FADD), where other readers take FMUL -a, b.
   bool negates_product = false;
   // The packed half form (sass-half2): the instructions after the operand's conversion to float,
-  // as measured (docs/precision.md, "Half cost"), and the __half2 function codegen calls.
+  // as measured (docs/precision.md, "Half cost"), and the __half2 function codegen calls (its
+  // spelling: codegen::call reads it here).
   std::string_view half2 = {};
   std::string_view half2_call = {};
   // An instruction that the half forms of one operand share, emitted for each half once per
