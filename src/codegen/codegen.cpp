@@ -254,8 +254,7 @@ class FunctionPrinter {
       return std::nullopt;
     }
     if (!calls_only()) return std::nullopt;
-    const bool rcp = st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
-                     std::fabs(st.args[0].value) == 1.0f;
+    const bool rcp = cost_detail::is_reciprocal(st);
     // -1 / x = 1 / -x: rcp is odd.
     if (rcp)
       return call_of(Op::Rcp, {st.args[0].value < 0 ? call_of(Op::Neg, {arg(1)}).s : arg(1)});
@@ -546,8 +545,7 @@ std::string erf_helper_source(Language language) {
 // The CUDA __half helpers a half program calls (cuda_half_helpers).
 void add_half_helper_calls(const Program& p, std::vector<Op>* calls) {
   for (const Step& st : p.steps) {
-    const bool rcp = st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
-                     std::fabs(st.args[0].value) == 1.0f;
+    const bool rcp = cost_detail::is_reciprocal(st);
     const Op c = rcp ? Op::Rcp : st.op;
     if (codegen::has_cuda_half_helper(c) &&
         std::find(calls->begin(), calls->end(), c) == calls->end())

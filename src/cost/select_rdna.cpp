@@ -128,7 +128,7 @@ class RdnaSelector : SelectorState {
   bool moves_into(const Operand& o) const {
     const Step* x = step_of(o);
     if (x == nullptr) return false;
-    if (absorbs_negation(x->op) || (x->op == Op::Div && is_reciprocal(*x)))
+    if (absorbs_negation(x->op) || is_reciprocal(*x))
       return readers_.only_reader(o.index) >= 0;
     return false;
   }
@@ -412,10 +412,6 @@ class RdnaSelector : SelectorState {
     }
   }
 
-  bool is_reciprocal(const Step& st) const {
-    return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
-           (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
-  }
   // Step s (an exponential) is read only by a reciprocal: it computes exp2(-x) instead.
   bool inverted(int s) const {
     const int r = readers_.only_reader(s);

@@ -77,10 +77,6 @@ class SassSelector : SelectorState {
   const Step* step_of(const Operand& o) const {
     return o.kind == Operand::Kind::Step ? &p_.steps[static_cast<std::size_t>(o.index)] : nullptr;
   }
-  bool is_rcp(const Step& st) const {
-    return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
-           (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
-  }
   // Abs that costs nothing: read only as an operand modifier, or of a square.
   bool free_abs(int s) const {
     const Step& st = p_.steps[static_cast<std::size_t>(s)];
@@ -141,7 +137,7 @@ class SassSelector : SelectorState {
       a = it->second;
     }
     const int r = only_reader(s);
-    const bool inv = f.exponential && r >= 0 && is_rcp(p_.steps[static_cast<std::size_t>(r)]);
+    const bool inv = f.exponential && r >= 0 && is_reciprocal(p_.steps[static_cast<std::size_t>(r)]);
     return emit(mnemonic_unit(f.sass), std::string(f.sass), {inv ? negated(a) : a}, inv ? "1 / " + c : c);
   }
 
@@ -195,7 +191,7 @@ class SassSelector : SelectorState {
         break;
       }
       case Op::Div: {
-        const bool rcp = is_rcp(st);
+        const bool rcp = is_reciprocal(st);
         const Step* den = step_of(st.args[1]);
         const bool folded = rcp && den && exponential(den->op) && den->uses == 1;
         const Val r = folded ? b : emit(U::Mufu, "MUFU.RCP", {b}, rcp ? c : std::string("reciprocal of the divisor"));
@@ -216,7 +212,7 @@ class SassSelector : SelectorState {
         const float scale = st.neg_arg ? -kLog2E : kLog2E;
         const Val t = emit(U::Fp32, "FMUL.FTZ", {a, Val{-1, false, false, true, scale}}, "log2(e) * ...");
         const int r = only_reader(s);
-        const bool inv = r >= 0 && is_rcp(p_.steps[static_cast<std::size_t>(r)]);
+        const bool inv = r >= 0 && is_reciprocal(p_.steps[static_cast<std::size_t>(r)]);
         out = emit(U::Mufu, "MUFU.EX2", {inv ? negated(t) : t}, inv ? "1 / " + c : c);
         break;
       }

@@ -112,14 +112,10 @@ class Half2Selector {
       if (r.kind == Operand::Kind::Step && r.index == s) return true;
     return false;
   }
-  [[nodiscard]] static bool is_rcp(const Step& st) {
-    return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
-           (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
-  }
   // The instructions of a function's __half2 call after the conversions, or empty for a step
   // that is no function.
   [[nodiscard]] static std::string_view function_of(const Step& st) {
-    if (st.op == Op::Div) return is_rcp(st) ? kReciprocal : kQuotient;
+    if (st.op == Op::Div) return is_reciprocal(st) ? kReciprocal : kQuotient;
     const OpInstructions* f = op_instructions(st.op);
     return f != nullptr ? f->half2 : std::string_view{};
   }
@@ -286,7 +282,7 @@ class Half2Selector {
         return;
       }
       // 1 / x reads x (-1 / x is 1 / -x, the sign free in the conversion); a / b reads both.
-      const bool rcp = is_rcp(st);
+      const bool rcp = is_reciprocal(st);
       const Val x = rcp && st.args[0].value < 0 ? negated(b) : b;
       if (!rcp) convert(a, st.args[0]);
       convert(x, st.args[1]);
@@ -299,7 +295,7 @@ class Half2Selector {
   }
 
   static std::string step_name(const Step& st) {
-    if (st.op == Op::Div) return is_rcp(st) ? "h2rcp" : "__h2div";
+    if (st.op == Op::Div) return is_reciprocal(st) ? "h2rcp" : "__h2div";
     if (st.op == Op::Select) return "select";
     const OpInstructions* f = op_instructions(st.op);
     return std::string(f != nullptr && !f->half2_call.empty() ? f->half2_call

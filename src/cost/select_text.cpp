@@ -92,7 +92,7 @@ class TextSelector {
     };
     switch (st.op) {
       case Op::Div:
-        if (ptx_ && st.args[0].kind == Operand::Kind::Const && st.args[0].value == 1.0f)
+        if (ptx_ && is_reciprocal(st) && st.args[0].value > 0)
           simple(U::Mufu, "rcp.approx.ftz.f32", "", {b});
         else
           simple(U::Mufu, "div.approx.ftz.f32", "OpFDiv", {a, b});

@@ -79,6 +79,12 @@ class StepReaders {
   std::vector<std::vector<int>> readers_;
 };
 
+// Whether the step is a reciprocal: a division of the literal 1 or -1 (1 / x, -1 / x).
+inline bool is_reciprocal(const Step& st) {
+  return st.op == Op::Div && st.args[0].kind == Operand::Kind::Const &&
+         (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
+}
+
 // True for the steps whose SASS forms take negated and absolute-value operands for free:
 // FADD (Add, Sub), FMUL, FFMA, FMNMX.
 constexpr bool takes_operand_modifiers(Op op) {
