@@ -220,7 +220,7 @@ TEST(OpRecords, OperatorsAreNamedInFewFiles) {
   // Today's counts: lower an entry when a file stops naming the operator; the aim is 4. (Each
   // instruction target's selector names the operators it selects specially: select_rdna.cpp.)
   const std::map<std::string, int> ceiling = {
-      {"Add", 33},      {"Sub", 27},    {"Mul", 32},  {"Div", 27},
+      {"Add", 32},      {"Sub", 27},    {"Mul", 31},  {"Div", 26},
       {"Abs", 15},      {"Acos", 3},    {"Asin", 3},  {"Atan", 4},  {"Atan2", 11},
       {"CopySign", 15}, {"Cos", 4},     {"Erf", 4},   {"Exp", 13},  {"Exp2", 13},
       {"Fma", 16},      {"IPow", 28},   {"Log", 12},  {"Log2", 11}, {"Max", 19},

@@ -107,10 +107,7 @@ class Parser : private ParserState, public ExpressionGrammar<std::size_t> {
 
   // --- the grammar's hooks -------------------------------------------------------------------
   std::size_t binary_op(const Token& op, std::size_t a, std::size_t /*b*/) override {
-    emit(Node::op_node(op.is("+")   ? Op::Add
-                       : op.is("-") ? Op::Sub
-                       : op.is("*") ? Op::Mul
-                                    : Op::Div));
+    emit(Node::op_node(op_from_name(op.text)));  // + - * /, the grammar's binary operators
     return a;
   }
 

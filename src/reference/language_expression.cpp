@@ -143,9 +143,8 @@ int c_binary_precedence(const Token& t) {
   if (s == "&&") return 2;
   if (s == "==" || s == "!=") return 3;
   if (s == "<" || s == "<=" || s == ">" || s == ">=") return 4;
-  if (s == "+" || s == "-") return ExpressionGrammar<Value>::kAdditive;
-  if (s == "*" || s == "/" || s == "%") return ExpressionGrammar<Value>::kMultiplicative;
-  return 0;
+  if (s == "%") return ExpressionGrammar<Value>::kMultiplicative;
+  return ExpressionGrammar<Value>::formula_precedence(t);
 }
 
 Value ExpressionParser::binary_op(const Token& op, Value a, Value b) {

@@ -34,6 +34,15 @@ class ExpressionGrammar {
   static constexpr int kAdditive = 5;        // + -
   static constexpr int kMultiplicative = 6;  // * /
 
+  // The binding strength of + - * /: kAdditive for expr/op.hpp's precedence 1 (the sums), one
+  // more per level above; 0 for any other token.
+  static int formula_precedence(const Token& t) {
+    if (t.kind != Token::Symbol) return 0;
+    const Op op = op_from_name(t.text);
+    if (op == Op::Count_ || !op_info(op).infix) return 0;
+    return kAdditive - 1 + shaderfit::precedence(op);
+  }
+
   // Errors are located at `source`, at the token's line and column; `nesting` counts the levels
   // in progress (shared by the parsers of one text); `caret_is_power`: `^` is power().
   ExpressionGrammar(TokenStream tokens, const Syntax& syntax, const std::string& source,
@@ -97,12 +106,7 @@ class ExpressionGrammar {
  protected:
   // --- hooks ---------------------------------------------------------------------------------
   // The binding strength of a binary operator; 0: not one.
-  virtual int precedence(const Token& t) {
-    if (t.kind != Token::Symbol) return 0;
-    if (t.text == "+" || t.text == "-") return kAdditive;
-    if (t.text == "*" || t.text == "/") return kMultiplicative;
-    return 0;
-  }
+  virtual int precedence(const Token& t) { return formula_precedence(t); }
   virtual Value binary_op(const Token& op, Value a, Value b) = 0;
   // A unary operator of the language's own before `-` and `+` are tried (the current token).
   virtual std::optional<Value> prefix() { return std::nullopt; }
