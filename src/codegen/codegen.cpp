@@ -209,20 +209,17 @@ class FunctionPrinter {
       const std::string inner = temporary(x + " < " + lit(0.0f) + " ? " + lit(-1.0f) + " : " + x);
       return {x + " > " + lit(0.0f) + " ? " + lit(1.0f) + " : " + inner, 0};
     }
-    const char* abs =
-        lang_ == Language::Cuda ? "fabsf" : (lang_ == Language::Cpp ? "std::fabs" : "fabs");
-    return {std::string(abs) + "(" + x + ") > " + lit(0.0f) + " ? " + std::string(copysign_name()) +
-                "(" + lit(1.0f) + ", " + x + ") : " + x,
+    return {std::string(codegen::call(lang_, Op::Abs)) + "(" + x + ") > " + lit(0.0f) + " ? " +
+                std::string(codegen::call(lang_, Op::CopySign)) + "(" + lit(1.0f) + ", " + x +
+                ") : " + x,
             0};
-  }
-  const char* copysign_name() const {
-    return lang_ == Language::Cuda ? "copysignf"
-                                   : (lang_ == Language::Cpp ? "std::copysign" : "copysign");
   }
   Text copysign(const Step& st) const {
     const std::string b = operand(st.args[1], 0);
     if (!shader())
-      return {std::string(copysign_name()) + "(" + operand(st.args[0], 0) + ", " + b + ")", 4};
+      return {std::string(codegen::call(lang_, Op::CopySign)) + "(" + operand(st.args[0], 0) +
+                  ", " + b + ")",
+              4};
     // |a| with b's sign bit; a literal a is written as the bits of |a|.
     const Operand& a = st.args[0];
     const std::string magnitude =
