@@ -14,16 +14,14 @@ template <typename T, Op kOp>
 void op_loop(const Instr& ins, T* const* src, std::size_t count) {
   T* o = src[ins.out];
   const T* a = src[ins.arg[0]];
-  if constexpr (kOp == Op::IPow) {
-    for (std::size_t i = 0; i < count; ++i) o[i] = apply_ipow(a[i], ins.k);
-  } else if constexpr (arity(kOp) == 3) {
+  if constexpr (arity(kOp) == 3) {
     const T* b = src[ins.arg[1]];
     const T* c = src[ins.arg[2]];
     for (std::size_t i = 0; i < count; ++i) o[i] = apply_ternary(kOp, a[i], b[i], c[i]);
   } else if constexpr (is_leaf(kOp) || kOp == Op::Count_) {
     // Plans never contain leaves; nothing to do.
   } else if constexpr (arity(kOp) == 1) {
-    for (std::size_t i = 0; i < count; ++i) o[i] = apply_unary(kOp, a[i]);
+    for (std::size_t i = 0; i < count; ++i) o[i] = unary_value<kOp>(a[i], ins.k);
   } else {
     const T* b = src[ins.arg[1]];
     for (std::size_t i = 0; i < count; ++i) o[i] = apply_binary(kOp, a[i], b[i]);

@@ -71,7 +71,7 @@ struct PointNumbers {
     return T(n.value);
   }
   void unary(const Node& n, T& a) const {
-    a = n.op == Op::IPow ? apply_ipow(a, n.index) : apply_unary(n.op, a);
+    a = apply_unary(n.op, a, n.index);
   }
   void binary(Op op, T& a, const T& b) const { a = apply_binary(op, a, b); }
   void ternary(Op op, T& a, const T& b, const T& c) const { a = apply_ternary(op, a, b, c); }

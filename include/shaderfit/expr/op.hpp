@@ -243,6 +243,15 @@ SF_OP_INLINE T unary_value(T a) {
     return a / T(0) * T(0);  // NaN: not a unary operator
 }
 
+// The value of unary operator O at a, ipow's exponent `index` (Node::index) included.
+template <Op O, typename T>
+SF_OP_INLINE T unary_value(T a, int index) {
+  if constexpr (O == Op::IPow)
+    return apply_ipow(a, index);
+  else
+    return unary_value<O>(a);
+}
+
 // The value of binary operator O at (a, b).
 template <Op O, typename T>
 SF_OP_INLINE T binary_value(T a, T b) {
@@ -407,6 +416,12 @@ SF_OP_INLINE T apply_unary(Op op, T a) {
     default: break;
   }
   return a / T(0) * T(0);  // NaN: not a unary operator
+}
+
+// The unary operators by name, ipow's exponent `index` (Node::index) included.
+template <typename T>
+SF_OP_INLINE T apply_unary(Op op, T a, int index) {
+  return op == Op::IPow ? apply_ipow(a, index) : apply_unary(op, a);
 }
 
 // The binary operators by name.
