@@ -118,14 +118,12 @@ class Rules {
     for (const Frag& f : kids) all_const = all_const && is_const(f);
     if (all_const) {
       double v = 0;
-      if (op == Op::IPow)
-        v = apply_ipow(kids[0][0].value, k);
-      else if (a == 3)
+      if (a == 3)
         v = apply_ternary(op, kids[0][0].value, kids[1][0].value, kids[2][0].value);
       else if (a == 2)
         v = apply_binary(op, kids[0][0].value, kids[1][0].value);
       else
-        v = apply_unary(op, kids[0][0].value);
+        v = apply_unary(op, kids[0][0].value, k);
       if (std::isfinite(v)) return constant(v);
     }
 

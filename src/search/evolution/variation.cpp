@@ -53,9 +53,7 @@ Nodes fold_parameter_subtrees(const Nodes& in) {
     double value = n.value;
     if (constant && a > 0) {
       if (a == 1)
-        value = n.op == Op::Neg ? -kids[0].value
-                                : (n.op == Op::IPow ? apply_ipow(kids[0].value, n.index)
-                                                    : apply_unary(n.op, kids[0].value));
+        value = apply_unary(n.op, kids[0].value, n.index);
       else if (a == 2)
         value = apply_binary(n.op, kids[0].value, kids[1].value);
       else
