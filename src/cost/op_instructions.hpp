@@ -57,6 +57,9 @@ struct OpInstructions {
   // 1 / f(x) is f(-x) (exp2, exp): SASS and RDNA negate the argument of an f read only by a
   // reciprocal instead of computing the reciprocal.
   bool exponential = false;
+  // Its SASS instruction (FADD, FMUL, FFMA, FMNMX, and their packed half forms) reads -x and |x|
+  // operands for free.
+  bool sass_modifiers = false;
 
   [[nodiscard]] bool library() const { return !cuda.empty(); }
 };
@@ -64,15 +67,21 @@ struct OpInstructions {
 // The row of `op`, or nullptr for an operator whose instructions each selector writes.
 inline const OpInstructions* op_instructions(Op op) {
   // The arithmetic: one instruction on PTX and SPIR-V; the register-level targets' rules fold
-  // negations, |x| and saturation into them and write their own.
-  static constexpr OpInstructions kAdd = {.ptx = "add.ftz.f32", .spirv = "OpFAdd"};
-  static constexpr OpInstructions kSub = {.ptx = "sub.ftz.f32", .spirv = "OpFSub"};
-  static constexpr OpInstructions kMul = {.ptx = "mul.ftz.f32", .spirv = "OpFMul"};
-  static constexpr OpInstructions kFma = {.ptx = "fma.rn.ftz.f32", .spirv = "OpExtInst Fma"};
+  // negations, |x| and saturation into them and write their own, reading sass_modifiers.
+  static constexpr OpInstructions kAdd = {
+      .ptx = "add.ftz.f32", .spirv = "OpFAdd", .sass_modifiers = true};
+  static constexpr OpInstructions kSub = {
+      .ptx = "sub.ftz.f32", .spirv = "OpFSub", .sass_modifiers = true};
+  static constexpr OpInstructions kMul = {
+      .ptx = "mul.ftz.f32", .spirv = "OpFMul", .sass_modifiers = true};
+  static constexpr OpInstructions kFma = {
+      .ptx = "fma.rn.ftz.f32", .spirv = "OpExtInst Fma", .sass_modifiers = true};
   static constexpr OpInstructions kNeg = {.ptx = "neg.ftz.f32", .spirv = "OpFNegate"};
   static constexpr OpInstructions kAbs = {.ptx = "abs.ftz.f32", .spirv = "OpExtInst FAbs"};
-  static constexpr OpInstructions kMin = {.ptx = "min.ftz.f32", .spirv = "OpExtInst FMin"};
-  static constexpr OpInstructions kMax = {.ptx = "max.ftz.f32", .spirv = "OpExtInst FMax"};
+  static constexpr OpInstructions kMin = {
+      .ptx = "min.ftz.f32", .spirv = "OpExtInst FMin", .sass_modifiers = true};
+  static constexpr OpInstructions kMax = {
+      .ptx = "max.ftz.f32", .spirv = "OpExtInst FMax", .sass_modifiers = true};
   static constexpr OpInstructions kSqrt = {
       .sass = "MUFU.SQRT", .ptx = "sqrt.approx.ftz.f32", .spirv = "OpExtInst Sqrt",
       .rdna = "v_sqrt_f32", .half2 = "MUFU.SQRT MUFU.SQRT F2FP.F16.F32.PACK_AB",
@@ -231,6 +240,12 @@ inline bool in_turns(Op op) {
 inline bool exponential(Op op) {
   const OpInstructions* f = op_instructions(op);
   return f != nullptr && f->exponential;
+}
+
+// Whether `op`'s SASS instruction reads -x and |x| for free (OpInstructions::sass_modifiers).
+inline bool takes_operand_modifiers(Op op) {
+  const OpInstructions* f = op_instructions(op);
+  return f != nullptr && f->sass_modifiers;
 }
 
 // The helper GLSL, HLSL and Metal code calls for `op`, or empty (OpInstructions::helper).

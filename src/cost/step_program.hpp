@@ -85,11 +85,4 @@ inline bool is_reciprocal(const Step& st) {
          (st.args[0].value == 1.0f || st.args[0].value == -1.0f);
 }
 
-// True for the steps whose SASS forms take negated and absolute-value operands for free:
-// FADD (Add, Sub), FMUL, FFMA, FMNMX.
-constexpr bool takes_operand_modifiers(Op op) {
-  return op == Op::Add || op == Op::Sub || op == Op::Mul || op == Op::Fma || op == Op::Min ||
-         op == Op::Max;
-}
-
 }  // namespace shaderfit::cost_detail

@@ -220,11 +220,11 @@ TEST(OpRecords, OperatorsAreNamedInFewFiles) {
   // Today's counts: lower an entry when a file stops naming the operator; the aim is 4. (Each
   // instruction target's selector names the operators it selects specially: select_rdna.cpp.)
   const std::map<std::string, int> ceiling = {
-      {"Add", 32},      {"Sub", 27},    {"Mul", 31},  {"Div", 26},
+      {"Add", 32},      {"Sub", 26},    {"Mul", 30},  {"Div", 26},
       {"Abs", 15},      {"Acos", 3},    {"Asin", 3},  {"Atan", 4},  {"Atan2", 11},
       {"CopySign", 15}, {"Cos", 4},     {"Erf", 4},   {"Exp", 13},  {"Exp2", 13},
-      {"Fma", 16},      {"IPow", 26},   {"Log", 12},  {"Log2", 11}, {"Max", 19},
-      {"Min", 20},      {"Neg", 24},    {"Pow", 19},  {"Rcp", 10},  {"Rsqrt", 9},
+      {"Fma", 15},      {"IPow", 26},   {"Log", 12},  {"Log2", 11}, {"Max", 18},
+      {"Min", 19},      {"Neg", 24},    {"Pow", 19},  {"Rcp", 10},  {"Rsqrt", 9},
       {"Saturate", 14}, {"Select", 23}, {"Sign", 14}, {"Sin", 4},   {"Sqrt", 9},
       {"Tanh", 3}};
   const std::map<std::string, int> count = files_naming_operators();
