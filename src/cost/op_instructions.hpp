@@ -1,8 +1,10 @@
-// Internal: the cost record of the operators whose instructions are a fixed list on every
-// target: the hardware's functions (sqrt, rsqrt, exp2, log2, sin, cos, and the packed half forms
-// of exp and log) and the library functions (asinf, acosf, atanf, atan2f, tanhf, erff in CUDA).
-// The selectors emit a row's list; what depends on the formula around an operator (a negation
-// folded, a scale merged, a reciprocal or a saturate absorbed) stays in their rules.
+// Internal: the cost record, a row per operator whose instructions are a fixed list: on every
+// target the hardware's functions (sqrt, rsqrt, exp2, log2, sin, cos; the packed half forms of
+// exp and log) and the library functions (asinf, acosf, atanf, atan2f, tanhf, erff in CUDA); on
+// PTX and SPIR-V the arithmetic (+ - * fma neg abs min max). The selectors emit a row's list and
+// read its properties; what depends on the formula around an operator (a negation folded, a
+// scale merged, a reciprocal or a saturate absorbed) stays in their rules. op_instructions_test
+// checks that every row is complete.
 //
 // The library functions' lists are measured with nvcc 13.0 --use_fast_math -arch=sm_90 (the
 // `sass` and `ptx` targets' compiler), one kernel per function reading its arguments from memory
