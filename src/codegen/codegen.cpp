@@ -264,9 +264,9 @@ class FunctionPrinter {
     if (form_ != Form::Float)
       if (std::optional<Text> t = half_step(st)) return *std::move(t);
     auto bin = [&](std::string_view op, int level) {
-      return Text{operand(st.args[0], level) + " " + std::string(op) + " " +
-                      operand(st.args[1], level + 1),
-                  level};
+      return Text{
+          operand(st.args[0], level) + " " + std::string(op) + " " + operand(st.args[1], level + 1),
+          level};
     };
     if (op_info(st.op).infix) return bin(op_info(st.op).name, precedence(st.op));
     switch (st.op) {

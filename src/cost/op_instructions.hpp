@@ -84,41 +84,64 @@ inline const OpInstructions* op_instructions(Op op) {
       .ptx = "min.ftz.f32", .spirv = "OpExtInst FMin", .sass_modifiers = true};
   static constexpr OpInstructions kMax = {
       .ptx = "max.ftz.f32", .spirv = "OpExtInst FMax", .sass_modifiers = true};
-  static constexpr OpInstructions kSqrt = {
-      .sass = "MUFU.SQRT", .ptx = "sqrt.approx.ftz.f32", .spirv = "OpExtInst Sqrt",
-      .rdna = "v_sqrt_f32", .half2 = "MUFU.SQRT MUFU.SQRT F2FP.F16.F32.PACK_AB",
-      .half2_call = "h2sqrt"};
-  static constexpr OpInstructions kRsqrt = {
-      .sass = "MUFU.RSQ", .ptx = "rsqrt.approx.ftz.f32", .spirv = "OpExtInst InverseSqrt",
-      .rdna = "v_rsq_f32", .half2 = "MUFU.RSQ MUFU.RSQ F2FP.F16.F32.PACK_AB",
-      .half2_call = "h2rsqrt"};
+  static constexpr OpInstructions kSqrt = {.sass = "MUFU.SQRT",
+                                           .ptx = "sqrt.approx.ftz.f32",
+                                           .spirv = "OpExtInst Sqrt",
+                                           .rdna = "v_sqrt_f32",
+                                           .half2 = "MUFU.SQRT MUFU.SQRT F2FP.F16.F32.PACK_AB",
+                                           .half2_call = "h2sqrt"};
+  static constexpr OpInstructions kRsqrt = {.sass = "MUFU.RSQ",
+                                            .ptx = "rsqrt.approx.ftz.f32",
+                                            .spirv = "OpExtInst InverseSqrt",
+                                            .rdna = "v_rsq_f32",
+                                            .half2 = "MUFU.RSQ MUFU.RSQ F2FP.F16.F32.PACK_AB",
+                                            .half2_call = "h2rsqrt"};
   static constexpr OpInstructions kExp2 = {
-      .sass = "MUFU.EX2", .ptx = "ex2.approx.ftz.f32", .spirv = "OpExtInst Exp2",
-      .rdna = "v_exp_f32", .half2 = "MUFU.EX2 MUFU.EX2 FFMA FFMA F2FP.F16.F32.PACK_AB",
-      .half2_call = "h2exp2", .exponential = true};
+      .sass = "MUFU.EX2",
+      .ptx = "ex2.approx.ftz.f32",
+      .spirv = "OpExtInst Exp2",
+      .rdna = "v_exp_f32",
+      .half2 = "MUFU.EX2 MUFU.EX2 FFMA FFMA F2FP.F16.F32.PACK_AB",
+      .half2_call = "h2exp2",
+      .exponential = true};
   static constexpr OpInstructions kLog2 = {
-      .sass = "MUFU.LG2", .ptx = "lg2.approx.ftz.f32", .spirv = "OpExtInst Log2",
+      .sass = "MUFU.LG2",
+      .ptx = "lg2.approx.ftz.f32",
+      .spirv = "OpExtInst Log2",
       .rdna = "v_log_f32",
       .half2 = "F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND HFMA2 HSET2.BF.EQ.AND HFMA2",
-      .half2_call = "h2log2", .half2_shared = "MUFU.LG2"};
-  static constexpr OpInstructions kSin = {
-      .sass = "MUFU.SIN", .ptx = "sin.approx.ftz.f32", .spirv = "OpExtInst Sin",
-      .rdna = "v_sin_f32", .half2 = "MUFU.SIN MUFU.SIN F2FP.F16.F32.PACK_AB",
-      .half2_call = "sf_h2sin", .half2_shared = "FMUL.RZ", .turns = true};
-  static constexpr OpInstructions kCos = {
-      .sass = "MUFU.COS", .ptx = "cos.approx.ftz.f32", .spirv = "OpExtInst Cos",
-      .rdna = "v_cos_f32", .half2 = "MUFU.COS MUFU.COS F2FP.F16.F32.PACK_AB",
-      .half2_call = "sf_h2cos", .half2_shared = "FMUL.RZ", .turns = true};
+      .half2_call = "h2log2",
+      .half2_shared = "MUFU.LG2"};
+  static constexpr OpInstructions kSin = {.sass = "MUFU.SIN",
+                                          .ptx = "sin.approx.ftz.f32",
+                                          .spirv = "OpExtInst Sin",
+                                          .rdna = "v_sin_f32",
+                                          .half2 = "MUFU.SIN MUFU.SIN F2FP.F16.F32.PACK_AB",
+                                          .half2_call = "sf_h2sin",
+                                          .half2_shared = "FMUL.RZ",
+                                          .turns = true};
+  static constexpr OpInstructions kCos = {.sass = "MUFU.COS",
+                                          .ptx = "cos.approx.ftz.f32",
+                                          .spirv = "OpExtInst Cos",
+                                          .rdna = "v_cos_f32",
+                                          .half2 = "MUFU.COS MUFU.COS F2FP.F16.F32.PACK_AB",
+                                          .half2_call = "sf_h2cos",
+                                          .half2_shared = "FMUL.RZ",
+                                          .turns = true};
   // exp and log: a scale by log2(e) before MUFU.EX2 (ln(2) after MUFU.LG2), which each selector
   // writes as its rules merge it; here their half forms.
   static constexpr OpInstructions kExp = {
-      .half2 = "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FFMA FFMA MUFU.EX2 MUFU.EX2 F2FP.F16.F32.PACK_AB "
-               "HSET2.BF.EQ.AND HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2",
-      .half2_call = "h2exp", .exponential = true};
+      .half2 =
+          "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FFMA FFMA MUFU.EX2 MUFU.EX2 F2FP.F16.F32.PACK_AB "
+          "HSET2.BF.EQ.AND HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2",
+      .half2_call = "h2exp",
+      .exponential = true};
   static constexpr OpInstructions kLog = {
-      .half2 = "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FMUL FMUL F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND "
-               "HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2",
-      .half2_call = "h2log", .half2_shared = "MUFU.LG2"};
+      .half2 =
+          "HSET2.BF.EQ.AND HSET2.BF.EQ.AND FMUL FMUL F2FP.F16.F32.PACK_AB HSET2.BF.EQ.AND "
+          "HSET2.BF.EQ.AND HFMA2 HFMA2 HFMA2 HFMA2",
+      .half2_call = "h2log",
+      .half2_shared = "MUFU.LG2"};
   static constexpr OpInstructions kAsin = {
       "asinf",
       "FADD.FTZ FSETP.GT.FTZ.AND FSETP.NEU.FTZ.AND FFMA.FTZ MUFU.RSQ FMUL.FTZ FMUL.FTZ FFMA.FTZ "
@@ -161,8 +184,8 @@ inline const OpInstructions* op_instructions(Op op) {
       "OpExtInst Atan",
       "__ocml_atan_f32",
       "v_rcp_f32 v_cmp_gt_f32 v_cndmask_b32 v_mul_f32 v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 "
-      "v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_mul_f32 v_fmac_f32 v_sub_f32 v_cndmask_b32 "
-      "v_bfi_b32"};
+      "v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_mul_f32 v_fmac_f32 v_sub_f32 "
+      "v_cndmask_b32 v_bfi_b32"};
   static constexpr OpInstructions kAtan2 = {
       "atan2f",
       "FADD.FTZ FADD.FTZ FSETP.GT.FTZ.AND FSEL FSEL MUFU.RCP FCHK FFMA FFMA FFMA FFMA FFMA "
@@ -180,7 +203,11 @@ inline const OpInstructions* op_instructions(Op op) {
       "v_mul_f32 v_mul_f32 v_mul_f32 v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 "
       "v_fmaak_f32 v_fmaak_f32 v_mul_f32 v_fmac_f32 v_sub_f32 v_cndmask_b32 v_cmp_gt_f32 v_sub_f32 "
       "v_cndmask_b32 v_cmp_gt_i32 v_cndmask_b32 v_cmp_eq_f32 v_cndmask_b32 v_bfi_b32"};
-  static constexpr OpInstructions kTanh = {"tanhf", "MUFU.TANH", "tanh.approx.f32", "OpExtInst Tanh",
+  static constexpr OpInstructions kTanh = {
+      "tanhf",
+      "MUFU.TANH",
+      "tanh.approx.f32",
+      "OpExtInst Tanh",
       "__ocml_tanh_f32",
       "v_and_b32 v_cmp_le_f32 v_mul_f32 v_exp_f32 v_add_f32 v_rcp_f32 v_fma_f32 v_mul_f32 "
       "v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_fmaak_f32 v_mul_f32 v_fmac_f32 v_bfi_b32"};
@@ -271,19 +298,19 @@ inline std::vector<std::string_view> mnemonics(std::string_view list) {
 
 // The unit an instruction issues to: MUFU, PTX's approximate functions and div, SPIR-V's
 // extended functions but abs and min/max, and RDNA's transcendentals the multi-function unit;
-// additions, multiplications, negation and abs the FP32 pipe; compares, selects, copysign, LOP3, FCHK and min/max the
-// MinMax class.
+// additions, multiplications, negation and abs the FP32 pipe; compares, selects, copysign, LOP3,
+// FCHK and min/max the MinMax class.
 inline InstructionUnit mnemonic_unit(std::string_view m) {
   const auto starts = [&](std::string_view k) { return m.substr(0, k.size()) == k; };
   for (std::string_view k : {"FADD", "FMUL", "FFMA", "add.", "sub.", "mul.", "fma.", "neg.", "abs.",
-                             "OpFAdd", "OpFSub", "OpFMul", "OpFNegate", "OpExtInst FAbs", "OpExtInst Fma", "v_add_f",
-                             "v_sub_f", "v_mul_f", "v_fma"})
+                             "OpFAdd", "OpFSub", "OpFMul", "OpFNegate", "OpExtInst FAbs",
+                             "OpExtInst Fma", "v_add_f", "v_sub_f", "v_mul_f", "v_fma"})
     if (starts(k)) return InstructionUnit::Fp32;
   for (std::string_view k : {"OpExtInst FMin", "OpExtInst FMax"})
     if (starts(k)) return InstructionUnit::MinMax;
   for (std::string_view k :
-       {"MUFU", "rcp.", "rsqrt.", "sqrt.", "ex2.", "lg2.", "sin.", "cos.", "tanh.", "div.", "OpExtInst", "v_rcp_",
-        "v_rsq_", "v_sqrt_", "v_exp_", "v_log_", "v_sin_", "v_cos_"})
+       {"MUFU", "rcp.", "rsqrt.", "sqrt.", "ex2.", "lg2.", "sin.", "cos.", "tanh.", "div.",
+        "OpExtInst", "v_rcp_", "v_rsq_", "v_sqrt_", "v_exp_", "v_log_", "v_sin_", "v_cos_"})
     if (starts(k)) return InstructionUnit::Mufu;
   return InstructionUnit::MinMax;
 }

@@ -128,8 +128,7 @@ class RdnaSelector : SelectorState {
   bool moves_into(const Operand& o) const {
     const Step* x = step_of(o);
     if (x == nullptr) return false;
-    if (absorbs_negation(x->op) || is_reciprocal(*x))
-      return readers_.only_reader(o.index) >= 0;
+    if (absorbs_negation(x->op) || is_reciprocal(*x)) return readers_.only_reader(o.index) >= 0;
     return false;
   }
   // |x| of a value that is never negative: x itself.

@@ -17,8 +17,9 @@
 //    instead (no FSEL);
 //  - copysign(a, b) is one LOP3 (a & 0x7fffffff | b & 0x80000000); sign(x), written
 //    |x| > 0 ? copysign(1, x) : x, is FSETP on |x|, LOP3 and FSEL;
+//  - sqrt, rsqrt, exp2, log2, sin and cos are their MUFU op (cost/op_instructions.hpp);
 //  - asin, acos, atan, atan2, tanh and erf are the instructions of CUDA's asinf ... erff as
-//    measured (cost/op_instructions.hpp, with the other functions' MUFU ops); their operands are read as they are (a negated operand
+//    measured (cost/op_instructions.hpp); their operands are read as they are (a negated operand
 //    costs its FADD; acos of a negated product is the product, its negation and acosf).
 #include <fmt/format.h>
 
@@ -132,13 +133,17 @@ class SassSelector : SelectorState {
       auto it = scaled_.find(key);
       if (it == scaled_.end()) {
         const Val k{-1, false, false, true, kInv2Pi};
-        it = scaled_.emplace(key, emit(InstructionUnit::Fp32, "FMUL.RZ", {a, k}, "argument / (2 pi)")).first;
+        it = scaled_
+                 .emplace(key, emit(InstructionUnit::Fp32, "FMUL.RZ", {a, k}, "argument / (2 pi)"))
+                 .first;
       }
       a = it->second;
     }
     const int r = only_reader(s);
-    const bool inv = f.exponential && r >= 0 && is_reciprocal(p_.steps[static_cast<std::size_t>(r)]);
-    return emit(mnemonic_unit(f.sass), std::string(f.sass), {inv ? negated(a) : a}, inv ? "1 / " + c : c);
+    const bool inv =
+        f.exponential && r >= 0 && is_reciprocal(p_.steps[static_cast<std::size_t>(r)]);
+    return emit(mnemonic_unit(f.sass), std::string(f.sass), {inv ? negated(a) : a},
+                inv ? "1 / " + c : c);
   }
 
   void select(int s) {

@@ -299,7 +299,7 @@ class Half2Selector {
     if (st.op == Op::Select) return "select";
     const OpInstructions* f = op_instructions(st.op);
     return std::string(f != nullptr && !f->half2_call.empty() ? f->half2_call
-                                                               : step_call_name(st.op));
+                                                              : step_call_name(st.op));
   }
 
   const Dag& dag_;
