@@ -12,9 +12,14 @@ For refactors that must not change results. Each build's `shaderfit search` runs
   - ten AI-Feynman equations (../shared/data/feynman_equations.csv, 2,000 rows drawn as
     bench/feynman/run.py draws them);
 and the two JSON fronts are compared by scripts/compare-fronts (formulas, constants, costs and
-losses; timings aside). Then the time to target on the seed task (the search's own clock until a
+losses; timings aside). Then the cost model and code generation: --formulas random formulas of
+x, y and z (every operator, drawn from a seeded generator) through `shaderfit cost --json -` on
+every instruction target and `shaderfit codegen` in every language (float; half GLSL and CUDA;
+HLSL with y per material), each output (listing, code or error message) compared byte for byte.
+Then the time to target on the seed task (the search's own clock until a
 member of cost <= 4 has the MSE of r0 + (x - r0) x^4), the builds interleaved, seeds 1..--seeds:
-each seed --repeats times: medians and their ratio. Exit status 0 when every front is the same. Standard library and numpy.
+each seed --repeats times: medians and their ratio. Exit status 0 when every front and every
+output is the same. Standard library and numpy.
 """
 
 import argparse
@@ -110,6 +115,59 @@ def time_to_target(cli: Path, seed: int, target: float, work: Path) -> float:
     return s["total_time_s"]
 
 
+TARGETS = ["sass", "ptx", "generic", "sass-half2", "rdna2", "rdna3"]
+CODEGEN = [[("--lang", lang)] for lang in ("glsl", "hlsl", "cuda", "cpp", "metal")] + [
+    [("--lang", "glsl"), ("--precision", "half")], [("--lang", "cuda"), ("--precision", "half")],
+    [("--lang", "hlsl"), ("--uniform", "y")]]
+
+
+def random_formulas(count: int, seed: int = 1) -> list:
+    """Formulas of x, y, z up to five levels deep, over every operator of the formula language."""
+    import random
+    rng = random.Random(seed)
+    unary = ["sqrt", "rsqrt", "exp2", "log2", "exp", "log", "sin", "cos", "abs", "saturate",
+             "sign", "asin", "acos", "atan", "tanh", "erf", "rcp"]
+    binary = ["min", "max", "pow", "copysign", "atan2"]
+
+    def leaf() -> str:
+        if rng.random() < 0.75:
+            return rng.choice(["x", "y", "z"])
+        return rng.choice(["1", "2", "0.5", "3.14159", "-1", "0.25", "1.4427"])
+
+    def expr(depth: int) -> str:
+        if depth == 0 or rng.random() < 0.2:
+            return leaf()
+        r = rng.random()
+        if r < 0.3:
+            return f"{rng.choice(unary)}({expr(depth - 1)})"
+        if r < 0.35:
+            return f"-({expr(depth - 1)})"
+        if r < 0.45:
+            a, b, c, d = (expr(depth - 1) for _ in range(4))
+            return f"select({a} >= {b}, {c}, {d})"
+        if r < 0.5:
+            return f"fma({expr(depth - 1)}, {expr(depth - 1)}, {expr(depth - 1)})"
+        if r < 0.55:
+            return f"({expr(depth - 1)})^{rng.choice([2, 3, 4, 5, -1, -2])}"
+        if r < 0.8:
+            return f"({expr(depth - 1)} {rng.choice('+-*/')} {expr(depth - 1)})"
+        return f"{rng.choice(binary)}({expr(depth - 1)}, {expr(depth - 1)})"
+
+    return [expr(rng.randint(1, 5)) for _ in range(count)]
+
+
+def outputs(cli: Path, formula: str) -> list:
+    """What the build prints for the formula: its cost on every target, its code in every form."""
+    runs = [["cost", "--inputs", "x,y,z", "--target", t, "--json", "-"] for t in TARGETS]
+    runs += [["codegen", "--inputs", "x,y,z", *[a for pair in form for a in pair]]
+             for form in CODEGEN]
+    out = []
+    for args in runs:
+        r = subprocess.run([str(cli), *args, "--", formula], capture_output=True, text=True)
+        out.append((args, r.returncode, r.stdout, r.stderr))
+    return out
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--before", required=True, type=Path, help="the previous build's folder")
@@ -119,6 +177,8 @@ def main() -> int:
     ap.add_argument("--seeds", type=int, default=10, help="seeds of the time to target")
     ap.add_argument("--repeats", type=int, default=5,
                     help="runs of each seed and build (the median is over all)")
+    ap.add_argument("--formulas", type=int, default=200,
+                    help="random formulas whose costs and code are compared (0: none)")
     ap.add_argument("--skip-timing", action="store_true", help="fronts only")
     ap.add_argument("--skip-fronts", action="store_true", help="the time to target only")
     args = ap.parse_args()
@@ -142,6 +202,20 @@ def main() -> int:
         if cases:
             print(f"{len(cases) - different} of {len(cases)} fronts the same "
                   f"({args.evals} candidates each, seed 1, one thread)")
+        if args.formulas > 0 and not args.skip_fronts:
+            same_outputs, total, shown = 0, 0, 0
+            for f in random_formulas(args.formulas):
+                for x, y in zip(outputs(before, f), outputs(after, f)):
+                    total += 1
+                    if x == y:
+                        same_outputs += 1
+                    elif shown < 5:  # the first few
+                        shown += 1
+                        print(f"DIFFERENT shaderfit {' '.join(x[0])} -- '{f}'")
+            print(f"{same_outputs} of {total} cost listings and generated functions the same "
+                  f"({args.formulas} random formulas x {len(TARGETS)} targets and "
+                  f"{len(CODEGEN)} code forms)", flush=True)
+            different += total - same_outputs
         if not args.skip_timing:
             target = seed_target(after, work)
             tb, ta = [], []
