@@ -241,15 +241,9 @@ class FunctionPrinter {
             0};
   }
 
-  // Half forms: the steps that are calls in CUDA, and saturate; nullopt for the others.
+  // Half forms: the steps that are calls in CUDA; nullopt for the others.
   std::optional<Text> half_step(const Step& st) const {
     const auto arg = [&](int k) { return operand(st.args[k], 0); };
-    if (st.op == Op::Saturate) {
-      if (lang_ == Language::Glsl)
-        return Text{"clamp(" + arg(0) + ", " + lit(0) + ", " + lit(1) + ")", 4};
-      if (lang_ == Language::Cuda) return call_of(Op::Saturate, {arg(0), lit(0)});
-      return std::nullopt;
-    }
     if (!calls_only()) return std::nullopt;
     const bool rcp = cost_detail::is_reciprocal(st);
     // -1 / x = 1 / -x: rcp is odd.
@@ -261,6 +255,10 @@ class FunctionPrinter {
   }
 
   Text step(const Step& st) {
+    if (st.arity == 1)
+      if (std::optional<codegen::SpelledOut> t =
+              codegen::spelled_out(lang_, st.op, form_, operand(st.args[0], 0)))
+        return {std::move(t->text), t->level};
     if (form_ != Form::Float)
       if (std::optional<Text> t = half_step(st)) return *std::move(t);
     auto bin = [&](std::string_view op, int level) {
@@ -278,20 +276,11 @@ class FunctionPrinter {
                       operand(st.args[2], 2),
                   1};
         return fn(Op::Fma, st);
-      case Op::Rsqrt:
-        if (lang_ == Language::Cpp)
-          return {lit(1.0f) + " / std::sqrt(" + operand(st.args[0], 0) + ")", 2};
-        return fn(Op::Rsqrt, st);
       case Op::Exp:
         if (st.neg_arg)
           return {std::string(codegen::call(lang_, Op::Exp)) + "(-" + operand(st.args[0], 4) + ")",
                   4};
         return fn(Op::Exp, st);
-      case Op::Saturate:
-        if (lang_ == Language::Glsl) return {"clamp(" + operand(st.args[0], 0) + ", 0.0, 1.0)", 4};
-        if (lang_ == Language::Cpp)
-          return {"std::clamp(" + operand(st.args[0], 0) + ", 0.0f, 1.0f)", 4};
-        return fn(Op::Saturate, st);
       case Op::Sign: return sign(st);
       case Op::CopySign: return copysign(st);
       case Op::Select: return select(st);
@@ -480,19 +469,10 @@ std::string print(const Prepared& p, const CodegenOptions& options) {
   return out;
 }
 
-// The C++ headers a printed program needs: <cmath> for every function it calls (fma, sqrt, the
-// fabs and copysign of sign, ...), <algorithm> for the std::clamp of saturate. Operators and ?:
-// need none.
+// The C++ headers a printed program needs (codegen::cpp_header of each step).
 void add_cpp_headers(const Program& p, std::set<std::string_view>* headers) {
-  for (const Step& st : p.steps) {
-    if (op_info(st.op).infix) continue;
-    switch (st.op) {
-      case Op::Neg:
-      case Op::Select: break;
-      case Op::Saturate: headers->insert("<algorithm>"); break;
-      default: headers->insert("<cmath>"); break;
-    }
-  }
+  for (const Step& st : p.steps)
+    if (const std::string_view h = codegen::cpp_header(st.op); !h.empty()) headers->insert(h);
 }
 
 // Whether the printed program calls the erf helper (cost/erf_helper.hpp): GLSL, HLSL and Metal have

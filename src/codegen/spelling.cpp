@@ -482,6 +482,25 @@ std::string_view value_type(Language l, Form form) {
   }
 }
 
+std::optional<SpelledOut> spelled_out(Language l, Op op, Form form, const std::string& x) {
+  const auto lit = [&](double v) { return literal(v, l, form); };
+  if (op == Op::Saturate) {
+    if (l == Language::Glsl) return SpelledOut{"clamp(" + x + ", " + lit(0) + ", " + lit(1) + ")", 4};
+    if (l == Language::Cpp)
+      return SpelledOut{"std::clamp(" + x + ", " + lit(0) + ", " + lit(1) + ")", 4};
+    if (l == Language::Cuda && form != Form::Float)
+      return SpelledOut{std::string(call(l, op, form)) + "(" + x + ", " + lit(0) + ")", 4};
+  }
+  if (op == Op::Rsqrt && l == Language::Cpp)
+    return SpelledOut{lit(1) + " / std::sqrt(" + x + ")", precedence(Op::Div)};
+  return std::nullopt;
+}
+
+std::string_view cpp_header(Op op) {
+  if (op_info(op).infix || op == Op::Neg || op == Op::Select) return {};
+  return op == Op::Saturate ? "<algorithm>" : "<cmath>";
+}
+
 std::string literal(double v, Language l, Form form) {
   switch (form) {
     case Form::Float: return float32_literal(v, l);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -16,12 +17,26 @@ namespace shaderfit::codegen {
 // CUDA __half), or CUDA's __half2, two binary16 values at once.
 enum class Form : std::uint8_t { Float, Half, Half2 };
 
-// The function name for `op` in `l` and `form`; empty where the language has none (the printer
-// spells it out: GLSL clamp(x, 0.0, 1.0), C++ 1.0f / std::sqrt(x) and std::clamp, operators).
+// The function name for `op` in `l` and `form`; empty where the language has none (operators,
+// and what spelled_out writes: GLSL's clamp(x, 0.0, 1.0), C++'s 1.0f / std::sqrt(x)).
 // erf in GLSL, HLSL and Metal is the helper that code generation writes (cost/erf_helper.hpp).
 // CUDA's __half spellings of the functions cuda_fp16.h has only on the device (hexp2, ...) are
 // the helpers cuda_half_helpers() writes. Half forms have no asin ... erf (empty).
 std::string_view call(Language l, Op op, Form form = Form::Float);
+
+// A unary operator that `l` writes as an expression rather than a call of its name: saturate as
+// GLSL's clamp(x, 0.0, 1.0), C++'s std::clamp(x, 0.0f, 1.0f) and CUDA half's __hadd_sat(x, 0);
+// rsqrt as C++'s 1.0f / std::sqrt(x). `x` is the operand's text as a call argument; `level` the
+// result's precedence (expr/op.hpp's levels: 4 a call, 2 a quotient). nullopt for the others.
+struct SpelledOut {
+  std::string text;
+  int level;
+};
+std::optional<SpelledOut> spelled_out(Language l, Op op, Form form, const std::string& x);
+
+// The C++ header that declares what a step of `op` calls (<algorithm> for std::clamp, else
+// <cmath>); empty for the operators written without a call (+ - * /, negation, select).
+std::string_view cpp_header(Op op);
 
 // The value type: float, or float16_t (GLSL), half (HLSL, Metal), __half, __half2 (CUDA).
 std::string_view value_type(Language l, Form form);
