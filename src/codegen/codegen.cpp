@@ -469,10 +469,12 @@ std::string print(const Prepared& p, const CodegenOptions& options) {
   return out;
 }
 
-// The C++ headers a printed program needs (codegen::cpp_header of each step).
+// The C++ headers a printed program needs: codegen::cpp_header of each step that calls a
+// function (the fabs and copysign of sign too); operators and ?: need none.
 void add_cpp_headers(const Program& p, std::set<std::string_view>* headers) {
   for (const Step& st : p.steps)
-    if (const std::string_view h = codegen::cpp_header(st.op); !h.empty()) headers->insert(h);
+    if (!op_info(st.op).infix && st.op != Op::Neg && st.op != Op::Select)
+      headers->insert(codegen::cpp_header(st.op));
 }
 
 // Whether the printed program calls the erf helper (cost/erf_helper.hpp): GLSL, HLSL and Metal have

@@ -496,10 +496,7 @@ std::optional<SpelledOut> spelled_out(Language l, Op op, Form form, const std::s
   return std::nullopt;
 }
 
-std::string_view cpp_header(Op op) {
-  if (op_info(op).infix || op == Op::Neg || op == Op::Select) return {};
-  return op == Op::Saturate ? "<algorithm>" : "<cmath>";
-}
+std::string_view cpp_header(Op op) { return op == Op::Saturate ? "<algorithm>" : "<cmath>"; }
 
 std::string literal(double v, Language l, Form form) {
   switch (form) {

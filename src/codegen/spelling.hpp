@@ -34,8 +34,8 @@ struct SpelledOut {
 };
 std::optional<SpelledOut> spelled_out(Language l, Op op, Form form, const std::string& x);
 
-// The C++ header that declares what a step of `op` calls (<algorithm> for std::clamp, else
-// <cmath>); empty for the operators written without a call (+ - * /, negation, select).
+// The C++ header that declares what a step of `op` calls: <algorithm> for std::clamp, else
+// <cmath> (asked only for the operators written as calls).
 std::string_view cpp_header(Op op);
 
 // The value type: float, or float16_t (GLSL), half (HLSL, Metal), __half, __half2 (CUDA).
