@@ -106,8 +106,9 @@ std::int64_t ClassStore::probe(std::span<const std::uint64_t> table, const float
   }
 }
 
-void ClassStore::prefetch_pending_column(const ColumnStats& stats) const {
-  const std::uint64_t slot = pending_table_[stats.hash & (pending_table_.size() - 1)];
+void ClassStore::prefetch_column(std::span<const std::uint64_t> table,
+                                 const ColumnStats& stats) const {
+  const std::uint64_t slot = table[stats.hash & (table.size() - 1)];
   if (slot == 0 || (slot >> 33) != (stats.hash >> 33)) return;
   const auto* column = reinterpret_cast<const char*>(columns_[(slot & 0xffffffffu) - 1]);
   for (std::size_t b = 0; b < verify_rows_ * sizeof(float); b += 64) __builtin_prefetch(column + b);

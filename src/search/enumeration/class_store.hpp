@@ -73,7 +73,16 @@ class ClassStore {
   }
   // Then, once that slot is in the cache, the column of the class it names when the fingerprint
   // matches (the column find_pending compares first).
-  void prefetch_pending_column(const ColumnStats& stats) const;
+  void prefetch_pending_column(const ColumnStats& stats) const {
+    prefetch_column(pending_table_, stats);
+  }
+  // The same two for find_committed (workers stage a few candidates and check them together).
+  void prefetch_committed(const ColumnStats& stats) const {
+    __builtin_prefetch(&committed_table_[stats.hash & (committed_table_.size() - 1)]);
+  }
+  void prefetch_committed_column(const ColumnStats& stats) const {
+    prefetch_column(committed_table_, stats);
+  }
   // Appends a class (the caller checked it is new and !full()); returns its id. Merging thread.
   // `column` must be in a block from allocate_block (insert_copy copies it into one).
   std::uint32_t insert(const float* column, const ColumnStats& stats, ClassRecord record);
@@ -92,6 +101,7 @@ class ClassStore {
  private:
   [[nodiscard]] std::int64_t probe(std::span<const std::uint64_t> table, const float* column,
                                    const ColumnStats& stats) const;
+  void prefetch_column(std::span<const std::uint64_t> table, const ColumnStats& stats) const;
   // Slot: (hash >> 33) << 33 | canonical sign << 32 | (id + 1); 0 is empty.
   void place(std::span<std::uint64_t> table, std::uint32_t id) const;
   // The first `slots` slots of a table's reservation, zeroed (slots: a power of two).

@@ -270,15 +270,8 @@ std::vector<Enumerator::Tile> Enumerator::make_tiles(const std::vector<Step>& st
 
 void Enumerator::process_tile(const Step& s, const Tile& t, TileOutput& out) const {
   const int level = s.level;
-  const bool screen_sums = costs_->eager_fusion() && s.kind != EKind::FusedAdd;
+  out.screen_sums = costs_->eager_fusion() && s.kind != EKind::FusedAdd;
   const bool skip_fusable_sums = costs_->fused >= 0 && s.kind == EKind::AddSub;
-  auto after_emit = [&](int idx) {
-    if (idx < 0) return;
-    const auto i = static_cast<std::size_t>(idx);
-    out.fused.resize(out.records.size());
-    if (screen_sums && out.records[i].has(ClassRecord::kFusable))
-      out.fused[i] = screen_fused_sums(out.column(i), out);
-  };
   for (std::uint32_t ia = t.a0; ia < t.a1; ++ia) {
     const std::uint32_t ida = s.a[ia];
     const ClassRecord& ra = store_->record(ida);
@@ -290,7 +283,7 @@ void Enumerator::process_tile(const Step& s, const Tile& t, TileOutput& out) con
       for (int v = 0; v < s.variant_count; ++v) {
         rec.a = ida;
         rec.flags = s.variants[v].neg_a ? ClassRecord::kNegA : 0;
-        after_emit(emit(rec, store_->column(ida), nullptr, s.variants[v].neg_a, false, out));
+        stage(rec, store_->column(ida), nullptr, s.variants[v].neg_a, false, out);
       }
       continue;
     }
@@ -307,30 +300,47 @@ void Enumerator::process_tile(const Step& s, const Tile& t, TileOutput& out) con
         rec.a = var.swap ? idb : ida;
         rec.b = var.swap ? ida : idb;
         rec.flags = var.neg_b ? ClassRecord::kNegB : 0;
-        after_emit(emit(rec, store_->column(rec.a), store_->column(rec.b), false, var.neg_b, out));
+        stage(rec, store_->column(rec.a), store_->column(rec.b), false, var.neg_b, out);
       }
     }
   }
+  check_staged(out);
   out.fused.resize(out.records.size());
 }
 
-int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, bool neg_a,
-                     bool neg_b, TileOutput& out) const {
+void Enumerator::stage(const ClassRecord& rec, const float* a, const float* b, bool neg_a,
+                       bool neg_b, TileOutput& out) const {
+  if (out.full) return;  // the column arena is spent: the enumeration ends
   const std::size_t n = screen_rows_;
-  float* dst = out.next_column();
-  if (dst == nullptr) {  // the column arena is spent: the enumeration ends
-    out.full = true;
-    return -1;
-  }
-  compute_column(rec_in.kind, rec_in.op, rec_in.k, a, b, neg_a, neg_b, dst, n);
+  TileOutput::Staged& c = out.staged[out.staged_count];
+  float* dst = out.staging.data() + out.staged_count * n;
+  compute_column(rec.kind, rec.op, rec.k, a, b, neg_a, neg_b, dst, n);
   ++out.evaluated;
-  ColumnStats st;
-  column_key(dst, n, &st);
+  c.record = rec;
+  c.stats = ColumnStats{};
+  column_key(dst, n, &c.stats);
+  store_->prefetch_committed(c.stats);
+  if (++out.staged_count == TileOutput::kStaged) check_staged(out);
+}
+
+void Enumerator::check_staged(TileOutput& out) const {
+  const std::size_t k = out.staged_count;
+  // The slots were asked for as the candidates were staged; now the columns they name.
+  for (std::size_t i = 0; i < k; ++i) store_->prefetch_committed_column(out.staged[i].stats);
+  for (std::size_t i = 0; i < k; ++i)
+    check(out.staged[i].record, out.staged[i].stats, out.staging.data() + i * screen_rows_, out);
+  out.staged_count = 0;
+}
+
+void Enumerator::check(const ClassRecord& rec_in, const ColumnStats& stats, const float* column,
+                       TileOutput& out) const {
+  const std::size_t n = screen_rows_;
+  ColumnStats st = stats;
   std::int64_t improves = -1;
-  if (const std::int64_t hit = store_->find_committed(dst, st); hit >= 0) {
+  if (const std::int64_t hit = store_->find_committed(column, st); hit >= 0) {
     // A committed class of a higher cost (made by the previous batch's steps of the next level,
     // see run()) gets this cheaper recipe; otherwise the candidate is a duplicate.
-    if (store_->record(static_cast<std::uint32_t>(hit)).cost <= rec_in.cost) return -1;
+    if (store_->record(static_cast<std::uint32_t>(hit)).cost <= rec_in.cost) return;
     improves = hit;
   }
   const std::size_t mask = out.table.size() - 1;
@@ -342,11 +352,18 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
     if ((v >> 32) != fp) continue;
     const std::size_t j = static_cast<std::size_t>(v & 0xffffffffu) - 1;
     const bool negate = out.stats[j].canonical_neg != st.canonical_neg;
-    if (columns_equivalent(dst, out.column(j), negate, std::max(st.scale, out.stats[j].scale), n))
-      return -1;
+    if (columns_equivalent(column, out.column(j), negate, std::max(st.scale, out.stats[j].scale),
+                           n))
+      return;
   }
-  column_loss(dst, target_, &st);  // only for candidates that are new
-  if (!st.valid) return -1;
+  column_loss(column, target_, &st);  // only for candidates that are new
+  if (!st.valid) return;
+  float* dst = out.next_column();
+  if (dst == nullptr) {  // the column arena is spent: the enumeration ends
+    out.full = true;
+    return;
+  }
+  std::copy(column, column + n, dst);
   const std::size_t idx = out.records.size();
   out.table[slot] = (fp << 32) | (idx + 1);
   ClassRecord rec = rec_in;
@@ -365,7 +382,10 @@ int Enumerator::emit(const ClassRecord& rec_in, const float* a, const float* b, 
     }
     out.table.swap(bigger);
   }
-  return static_cast<int>(idx);
+  if (out.screen_sums && rec.has(ClassRecord::kFusable)) {
+    out.fused.resize(out.records.size());
+    out.fused[idx] = screen_fused_sums(out.column(idx), out);
+  }
 }
 
 FusedBest Enumerator::screen_fused_sums(const float* m, TileOutput& out) const {

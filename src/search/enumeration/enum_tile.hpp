@@ -1,6 +1,7 @@
 // The output of one tile of enumeration work, waiting to be merged (internal).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -32,6 +33,17 @@ struct Enumerator::TileOutput {
   float* next = nullptr;  // what next_column() returned
   bool next_is_spare = false;
   bool full = false;
+  // Candidates computed but not yet checked (Enumerator::stage, then check_staged): the
+  // committed table's slots of a group's keys are fetched together, not one miss at a time.
+  static constexpr std::size_t kStaged = 8;
+  struct Staged {
+    ClassRecord record;
+    ColumnStats stats;
+  };
+  std::array<Staged, kStaged> staged{};
+  std::size_t staged_count = 0;
+  std::vector<float> staging;  // kStaged columns
+  bool screen_sums = false;    // a product survivor's fused sums m +- c are screened at once
   std::vector<std::uint64_t> table;  // local dedup: (fingerprint << 32) | (index + 1)
   std::vector<float> scratch;        // a fused sum's column (losses without a closed form)
   std::uint64_t evaluated = 0;
@@ -47,6 +59,8 @@ struct Enumerator::TileOutput {
     rows = screen_rows;
     table.assign(table.empty() ? 4096 : table.size(), 0);
     scratch.resize(rows);
+    staging.resize(kStaged * rows);
+    staged_count = 0;
     evaluated = 0;
   }
   [[nodiscard]] const float* column(std::size_t i) const { return cols[i]; }

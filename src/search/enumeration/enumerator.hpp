@@ -111,8 +111,14 @@ class Enumerator {
   bool enumeration_over();
   void materialize_fused(int level);
   void process_tile(const Step& step, const Tile& tile, TileOutput& out) const;
-  int emit(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,
-           TileOutput& out) const;
+  // A candidate: its column and key are computed now, into the output's staging, and it is
+  // checked against the committed and the tile's classes with the next ones (check_staged), in
+  // the order staged.
+  void stage(const ClassRecord& rec, const float* a, const float* b, bool neg_a, bool neg_b,
+             TileOutput& out) const;
+  void check_staged(TileOutput& out) const;
+  void check(const ClassRecord& rec, const ColumnStats& stats, const float* column,
+             TileOutput& out) const;
   FusedBest screen_fused_sums(const float* m, TileOutput& out) const;
   void merge(TileOutput& out, bool materialize, std::uint64_t found_at);
   // After a batch: applies the cheaper recipes found for committed classes, moves improved
