@@ -7,14 +7,16 @@
 namespace shaderfit {
 
 ErrorMetrics error_metrics(std::span<const double> prediction, std::span<const double> target,
-                           std::span<const std::size_t> rows, std::span<const double> weights) {
+                           std::span<const std::size_t> rows, std::span<const double> weights,
+                           MetricSet set) {
   constexpr double kInf = std::numeric_limits<double>::infinity();
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   constexpr double kLogFloor = 1e-30;
   ErrorMetrics m;
   const std::size_t n = rows.empty() ? target.size() : rows.size();
   double sw = 0, se = 0, srel = 0, slog = 0;
-  bool rel_ok = true, log_ok = true;
+  const bool want_log = set == MetricSet::All;
+  bool rel_ok = true, log_ok = want_log;
   for (std::size_t j = 0; j < n; ++j) {
     const std::size_t i = rows.empty() ? j : rows[j];
     const double w = weights.empty() ? 1.0 : weights[i];
@@ -38,7 +40,7 @@ ErrorMetrics error_metrics(std::span<const double> prediction, std::span<const d
     } else {
       rel_ok = false;
     }
-    if (t > 0) {
+    if (want_log && t > 0) {
       const double l = std::log(std::max(p, kLogFloor) / t);  // one log a row, not two
       slog += w * l * l;
     } else {
@@ -46,7 +48,8 @@ ErrorMetrics error_metrics(std::span<const double> prediction, std::span<const d
     }
   }
   if (m.nonfinite > 0) {
-    m.mse = m.rmse = m.max_abs = m.rel = m.log = kInf;
+    m.mse = m.rmse = m.max_abs = m.rel = kInf;
+    m.log = want_log ? kInf : kNaN;
   } else if (sw > 0) {
     m.mse = se / sw;
     m.rmse = std::sqrt(m.mse);

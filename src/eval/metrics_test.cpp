@@ -30,6 +30,24 @@ TEST(Metrics, SubsetsWeightsAndNonFinite) {
   EXPECT_TRUE(std::isinf(all.mse));
 }
 
+TEST(Metrics, WithoutTheLogErrorTheOthersAreTheSame) {
+  std::vector<double> p = {1.0, 2.0, 3.5, 0.5}, t = {1.0, 2.5, 3.0, 0.25};
+  std::vector<double> w = {1.0, 2.0, 0.5, 1.0};
+  const ErrorMetrics all = error_metrics(p, t, {}, w);
+  const ErrorMetrics some = error_metrics(p, t, {}, w, MetricSet::NoLog);
+  EXPECT_GT(all.log, 0);
+  EXPECT_TRUE(std::isnan(some.log));
+  EXPECT_EQ(some.rows, all.rows);
+  EXPECT_EQ(some.mse, all.mse);
+  EXPECT_EQ(some.rmse, all.rmse);
+  EXPECT_EQ(some.max_abs, all.max_abs);
+  EXPECT_EQ(some.max_rel, all.max_rel);
+  EXPECT_EQ(some.rel, all.rel);
+  p[1] = NAN;
+  EXPECT_TRUE(std::isinf(error_metrics(p, t).log));
+  EXPECT_TRUE(std::isnan(error_metrics(p, t, {}, {}, MetricSet::NoLog).log));
+}
+
 TEST(Metrics, GroupsAndRelativeChange) {
   std::vector<std::string> labels = {"metal", "dielectric", "metal"};
   auto g = group_rows(labels);

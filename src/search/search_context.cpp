@@ -141,7 +141,8 @@ ErrorMetrics SearchContext::metrics_of(std::span<const double> prediction) const
 ErrorMetrics SearchContext::score(const Expression& e) {
   std::vector<double> out(rows);
   predict(e, out);
-  return metrics_of(out);
+  return error_metrics(out, problem.target, {}, problem.weights,
+                       options.loss == Loss::Log ? MetricSet::All : MetricSet::NoLog);
 }
 
 std::optional<std::size_t> SearchContext::non_finite_row(const Expression& e,

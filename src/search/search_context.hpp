@@ -95,7 +95,8 @@ class SearchContext {
   // same as predict() in double precision.
   void predict_shown(const Expression& e, std::span<double> out);
   [[nodiscard]] ErrorMetrics metrics_of(std::span<const double> prediction) const;
-  // The loss metrics of e on every row.
+  // The loss metrics of e on every row: a candidate's, whose loss is all that is read (the log
+  // error only for the log loss; offer() scores what enters the front in full).
   ErrorMetrics score(const Expression& e);
   // Fills in a front member for e (which must be over the problem's inputs) and offers it.
   // Returns whether it entered the front. `loss_estimate` (the caller's full-data loss of e or

@@ -17,7 +17,8 @@
 //            t <= 0, and p <= 0 is scored as p = 1e-30 (a large but finite penalty)
 // A row where p is NaN or infinite counts in `nonfinite` and makes mse, rmse, max_abs, rel and
 // log +infinity (max_rel stays the largest over the finite rows). With no row taken every metric
-// is 0.
+// is 0. With MetricSet::NoLog, log is NaN and not computed (a std::log a row, the dearest part:
+// what scores many candidates by another loss asks for that).
 #pragma once
 
 #include <cstddef>
@@ -41,9 +42,10 @@ struct ErrorMetrics {
 
 // The metrics over the rows selected by `rows` (indices into prediction and target; all rows
 // when empty), weighted by `weights` (empty: all 1; else one per row of prediction and target).
+enum class MetricSet { All, NoLog };
 ErrorMetrics error_metrics(std::span<const double> prediction, std::span<const double> target,
                            std::span<const std::size_t> rows = {},
-                           std::span<const double> weights = {});
+                           std::span<const double> weights = {}, MetricSet set = MetricSet::All);
 
 // The row indices of each distinct label, labels in sorted order.
 std::map<std::string, std::vector<std::size_t>> group_rows(std::span<const std::string> labels);
