@@ -467,17 +467,24 @@ std::vector<Fragment> replacements(const Expression& e, std::size_t i, const Col
 }
 
 // The cheapest of x, x simplified with its calls merged, with its parts regrouped, and with its
-// per-material scales moved into exponentials.
+// per-material scales moved into exponentials; its cost in *cost. A form that is x again (often)
+// is not costed again.
 Expression cheapest_form(Expression x, const SearchOptions& options,
-                         const std::vector<bool>& uniform, const SearchProblem& rows) {
-  double best_cost = formula_cost(x, options);
+                         const std::vector<bool>& uniform, const SearchProblem& rows,
+                         double* cost) {
+  const auto same = [](const Expression& a, const Expression& b) {
+    return a == b && a.parameter_values == b.parameter_values;
+  };
+  *cost = formula_cost(x, options);
+  const Expression given = x;
   for (Expression y :
        {simplify(x, {.merge_calls = true}), grouped_factors(x, uniform),
         absorbed_scales(x, uniform, rows)}) {
+    if (same(y, given) || same(y, x)) continue;
     const double c = formula_cost(y, options);
-    if (c < best_cost) {
+    if (c < *cost) {
       x = std::move(y);
-      best_cost = c;
+      *cost = c;
     }
   }
   return x;
@@ -560,9 +567,12 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
   const double cost = formula_cost(e, options);
   std::vector<Expression> out;
   std::set<std::uint64_t> seen{structural_hash(e)};
-  const auto keep = [&](Expression x) {
-    if (x.empty() || !(formula_cost(x, options) < cost)) return;
+  const auto keep_costed = [&](Expression x, double x_cost) {
+    if (x.empty() || !(x_cost < cost)) return;
     if (seen.insert(structural_hash(x)).second) out.push_back(std::move(x));
+  };
+  const auto keep = [&](Expression x) {
+    if (!x.empty()) keep_costed(x, formula_cost(x, options));
   };
   // Constants folded and calls merged, where that alone saves an instruction.
   keep(simplify(e, {.regroup_constants = true,
@@ -584,7 +594,9 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
       for (const Fragment& f : replacements(*from, i, s, rows)) {
         Expression x = replace_all(*from, hashes, hashes[i], f);
         if (x.nodes.size() == 1 && x.nodes[0].op == Op::Param) continue;  // the root a constant
-        keep(cheapest_form(std::move(x), options, uniform, rows));
+        double x_cost = 0;
+        x = cheapest_form(std::move(x), options, uniform, rows, &x_cost);
+        keep_costed(std::move(x), x_cost);
       }
     }
   }
@@ -593,7 +605,8 @@ std::vector<Expression> cheaper_rewrites(const Expression& e, const SearchOption
 
 Expression cheapest_form(Expression e, const SearchOptions& options, const SearchProblem& rows) {
   const std::vector<bool> uniform = uniform_flags(e, options.uniform);
-  return cheapest_form(std::move(e), options, uniform, rows);
+  double cost = 0;
+  return cheapest_form(std::move(e), options, uniform, rows, &cost);
 }
 
 Expression random_rewrite(Rng& rng, const Expression& e, const SearchOptions& options,
@@ -610,7 +623,8 @@ Expression random_rewrite(Rng& rng, const Expression& e, const SearchOptions& op
   const std::vector<std::uint64_t> hashes = subtree_hashes(e);
   Expression x = replace_all(e, hashes, hashes[i], forms[uniform_index(rng, forms.size())]);
   if (x.nodes.size() == 1 && x.nodes[0].op == Op::Param) return {};
-  return cheapest_form(std::move(x), options, uniform_flags(e, options.uniform), rows);
+  double cost = 0;
+  return cheapest_form(std::move(x), options, uniform_flags(e, options.uniform), rows, &cost);
 }
 
 }  // namespace shaderfit::search_detail
