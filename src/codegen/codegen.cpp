@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <map>
 #include <optional>
-#include <regex>
 #include <set>
 #include <span>
 
@@ -102,24 +101,11 @@ class FunctionPrinter {
  private:
   // Declares a temporary holding `value` and returns its name.
   std::string temporary(const std::string& value) {
-    const std::string name = temp_prefix() + std::to_string(temps_++);
+    const std::string name = unused_name_prefix(e_, 't') + std::to_string(temps_++);
     body_ += fmt::format("  {}{} {} = {};\n",
                          lang_ == Language::Glsl || lang_ == Language::Hlsl ? "" : "const ", type(),
                          name, value);
     return name;
-  }
-
-  std::string temp_prefix() const {
-    std::string prefix = "t";
-    const std::regex taken("^_*t[0-9]+$");
-    for (bool clash = true; clash;) {
-      clash = false;
-      for (const auto* names : {&e_.variables, &e_.parameters})
-        for (const std::string& n : *names)
-          if (std::regex_match(n, taken) && n.rfind(prefix, 0) == 0) clash = true;
-      if (clash) prefix = "_" + prefix;
-    }
-    return prefix;
   }
 
   std::string signature() const {

@@ -1,7 +1,6 @@
 #include "shaderfit/cost/per_material.hpp"
 
 #include <algorithm>
-#include <regex>
 
 #include "cost/dag.hpp"
 #include "cost/select.hpp"
@@ -146,23 +145,10 @@ class ExpFold {
   bool changed_ = false;
 };
 
-// The names m0, m1, ... (with leading underscores where an input is already called so).
-std::string value_prefix(const Expression& e) {
-  std::string prefix = "m";
-  const std::regex taken("^_*m[0-9]+$");
-  for (bool clash = true; clash;) {
-    clash = false;
-    for (const std::string& n : e.variables)
-      if (std::regex_match(n, taken) && n.rfind(prefix, 0) == 0) clash = true;
-    if (clash) prefix = "_" + prefix;
-  }
-  return prefix;
-}
-
 class Hoist {
  public:
   Hoist(const Expression& e, const std::vector<bool>& uniform_var)
-      : e_(e), reads_(reads_of(e, uniform_var)), prefix_(value_prefix(e)) {
+      : e_(e), reads_(reads_of(e, uniform_var)), prefix_(unused_name_prefix(e, 'm')) {
     for (std::size_t v = 0; v < e.variables.size(); ++v) {
       varying_index_.push_back(uniform_var[v] ? -1 : static_cast<int>(varying_.size()));
       if (!uniform_var[v]) varying_.push_back(e.variables[v]);

@@ -131,6 +131,19 @@ std::uint64_t structural_hash(const Expression& e) {
   return subtree_hashes(e).back();
 }
 
+std::string unused_name_prefix(const Expression& e, char letter) {
+  std::string prefix(1, letter);
+  const auto taken = [&](const std::string& n) {
+    return n.size() > prefix.size() && n.starts_with(prefix) &&
+           std::all_of(n.begin() + static_cast<std::ptrdiff_t>(prefix.size()), n.end(),
+                       [](char c) { return c >= '0' && c <= '9'; });
+  };
+  while (std::any_of(e.variables.begin(), e.variables.end(), taken) ||
+         std::any_of(e.parameters.begin(), e.parameters.end(), taken))
+    prefix.insert(prefix.begin(), '_');
+  return prefix;
+}
+
 std::size_t operator_count(const Expression& e) {
   return static_cast<std::size_t>(
       std::count_if(e.nodes.begin(), e.nodes.end(), [](const Node& n) { return n.arity > 0; }));

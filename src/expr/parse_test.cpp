@@ -327,5 +327,19 @@ TEST(Hash, CommutativeOperandsHashAlike) {
   EXPECT_NE(h("x"), h("y"));
 }
 
+TEST(Names, GeneratedValuesTakeAPrefixNoInputOrParameterHas) {
+  EXPECT_EQ(unused_name_prefix(parse_formula("x + y", vars({"x", "y"})), 't'), "t");
+  // "t", "t1x", "_t" and "t_1" are not the prefix followed by digits; "t1" is.
+  EXPECT_EQ(unused_name_prefix(parse_formula("t + t1x + _t + t_1", vars({"t", "t1x", "_t", "t_1"})),
+                               't'),
+            "t");
+  EXPECT_EQ(unused_name_prefix(parse_formula("t1 + m", vars({"t1", "m"})), 't'), "_t");
+  EXPECT_EQ(unused_name_prefix(parse_formula("t1 + _t20", vars({"t1", "_t20"})), 't'), "__t");
+  EXPECT_EQ(unused_name_prefix(parse_formula("t1 + x", vars({"t1", "x"})), 'm'), "m");
+  Expression e = parse_formula("x + 1", vars({"x"}));
+  e.parameters = {"m0"};
+  EXPECT_EQ(unused_name_prefix(e, 'm'), "_m");
+}
+
 }  // namespace
 }  // namespace shaderfit

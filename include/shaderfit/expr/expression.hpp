@@ -75,4 +75,9 @@ std::uint64_t structural_hash(const Expression& e);
 // Number of nodes that are not leaves.
 std::size_t operator_count(const Expression& e);
 
+// The prefix of the names a printer gives its own values (prefix0, prefix1, ...): `letter` with
+// as many leading underscores as it takes that no variable or parameter of e is named the prefix
+// followed by digits.
+std::string unused_name_prefix(const Expression& e, char letter);
+
 }  // namespace shaderfit
