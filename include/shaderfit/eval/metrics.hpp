@@ -40,9 +40,11 @@ struct ErrorMetrics {
   std::size_t nonfinite = 0;  // rows taken where the prediction is NaN or infinite
 };
 
+// Which metrics error_metrics computes: all, or all but the log error (see above).
+enum class MetricSet { All, NoLog };
+
 // The metrics over the rows selected by `rows` (indices into prediction and target; all rows
 // when empty), weighted by `weights` (empty: all 1; else one per row of prediction and target).
-enum class MetricSet { All, NoLog };
 ErrorMetrics error_metrics(std::span<const double> prediction, std::span<const double> target,
                            std::span<const std::size_t> rows = {},
                            std::span<const double> weights = {}, MetricSet set = MetricSet::All);
